@@ -1,0 +1,52 @@
+"""The ``rubberfriction`` command.
+
+Each feature owns a small command module exposing ``register(subparsers)``; this file only
+collects them, so features can be added without touching each other.  A module whose optional
+dependency is missing does not break the other commands.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+# (module, what it adds) -- kept in the order shown by --help.
+COMMAND_MODULES: tuple[str, ...] = (
+    "rubberfriction.driver.cli_run",
+    "rubberfriction.driver.cli_verify",
+    "rubberfriction.driver.cli_surface",
+    "rubberfriction.driver.cli_material",
+    "rubberfriction.driver.cli_theory",
+    "rubberfriction.driver.cli_bench",
+)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="rubberfriction",
+        description="Multiscale FEM rubber friction on rough road surfaces (units: mm, s, t, N, MPa, mJ, K).",
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMAND_MODULES:
+        try:
+            module = importlib.import_module(name)
+        except ModuleNotFoundError as err:
+            if err.name == name:  # command not built yet in this checkout
+                continue
+            raise
+        module.register(sub)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 2
+    return int(args.func(args) or 0)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

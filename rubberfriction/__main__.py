@@ -1,0 +1,5 @@
+"""``python -m rubberfriction`` is the ``rubberfriction`` command."""
+
+from rubberfriction.driver.cli import main
+
+raise SystemExit(main())
