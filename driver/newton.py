@@ -1,0 +1,184 @@
+"""Newton's method for the bulk forms plus C++ contributions (contact), on constrained dofs.
+
+The system is assembled in the full space of a dolfinx function (bulk forms by dolfinx, then any
+number of *hooks* that add into the same PETSc matrix and vector, e.g. the C++ mortar contact),
+condensed with the constraint prolongation P (``constraints.py``) to  P^T A P du_r = -P^T R,
+and solved with a direct LU factorisation (MUMPS).  Convention: R(u) = F_int - F_ext, so hooks add
+dPi/du into the vector and its derivative into the matrix.
+
+The matrix sparsity is the bulk form's pattern plus every coupling a hook declares up front
+(``extra_couplings``), so hooks never hit a missing entry (PETSc would otherwise drop or error).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Protocol
+
+import numpy as np
+from dolfinx import cpp as _cpp
+from dolfinx import fem
+from dolfinx.fem import petsc as fem_petsc
+from petsc4py import PETSc
+
+from rubberfriction.driver.constraints import ConstraintMap
+
+
+class Hook(Protocol):
+    """A contribution assembled into the full-space system at every Newton iteration."""
+
+    def __call__(self, x: np.ndarray, A: PETSc.Mat | None, b: PETSc.Vec | None) -> None: ...
+
+
+@dataclass
+class NewtonSettings:
+    max_iterations: int = 25
+    rtol: float = 1e-9  # on the reduced residual norm, relative to the reference force
+    atol: float = 1e-10  # absolute floor on the reduced residual norm (N/mm)
+    divergence_factor: float = 1e6  # stop if the residual grows by this factor
+    linear_solver: str = "mumps"
+
+
+@dataclass
+class NewtonResult:
+    converged: bool
+    iterations: int
+    residuals: list[float] = field(default_factory=list)
+    reason: str = ""
+    time_assemble: float = 0.0
+    time_solve: float = 0.0
+
+
+class ConstrainedNonlinearProblem:
+    """Residual/Jacobian of one nonlinear system on a dolfinx Function with linear constraints.
+
+    Parameters
+    ----------
+    residual, jacobian: UFL forms (residual linear in the test function; jacobian its derivative).
+    w: the unknown dolfinx Function (full space, serial).
+    constraints: ConstraintMap (Dirichlet, periodic, ties).
+    hooks: extra contributions (contact), called as hook(x, A, b).
+    extra_couplings: list of (rows, cols) dof arrays every hook may write into (dense blocks).
+    external_force: optional full-space array F_ext subtracted from the residual.
+    """
+
+    def __init__(self, residual, jacobian, w: fem.Function, constraints: ConstraintMap,
+                 hooks: list[Hook] | None = None, extra_couplings=None, external_force=None):
+        self.w = w
+        self.F_form = fem.form(residual)
+        self.J_form = fem.form(jacobian)
+        self.constraints = constraints
+        self.hooks = list(hooks or [])
+        self.external_force = external_force
+        self.A = self._create_matrix(extra_couplings or [])
+        self.b = fem_petsc.create_vector(self.F_form)
+        self.P = constraints.P
+        self.Ar: PETSc.Mat | None = None
+        self.br = self.P.createVecRight()
+        self.dur = self.P.createVecRight()
+        self.du = self.P.createVecLeft()
+
+    def _create_matrix(self, couplings) -> PETSc.Mat:
+        sp = fem.create_sparsity_pattern(self.J_form)
+        bs = self.w.function_space.dofmap.index_map_bs
+        for rows, cols in couplings:
+            r = np.unique(np.asarray(rows) // bs).astype(np.int32)
+            c = np.unique(np.asarray(cols) // bs).astype(np.int32)
+            sp.insert(r, c)
+        sp.assemble()
+        A = _cpp.la.petsc.create_matrix(self.w.function_space.mesh.comm, sp)
+        A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
+        return A
+
+    def assemble(self, need_matrix: bool = True) -> None:
+        """Assemble R (and A) in the full space, then the reduced system."""
+        x = self.w.x.array
+        with self.b.localForm() as bl:
+            bl.set(0.0)
+        fem_petsc.assemble_vector(self.b, self.F_form)
+        if need_matrix:
+            self.A.zeroEntries()
+            fem_petsc.assemble_matrix(self.A, self.J_form)
+        for hook in self.hooks:
+            hook(x, self.A if need_matrix else None, self.b)
+        if need_matrix:
+            self.A.assemble()
+        self.b.assemble()
+        if self.external_force is not None:
+            self.b.array[:] -= self.external_force
+        self.P.multTranspose(self.b, self.br)
+        if need_matrix:
+            if self.Ar is None:
+                self.Ar = self.A.PtAP(self.P)
+            else:
+                self.A.PtAP(self.P, self.Ar)
+
+    def reaction(self, dofs) -> np.ndarray:
+        """Full-space residual at `dofs` after the last assembly (reaction forces at fixed dofs)."""
+        return self.b.array[np.asarray(dofs)].copy()
+
+
+class NewtonSolver:
+    """Plain Newton iteration with LU on the reduced system; reports instead of raising."""
+
+    def __init__(self, problem: ConstrainedNonlinearProblem, settings: NewtonSettings | None = None,
+                 force_scale: float = 1.0, on_iteration: Callable[[int, float], None] | None = None):
+        self.problem = problem
+        self.settings = settings or NewtonSettings()
+        self.force_scale = float(force_scale)
+        self.on_iteration = on_iteration
+        self.ksp = PETSc.KSP().create(PETSc.COMM_SELF)
+        self.ksp.setType("preonly")
+        pc = self.ksp.getPC()
+        pc.setType("lu")
+        pc.setFactorSolverType(self.settings.linear_solver)
+
+    def solve(self) -> NewtonResult:
+        s, pb = self.settings, self.problem
+        res = NewtonResult(False, 0)
+        x = pb.w.x.array
+        pb.constraints.set_prescribed(x)
+        t0 = time.perf_counter()
+        pb.assemble()
+        res.time_assemble += time.perf_counter() - t0
+        r0 = pb.br.norm()
+        res.residuals.append(r0)
+        if not np.isfinite(r0):
+            res.reason = "residual is not finite (element inversion or overflow)"
+            return res
+        if r0 <= s.atol + s.rtol * self.force_scale:
+            res.converged = True
+            return res
+        ref = max(r0, self.force_scale)
+        for it in range(1, s.max_iterations + 1):
+            t0 = time.perf_counter()
+            self.ksp.setOperators(pb.Ar)
+            pb.br.scale(-1.0)
+            try:
+                self.ksp.solve(pb.br, pb.dur)
+            except PETSc.Error as err:
+                res.reason = f"linear solve failed: {err}"
+                return res
+            if self.ksp.getConvergedReason() < 0:
+                res.reason = f"linear solve failed (PETSc reason {self.ksp.getConvergedReason()})"
+                return res
+            pb.P.mult(pb.dur, pb.du)
+            x += pb.du.array
+            res.time_solve += time.perf_counter() - t0
+            t0 = time.perf_counter()
+            pb.assemble()
+            res.time_assemble += time.perf_counter() - t0
+            r = pb.br.norm()
+            res.residuals.append(r)
+            res.iterations = it
+            if self.on_iteration:
+                self.on_iteration(it, r)
+            if r <= s.atol + s.rtol * ref:
+                res.converged = True
+                return res
+            if not np.isfinite(r) or r > s.divergence_factor * ref:
+                res.reason = f"diverged: residual {r:.3e} after {it} iterations"
+                return res
+        res.reason = f"no convergence in {s.max_iterations} iterations (residual {res.residuals[-1]:.3e})"
+        return res

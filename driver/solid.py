@@ -1,0 +1,259 @@
+"""The viscoelastic rubber body: function spaces, bulk residual, history, boundary dofs.
+
+One `SolidProblem` per body and run.  It assembles nothing itself; `newton.py` does, with the
+constraints and contact hooks the driver adds.  Elements (``SolidSettings.element``):
+
+* ``"Q1P0"`` (default): bilinear displacement, piecewise-constant pressure, the mixed element of the
+  thesis' ABAQUS hybrid elements (CPE4H), perturbed-Lagrangian form  int (J - 1 - p/K) dp = 0 that
+  stays well posed as K -> infinity and avoids volumetric locking (thesis 3.3.3, eq. 3.61).
+* ``"Q1"``: displacement only, for comparison (locks when nearly incompressible).
+
+Bulk stress: S = S_vol + J^(-2/3) DEV{Sbar + beta Sbar + Hstar}  (``hyperelastic.py``,
+``viscoelastic.py``), residual  int (F S) : grad(v) dV  in the reference configuration (eq. 3.85),
+plane strain.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import basix
+import numpy as np
+import ufl
+from dolfinx import cpp as _cpp
+from dolfinx import fem
+from scipy.spatial import cKDTree
+
+from rubberfriction.forms.hyperelastic import (
+    equilibrium_stress,
+    fictitious_stress,
+    isochoric_stress,
+    pressure_stress,
+    volumetric_stress,
+)
+from rubberfriction.forms.kinematics import deformation_gradient, embed_gradient, vector_from_tensor3
+from rubberfriction.forms.viscoelastic import (
+    ViscoelasticHistory,
+    evaluate_at_points,
+    quadrature_rule,
+    viscous_stress,
+)
+
+ELEMENTS = ("Q1P0", "Q1")
+
+
+@dataclass(frozen=True)
+class SolidSettings:
+    element: str = "Q1P0"
+    quadrature_degree: int = 2
+    moduli: str = "long_term"  # Mooney-Rivlin constants are the long-term (equilibrium) moduli
+
+    def __post_init__(self) -> None:
+        if self.element not in ELEMENTS:
+            raise ValueError(f"element: got {self.element!r}, expected one of {ELEMENTS}")
+        if self.moduli not in ("long_term", "instantaneous"):
+            raise ValueError(f"moduli: got {self.moduli!r}, expected 'long_term' or 'instantaneous'")
+        if self.quadrature_degree < 1:
+            raise ValueError(f"quadrature_degree must be >= 1, got {self.quadrature_degree}")
+
+
+@dataclass(frozen=True)
+class BoundaryNodes:
+    """Nodes of a tagged boundary: reference coordinates, displacement dofs and segments.
+
+    segments[i] = (a, b) indexes into the node arrays, ordered so that the body lies on the LEFT
+    of a -> b: the outward normal is the right-hand normal (t_z, -t_x) of t = X_b - X_a.  On the
+    bottom face of a block this runs in +x and the outward normal is -z.
+    """
+
+    X: np.ndarray  # (n, 2)
+    dofs: np.ndarray  # (n, 2) full-space dofs of (u_x, u_z), int32
+    segments: np.ndarray  # (m, 2)
+    nodes: np.ndarray  # (n,) index of each node in the displacement node numbering
+
+
+class SolidProblem:
+    """Rubber body with Mooney-Rivlin equilibrium and optional Prony viscoelasticity.
+
+    material: an object with ``hyperelastic`` (C10, C01, D1, form), optionally ``prony`` (gamma,
+    tau) and ``wlf`` (aT(T)) -- a ``rubberfriction.forms.materials.Compound``.
+    """
+
+    def __init__(self, mesh, facet_tags, material, settings: SolidSettings | None = None,
+                 cell_tags=None, viscous: bool | None = None):
+        if mesh.comm.size > 1:
+            raise ValueError("SolidProblem runs on one rank per run (farm runs over ranks instead); "
+                             f"got a mesh on a communicator of size {mesh.comm.size}")
+        self.mesh, self.facet_tags, self.cell_tags = mesh, facet_tags, cell_tags
+        self.settings = settings or SolidSettings()
+        self.material = material
+        hyp = material.hyperelastic
+        self.hyperelastic = hyp
+        prony = getattr(material, "prony", None)
+        self.viscous = (prony is not None) if viscous is None else bool(viscous and prony is not None)
+        cell = mesh.ufl_cell()
+        Ve = ufl.VectorElement("Lagrange", cell, 1)
+        if self.settings.element == "Q1P0":
+            if hyp.form != "split":
+                raise ValueError("the mixed Q1P0 element needs the split Mooney-Rivlin form (3.58)")
+            self.W = fem.FunctionSpace(mesh, ufl.MixedElement([Ve, ufl.FiniteElement("DG", cell, 0)]))
+            self.V, umap = self.W.sub(0).collapse()
+            self.umap = np.asarray(umap, dtype=np.int32)
+        else:
+            self.W = fem.FunctionSpace(mesh, Ve)
+            self.V = self.W
+            self.umap = np.arange(self.W.dofmap.index_map.size_local * 2, dtype=np.int32)
+        self.w = fem.Function(self.W, name="state")
+        self.rule = quadrature_rule(basix.cell.string_to_type(mesh.topology.cell_name()),
+                                    self.settings.quadrature_degree)
+        self.dx = ufl.Measure("dx", domain=mesh, metadata={"quadrature_degree": self.rule.degree})
+        self.ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
+        self.history = self._make_history(prony) if self.viscous else None
+        self.residual = self._bulk_residual()
+        self.node_X = self.V.tabulate_dof_coordinates()[:, :2]
+        self.n_nodes = self.node_X.shape[0]
+
+    # --- forms -------------------------------------------------------------------------------
+    def _make_history(self, prony) -> ViscoelasticHistory:
+        gamma = np.asarray(prony.gamma, dtype=float)
+        g_inf = 1.0 - gamma.sum()
+        scale = 1.0 / g_inf if self.settings.moduli == "long_term" else 1.0
+        G_ref = self.shear_modulus_long_term * (1.0 if self.settings.moduli == "long_term" else 1.0)
+        wlf = getattr(self.material, "wlf", None)
+        shift = wlf.aT if wlf is not None else None
+        return ViscoelasticHistory(self.mesh, self.rule, gamma, prony.tau, scale, G_ref, shift)
+
+    def split(self):
+        """(u, p) UFL parts of the state (p is None for Q1)."""
+        if self.settings.element == "Q1P0":
+            u, p = ufl.split(self.w)
+            return u, p
+        return self.w, None
+
+    def test_functions(self):
+        if self.settings.element == "Q1P0":
+            v, q = ufl.TestFunctions(self.W)
+            return v, q
+        return ufl.TestFunction(self.W), None
+
+    def fictitious_stress(self):
+        u, _ = self.split()
+        return fictitious_stress(deformation_gradient(u), self.hyperelastic)
+
+    def second_piola(self):
+        """Total second Piola-Kirchhoff stress S (3x3 UFL) of the current state."""
+        u, p = self.split()
+        F = deformation_gradient(u)
+        hyp = self.hyperelastic
+        if hyp.form == "feap":
+            S = equilibrium_stress(F, hyp)
+            Sbar = None
+        else:
+            Sbar = fictitious_stress(F, hyp)
+            S = isochoric_stress(F, Sbar)
+            S = S + (pressure_stress(F, p) if p is not None else volumetric_stress(F, hyp.D1))
+        if self.history is not None:
+            if Sbar is None:
+                raise ValueError("viscoelasticity needs the split Mooney-Rivlin form (3.58)")
+            S = S + viscous_stress(F, Sbar, self.history.Hstar, self.history.beta)
+        return S
+
+    def _bulk_residual(self):
+        u, p = self.split()
+        v, q = self.test_functions()
+        F = deformation_gradient(u)
+        R = ufl.inner(F * self.second_piola(), embed_gradient(v)) * self.dx
+        if p is not None:
+            K = 2.0 / self.hyperelastic.D1
+            R += (ufl.det(F) - 1.0 - p / K) * q * self.dx
+        return R
+
+    def jacobian(self, residual=None):
+        return ufl.derivative(residual if residual is not None else self.residual, self.w,
+                              ufl.TrialFunction(self.W))
+
+    # --- material numbers --------------------------------------------------------------------
+    @property
+    def shear_modulus_long_term(self) -> float:
+        hyp = self.hyperelastic
+        return 2.0 * (hyp.C10 + hyp.C01)
+
+    @property
+    def bulk_modulus(self) -> float:
+        return 2.0 / self.hyperelastic.D1
+
+    def plane_strain_modulus(self, instantaneous: bool = True) -> float:
+        """E* = E/(1 - nu^2) = 4 G (3K + G)/(3K + 4G) for the long-term or instantaneous G."""
+        G = self.shear_modulus_long_term
+        if instantaneous and self.history is not None:
+            G = G * (1.0 + float(np.sum(self.history.g)))
+        K = self.bulk_modulus
+        return 4.0 * G * (3.0 * K + G) / (3.0 * K + 4.0 * G)
+
+    # --- time stepping -----------------------------------------------------------------------
+    def prepare_step(self, dt: float) -> None:
+        if self.history is not None:
+            self.history.prepare_step(dt)
+
+    def commit_step(self) -> float:
+        """Store the converged state in the history; returns the viscous energy of the step."""
+        if self.history is None:
+            return 0.0
+        Sbar = evaluate_at_points(vector_from_tensor3(self.fictitious_stress()), self.mesh,
+                                  self.rule, self.history.cells)
+        return self.history.commit_step(Sbar)
+
+    def set_temperature(self, T_cell) -> None:
+        """Temperature per cell (K) for the WLF shift of the relaxation times."""
+        if self.history is not None:
+            self.history.set_temperature(T_cell)
+
+    # --- dofs --------------------------------------------------------------------------------
+    def displacement_dofs(self) -> np.ndarray:
+        """(n_nodes, 2) full-space dofs of (u_x, u_z) per displacement node."""
+        return self.umap.reshape(-1, 2)
+
+    def dofs_where(self, predicate, component: int | None = None) -> np.ndarray:
+        """Full-space displacement dofs of nodes whose coordinates satisfy `predicate(X)`."""
+        nodes = np.nonzero(predicate(self.node_X))[0]
+        d = self.displacement_dofs()[nodes]
+        return d[:, component].copy() if component is not None else d.ravel()
+
+    def boundary(self, tag: int) -> BoundaryNodes:
+        """Nodes and outward-oriented segments of the facets carrying `tag`."""
+        mesh = self.mesh
+        tdim = mesh.topology.dim
+        facets = self.facet_tags.indices[self.facet_tags.values == tag]
+        if facets.size == 0:
+            raise ValueError(f"no facets carry tag {tag}")
+        mesh.topology.create_connectivity(tdim - 1, 0)
+        mesh.topology.create_connectivity(tdim - 1, tdim)
+        f2v = mesh.topology.connectivity(tdim - 1, 0)
+        f2c = mesh.topology.connectivity(tdim - 1, tdim)
+        verts = np.array([f2v.links(f) for f in facets])
+        gnodes = _cpp.mesh.entities_to_geometry(mesh, 0, verts.ravel().astype(np.int32), False).ravel()
+        vx = mesh.geometry.x[gnodes, :2]
+        dist, node = cKDTree(self.node_X).query(vx)
+        if dist.max() > 1e-10 * max(1.0, np.abs(self.node_X).max()):
+            raise RuntimeError("boundary vertices do not coincide with displacement nodes")
+        seg_nodes = node.reshape(-1, 2)
+        # orient each segment so the owning cell lies on its left
+        cells = np.array([f2c.links(f)[0] for f in facets])
+        centroids = self._cell_centroids(cells)
+        a, b = self.node_X[seg_nodes[:, 0]], self.node_X[seg_nodes[:, 1]]
+        t = b - a
+        n_right = np.column_stack([t[:, 1], -t[:, 0]])
+        flip = np.einsum("ij,ij->i", n_right, 0.5 * (a + b) - centroids) < 0.0
+        seg_nodes[flip] = seg_nodes[flip][:, ::-1]
+        uniq, inv = np.unique(seg_nodes.ravel(), return_inverse=True)
+        return BoundaryNodes(self.node_X[uniq].copy(), self.displacement_dofs()[uniq].copy(),
+                             inv.reshape(-1, 2).astype(np.int32), uniq.astype(np.int32))
+
+    def _cell_centroids(self, cells: np.ndarray) -> np.ndarray:
+        x = self.mesh.geometry.x[:, :2]
+        gdofs = self.mesh.geometry.dofmap
+        return np.array([x[gdofs.links(c)].mean(axis=0) for c in cells])
+
+    def nodal_displacement(self) -> np.ndarray:
+        """(n_nodes, 2) current displacement."""
+        return self.w.x.array[self.umap].reshape(-1, 2)

@@ -1,0 +1,204 @@
+"""Finite linear viscoelasticity, stress-based (Simo 1987; thesis eqs. 3.72-3.78).
+
+Each Maxwell element k carries the algorithmic history H^k at the quadrature points, updated by
+the midpoint rule (3.76)::
+
+    H^k_{n+1} = a_k H^k_n + b_k (Sbar_{n+1} - Sbar_n),   a_k = exp(-dt/tau_k), b_k = exp(-dt/(2 tau_k))
+
+and the stress is (3.77)  S = S_vol + gamma_inf S_iso,0 + J^(-2/3) sum_k gamma_k DEV{H^k_0}.
+
+Moduli convention.  The Mooney-Rivlin constants describe the *long-term* (equilibrium) response, as
+the thesis fits them to quasi-static tests; the instantaneous energy is Psi_0 = Psi_MR / gamma_inf.
+Writing every H^k with the fictitious stress Sbar of Psi_MR and g_k = gamma_k / gamma_inf, (3.77)
+becomes S = S_vol + J^(-2/3) DEV{Sbar + sum_k g_k H^k}.  (``moduli="instantaneous"`` uses
+g_k = gamma_k and scales the elastic part by gamma_inf instead, the ABAQUS default.)
+
+Because a_k, b_k are fixed within a time step, the sum collapses to one tensor per quadrature point:
+
+    sum_k g_k H^k_{n+1} = Hstar + beta Sbar_{n+1},
+    Hstar = sum_k g_k (a_k H^k_n - b_k Sbar_n),  beta = sum_k g_k b_k,
+
+so the residual form carries a single 3x3 quadrature field (Hstar) and a cell field (beta), whatever
+the number of Prony terms; the consistent tangent follows from UFL differentiation.  The per-term
+histories live in numpy and are updated, vectorised, after each converged step.
+
+Temperature enters through the WLF shift of every tau_k, eqs. (3.33), (3.37): tau_k(T) = a_T(T) tau_k,
+with T given per cell (a field from the thermal loop or one value per height partition).
+
+Dissipation.  The dashpot of element k dissipates D_k = |s_k|^2 / (2 eta_k) with branch stress
+s_k = gamma_k H^k_0 and viscosity eta_k = G_k tau_k (G_k = gamma_k G_0); in the variables above
+D = sum_k g_k |H^k|^2 / (2 G_ref tau_k(T)), with G_ref the shear modulus of the stored
+energy (mu of the MR constants; mu / gamma_inf for ``"instantaneous"``).  This is exact at small
+strain and is what the energy-based coefficient of friction (thesis eq. 2.8) integrates.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import basix
+import numpy as np
+import ufl
+from dolfinx import fem
+
+from rubberfriction.forms.hyperelastic import dev
+from rubberfriction.forms.kinematics import sym3_from_vector, vector_from_tensor3
+
+
+@dataclass(frozen=True)
+class QuadratureRule:
+    """Quadrature used for every bulk integral and every history field."""
+
+    degree: int
+    points: np.ndarray
+    weights: np.ndarray
+
+
+def quadrature_rule(cell_type: basix.CellType, degree: int) -> QuadratureRule:
+    points, weights = basix.make_quadrature(cell_type, degree)
+    return QuadratureRule(degree, points, weights)
+
+
+def viscous_stress(F, Sbar, Hstar, beta) -> ufl.core.expr.Expr:
+    """Non-equilibrium S = J^(-2/3) DEV{beta Sbar + Hstar} (collapsed eq. 3.77)."""
+    C = F.T * F
+    return ufl.det(F) ** (-2.0 / 3.0) * dev(beta * Sbar + sym3_from_vector(Hstar), C)
+
+
+class ViscoelasticHistory:
+    """History variables H^k of all Prony terms at all quadrature points of one mesh.
+
+    Parameters
+    ----------
+    mesh: the dolfinx mesh (one cell type).
+    rule: the quadrature rule of the bulk forms.
+    gamma, tau: Prony series (eq. 3.36), tau in s at the WLF reference temperature.
+    scale: g_k = gamma_k * scale (1 / gamma_inf for long-term moduli, 1 for instantaneous).
+    G_ref: shear modulus of the stored energy (for the dissipation density).
+    shift: callable T [K] -> a_T (WLF, eq. 3.33); None means no temperature dependence.
+    """
+
+    def __init__(self, mesh, rule: QuadratureRule, gamma, tau, scale: float, G_ref: float, shift=None):
+        self.mesh = mesh
+        self.rule = rule
+        self.g = np.asarray(gamma, dtype=float) * float(scale)
+        self.tau_ref = np.asarray(tau, dtype=float)
+        self.G_ref = float(G_ref)
+        self.shift = shift
+        cell = mesh.ufl_cell()
+        qe9 = ufl.VectorElement("Quadrature", cell, degree=rule.degree, dim=9, quad_scheme="default")
+        self.Q9 = fem.FunctionSpace(mesh, qe9)
+        self.DG0 = fem.FunctionSpace(mesh, ("DG", 0))
+        self.Hstar = fem.Function(self.Q9, name="Hstar")
+        self.beta = fem.Function(self.DG0, name="beta")
+        tdim = mesh.topology.dim
+        self.num_cells = mesh.topology.index_map(tdim).size_local
+        self.cells = np.arange(self.num_cells, dtype=np.int32)
+        npts = rule.points.shape[0]
+        # quadrature-space dofs of (cell, point), to scatter evaluated values into Hstar
+        self._qdofs = self.Q9.dofmap.list.array.reshape(-1, npts)[: self.num_cells]
+        nq = self.num_cells * npts
+        self.H = np.zeros((self.g.size, nq, 9))  # per-term history (row-major 3x3)
+        self.Sbar_n = np.zeros((nq, 9))  # fictitious stress of the last converged step
+        self.T_cell = None  # kelvin per cell; None: reference temperature
+        self._a = self._b = None
+        self._dt = None
+        self._D_n = np.zeros(nq)  # dissipation density at the last converged step
+        self.dissipated = 0.0  # total dissipated energy (per unit depth), mJ/mm
+
+    # --- temperature -------------------------------------------------------------------------
+    def set_temperature(self, T_cell) -> None:
+        """Temperature per cell in K (scalar broadcast); shifts every tau_k by WLF (3.37)."""
+        if self.shift is None:
+            raise ValueError("temperature given but the compound has no WLF data")
+        T = np.broadcast_to(np.asarray(T_cell, dtype=float), (self.num_cells,)).copy()
+        self.T_cell = T
+        self._dt = None  # coefficients must be recomputed
+
+    def tau_at_points(self) -> np.ndarray:
+        """tau_k at every quadrature point, shape (n_terms, n_points)."""
+        npts = self.rule.points.shape[0]
+        if self.T_cell is None:
+            aT = np.ones(self.num_cells * npts)
+        else:
+            aT = np.repeat(self.shift(self.T_cell), npts)
+        return self.tau_ref[:, None] * aT[None, :]
+
+    # --- stepping ----------------------------------------------------------------------------
+    def prepare_step(self, dt: float) -> None:
+        """Fill Hstar and beta for a step of size dt (called before the Newton solve)."""
+        if not dt > 0.0:
+            raise ValueError(f"time step dt must be > 0, got {dt}")
+        tau = self.tau_at_points()
+        self._a = np.exp(-dt / tau)
+        self._b = np.exp(-0.5 * dt / tau)
+        self._dt = dt
+        gh = np.einsum("k,kq,kqi->qi", self.g, self._a, self.H)
+        beta_q = np.einsum("k,kq->q", self.g, self._b)
+        hstar = gh - beta_q[:, None] * self.Sbar_n
+        self._scatter(self.Hstar, hstar)
+        npts = self.rule.points.shape[0]
+        self.beta.x.array[: self.num_cells] = beta_q.reshape(self.num_cells, npts)[:, 0]
+        self.beta.x.scatter_forward()
+
+    def commit_step(self, Sbar_new: np.ndarray) -> float:
+        """Update every H^k with the converged fictitious stress; returns the step's dissipation.
+
+        Sbar_new: (n_points, 9) fictitious stress at the quadrature points.
+        """
+        if self._dt is None:
+            raise RuntimeError("commit_step called before prepare_step")
+        self.H = self._a[:, :, None] * self.H + self._b[:, :, None] * (Sbar_new - self.Sbar_n)[None]
+        self.Sbar_n = Sbar_new.copy()
+        D = self.dissipation_density()
+        w = self._point_weights()
+        dE = 0.5 * self._dt * float(np.dot(w, D + self._D_n))  # trapezoidal rule in time
+        self._D_n = D
+        self.dissipated += dE
+        return dE
+
+    def dissipation_density(self) -> np.ndarray:
+        """Dissipation rate per unit reference volume at each quadrature point (MPa/s)."""
+        tau = self.tau_at_points()
+        H2 = np.einsum("kqi,kqi->kq", self.H, self.H)
+        return np.einsum("k,kq->q", self.g, H2 / tau) / (2.0 * self.G_ref)
+
+    # --- helpers -----------------------------------------------------------------------------
+    def _scatter(self, f: fem.Function, values: np.ndarray) -> None:
+        arr = f.x.array.reshape(-1, 9)
+        arr[self._qdofs.ravel()] = values
+        f.x.scatter_forward()
+
+    def _point_weights(self) -> np.ndarray:
+        """Reference-configuration integration weight of each quadrature point (|det J| w)."""
+        if not hasattr(self, "_wq"):
+            x = ufl.SpatialCoordinate(self.mesh)
+            detJ = ufl.JacobianDeterminant(self.mesh)
+            expr = fem.Expression(abs(detJ) + 0.0 * x[0], self.rule.points)
+            dj = expr.eval(self.cells).reshape(self.num_cells, -1)
+            self._wq = (dj * self.rule.weights[None, :]).ravel()
+        return self._wq
+
+    def point_coordinates(self) -> np.ndarray:
+        """Reference coordinates of every quadrature point, shape (n_points, 2)."""
+        x = ufl.SpatialCoordinate(self.mesh)
+        expr = fem.Expression(x, self.rule.points)
+        return expr.eval(self.cells).reshape(-1, 2)
+
+
+def evaluate_at_points(expr_ufl, mesh, rule: QuadratureRule, cells: np.ndarray) -> np.ndarray:
+    """Evaluate a UFL tensor expression at the quadrature points: shape (n_points, n_comp)."""
+    e = fem.Expression(expr_ufl, rule.points)
+    vals = e.eval(cells)
+    npts = rule.points.shape[0]
+    return vals.reshape(cells.size * npts, -1)
+
+
+__all__ = [
+    "QuadratureRule",
+    "ViscoelasticHistory",
+    "evaluate_at_points",
+    "quadrature_rule",
+    "vector_from_tensor3",
+    "viscous_stress",
+]
