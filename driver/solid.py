@@ -25,6 +25,7 @@ from dolfinx import fem
 from scipy.spatial import cKDTree
 
 from rubberfriction.forms.hyperelastic import (
+    dev,
     equilibrium_stress,
     fictitious_stress,
     isochoric_stress,
@@ -34,7 +35,6 @@ from rubberfriction.forms.hyperelastic import (
 from rubberfriction.forms.kinematics import deformation_gradient, embed_gradient, vector_from_tensor3
 from rubberfriction.forms.viscoelastic import (
     ViscoelasticHistory,
-    evaluate_at_points,
     quadrature_rule,
     viscous_stress,
 )
@@ -110,6 +110,7 @@ class SolidProblem:
         self.ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
         self.history = self._make_history(prony) if self.viscous else None
         self.residual = self._bulk_residual()
+        self._sdev_expr = None
         self.node_X = self.V.tabulate_dof_coordinates()[:, :2]
         self.n_nodes = self.node_X.shape[0]
 
@@ -199,8 +200,14 @@ class SolidProblem:
         """Store the converged state in the history; returns the viscous energy of the step."""
         if self.history is None:
             return 0.0
-        Sbar = evaluate_at_points(vector_from_tensor3(self.fictitious_stress()), self.mesh,
-                                  self.rule, self.history.cells)
+        if self._sdev_expr is None:
+            u, _ = self.split()
+            F = deformation_gradient(u)
+            # (3.76) convolves DEV{Sbar} taken with the C of its own time
+            Sdev = dev(self.fictitious_stress(), F.T * F)
+            self._sdev_expr = fem.Expression(vector_from_tensor3(Sdev), self.rule.points)
+        cells = self.history.cells
+        Sbar = self._sdev_expr.eval(cells).reshape(cells.size * self.rule.points.shape[0], 9)
         return self.history.commit_step(Sbar)
 
     def set_temperature(self, T_cell) -> None:

@@ -144,7 +144,9 @@ class ViscoelasticHistory:
     def commit_step(self, Sbar_new: np.ndarray) -> float:
         """Update every H^k with the converged fictitious stress; returns the step's dissipation.
 
-        Sbar_new: (n_points, 9) fictitious stress at the quadrature points.
+        Sbar_new: (n_points, 9) DEV{Sbar} at the quadrature points, the deviator taken with the
+        converged C (eq. 3.76); storing the deviator matters: the isotropic part of Sbar is O(mu)
+        and would leak into the stress through DEV with a later C.
         """
         if self._dt is None:
             raise RuntimeError("commit_step called before prepare_step")

@@ -1,0 +1,54 @@
+"""Small helpers shared by the finite-element tests (homogeneous states on tiny meshes)."""
+
+from __future__ import annotations
+
+import numpy as np
+import ufl
+from dolfinx import mesh as dmesh
+from mpi4py import MPI
+
+from rubberfriction.driver.constraints import ConstraintMap, ConstraintSpec
+from rubberfriction.driver.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.forms.kinematics import deformation_gradient, vector_from_tensor3
+from rubberfriction.forms.viscoelastic import evaluate_at_points
+
+
+def unit_square(n: int = 2, length: float = 1.0):
+    m = dmesh.create_rectangle(MPI.COMM_SELF, [[0.0, 0.0], [length, length]], [n, n],
+                               dmesh.CellType.quadrilateral)
+    tags = dmesh.meshtags(m, 1, np.array([], np.int32), np.array([], np.int32))
+    return m, tags
+
+
+def n_full(sp) -> int:
+    return sp.W.dofmap.index_map.size_local * sp.W.dofmap.index_map_bs
+
+
+def solve(sp, spec: ConstraintSpec, rtol: float = 1e-13, hooks=None):
+    cmap = ConstraintMap(spec)
+    pb = ConstrainedNonlinearProblem(sp.residual, sp.jacobian(), sp.w, cmap, hooks=hooks)
+    res = NewtonSolver(pb, NewtonSettings(rtol=rtol, atol=1e-14)).solve()
+    assert res.converged, res.reason
+    return pb, res
+
+
+def cauchy_at_points(sp) -> np.ndarray:
+    """Cauchy stress (n_points, 3, 3) at every quadrature point."""
+    u, _ = sp.split()
+    F = deformation_gradient(u)
+    sigma = F * sp.second_piola() * F.T / ufl.det(F)
+    cells = np.arange(sp.mesh.topology.index_map(2).size_local, dtype=np.int32)
+    return evaluate_at_points(vector_from_tensor3(sigma), sp.mesh, sp.rule, cells).reshape(-1, 3, 3)
+
+
+def mooney_rivlin_cauchy(F: np.ndarray, C10: float, C01: float, D1: float) -> np.ndarray:
+    """Closed-form Cauchy stress of the split Mooney-Rivlin energy (3.58), independent of UFL.
+
+    sigma = (2/J) dev[(C10 + C01 I1bar) bbar - C01 bbar^2] + 2 (J - 1)/D1 * 1.
+    """
+    J = np.linalg.det(F)
+    bbar = J ** (-2.0 / 3.0) * F @ F.T
+    I1 = np.trace(bbar)
+    s = (C10 + C01 * I1) * bbar - C01 * bbar @ bbar
+    s = s - np.trace(s) / 3.0 * np.eye(3)
+    return 2.0 / J * s + 2.0 * (J - 1.0) / D1 * np.eye(3)
