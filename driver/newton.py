@@ -36,6 +36,7 @@ class NewtonSettings:
     max_iterations: int = 25
     rtol: float = 1e-9  # on the reduced residual norm, relative to the reference force
     atol: float = 1e-10  # absolute floor on the reduced residual norm (N/mm)
+    stol: float = 1e-12  # converged when ||du|| <= stol ||u|| (residual stalled at round-off)
     divergence_factor: float = 1e6  # stop if the residual grows by this factor
     linear_solver: str = "mumps"
 
@@ -165,6 +166,7 @@ class NewtonSolver:
                 return res
             pb.P.mult(pb.dur, pb.du)
             x += pb.du.array
+            small_step = pb.du.norm() <= s.stol * max(np.linalg.norm(x), 1e-300)
             res.time_solve += time.perf_counter() - t0
             t0 = time.perf_counter()
             pb.assemble()
@@ -174,7 +176,7 @@ class NewtonSolver:
             res.iterations = it
             if self.on_iteration:
                 self.on_iteration(it, r)
-            if r <= s.atol + s.rtol * ref:
+            if r <= s.atol + s.rtol * ref or (small_step and r <= 1e3 * (s.atol + s.rtol * ref)):
                 res.converged = True
                 return res
             if not np.isfinite(r) or r > s.divergence_factor * ref:

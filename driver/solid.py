@@ -169,6 +169,11 @@ class SolidProblem:
             R += (ufl.det(F) - 1.0 - p / K) * q * self.dx
         return R
 
+    def add_traction(self, tag: int, traction) -> None:
+        """Dead-load traction (force per reference length, N/mm^2 per unit depth) on facets `tag`."""
+        v, _ = self.test_functions()
+        self.residual = self.residual - ufl.inner(traction, v) * self.ds(tag)
+
     def jacobian(self, residual=None):
         return ufl.derivative(residual if residual is not None else self.residual, self.w,
                               ufl.TrialFunction(self.W))
