@@ -1,0 +1,395 @@
+"""Prony-series identification from DMA master curves (thesis ch. 3.3.1, eqs. 3.34-3.36).
+
+The complex modulus of n Maxwell elements in parallel with an equilibrium spring (eq. 3.34),
+
+    E'(w)  = E_inf + sum_k E_k (w tau_k)^2 / (1 + (w tau_k)^2),
+    E''(w) =         sum_k E_k  w tau_k    / (1 + (w tau_k)^2),
+
+is linear in the unknowns (E_inf, E_1 .. E_n) once the relaxation times are fixed.  :func:`fit_prony`
+solves the non-negative least-squares problem on E' and E'' together (scipy.optimize.nnls), by
+default with relative weights (each residual divided by the measured value), so that the glassy and
+the rubbery ends of a master curve count alike.  Relaxation times are log-spaced over the data
+range unless given.
+
+A DMA master curve that violates the Kramers-Kronig relations cannot be matched by ANY Prony series
+(any linear viscoelastic solid); :func:`minimax_rel_error_bound` computes the smallest possible
+maximum relative error on a given tau grid by linear programming, so a poor fit can be told apart
+from poor data.  Units: omega in rad/s, moduli in MPa, tau in s.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+from scipy.optimize import linprog, nnls
+
+from rubberfriction.forms.materials import PronySeries
+
+FREQ_UNITS = {"Hz": 2.0 * math.pi, "rad/s": 1.0}
+MODULUS_UNITS = {"Pa": 1e-6, "kPa": 1e-3, "MPa": 1.0, "GPa": 1e3}
+WEIGHTS = ("relative", "absolute")
+
+
+# --------------------------------------------------------------------------------------------
+# data validation and reading
+# --------------------------------------------------------------------------------------------
+
+
+def _data_array(name: str, value: Any) -> np.ndarray:
+    try:
+        arr = np.array(value, dtype=float, ndmin=1)
+    except (TypeError, ValueError):
+        raise ValueError(f"DMA data {name}: expected a 1-D array of numbers") from None
+    if arr.ndim != 1:
+        raise ValueError(f"DMA data {name}: expected a 1-D array, got shape {arr.shape}")
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ValueError(f"DMA data {name}[{i}] = {arr[i]!r}: expected finite values")
+    return arr
+
+
+def validate_dma(omega: Any, E_storage: Any, E_loss: Any, *, sort: bool = False,
+                 positive_loss: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Check DMA data (omega rad/s, E', E'' MPa); return float copies.
+
+    Errors (ValueError naming the field): non-finite values, unequal lengths, fewer than two
+    points, omega <= 0, negative moduli (E' must be > 0; E'' > 0 when ``positive_loss``, as the
+    relative weights divide by it), duplicated frequencies, and frequencies not strictly
+    increasing.  Unsorted data are sorted only when asked (``sort=True``), never silently.
+    """
+    w, E1, E2 = (_data_array(n, v) for n, v in (("omega", omega), ("E_storage", E_storage), ("E_loss", E_loss)))
+    if not w.size == E1.size == E2.size:
+        raise ValueError(f"DMA data: omega, E_storage, E_loss have {w.size}, {E1.size}, {E2.size} "
+                         "points; expected equal lengths")
+    if w.size < 2:
+        raise ValueError(f"DMA data omega: {w.size} point(s); expected at least 2")
+    for name, arr, cond, expect in (("omega", w, w <= 0, "> 0 rad/s"), ("E_storage", E1, E1 <= 0, "> 0 MPa"),
+                                    ("E_loss", E2, (E2 <= 0) if positive_loss else (E2 < 0),
+                                     "> 0 MPa (relative weights)" if positive_loss else ">= 0 MPa")):
+        if cond.any():
+            i = int(np.argmax(cond))
+            raise ValueError(f"DMA data {name}[{i}] = {arr[i]!r}: expected {expect}")
+    if sort:
+        order = np.argsort(w, kind="stable")
+        w, E1, E2 = w[order], E1[order], E2[order]
+    step = np.diff(w)
+    if (step == 0).any():
+        i = int(np.argmax(step == 0))
+        raise ValueError(f"DMA data omega[{i + 1}] = {w[i + 1]!r} repeats omega[{i}]; expected distinct frequencies")
+    if (step < 0).any():
+        i = int(np.argmax(step < 0))
+        raise ValueError(f"DMA data omega is not sorted: omega[{i}] = {w[i]!r} > omega[{i + 1}] = "
+                         f"{w[i + 1]!r}; expected increasing frequencies (sort explicitly, e.g. sort=True)")
+    return w, E1, E2
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _read_rows(path: Path) -> list[list[str]]:
+    with path.open(newline="", encoding="utf-8-sig") as fh:
+        rows = [[c.strip() for c in row] for row in csv.reader(fh)]
+    return [r for r in rows if r and any(r) and not r[0].startswith("#")]
+
+
+def _column_index(header: list[str], col: str | int, path: Path) -> int:
+    if isinstance(col, int):
+        if not 0 <= col < len(header):
+            raise ValueError(f"{path}: column index {col} out of range (file has {len(header)} columns)")
+        return col
+    if col not in header:
+        raise ValueError(f"{path}: column {col!r} not found; header is {header}")
+    return header.index(col)
+
+
+def read_dma_csv(path: str | Path, freq_unit: str = "Hz",
+                 columns: Sequence[str | int] = ("f", "E_stor", "E_loss"),
+                 modulus_unit: str | None = None, sort: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Read a DMA master curve in the pyvisco CSV format; return (omega rad/s, E' MPa, E'' MPa).
+
+    Format (pyvisco ``freq_user_master.csv``): a header row of column names (``f, E_stor,
+    E_loss``), optionally a second row of units (``Hz, MPa, MPa``), then numbers.  ``columns``
+    selects frequency, storage and loss modulus by name or index.  The frequency unit is
+    ``freq_unit`` ("Hz" or "rad/s"); a units row must agree with it.  Moduli are converted to MPa
+    from the units row or from ``modulus_unit`` (Pa, kPa, MPa, GPa; default MPa).  Lines starting
+    with ``#`` are ignored.  The data are validated by :func:`validate_dma`.
+    """
+    path = Path(path)
+    if freq_unit not in FREQ_UNITS:
+        raise ValueError(f"read_dma_csv.freq_unit = {freq_unit!r}: expected one of {list(FREQ_UNITS)}")
+    if len(columns) != 3:
+        raise ValueError(f"read_dma_csv.columns = {columns!r}: expected three (frequency, E', E'')")
+    rows = _read_rows(path)
+    if len(rows) < 3 or all(_is_number(c) for c in rows[0]):
+        raise ValueError(f"{path}: expected a header row of column names and data rows")
+    header, rows = rows[0], rows[1:]
+    idx = [_column_index(header, c, path) for c in columns]
+    units = rows.pop(0) if not all(_is_number(rows[0][i]) for i in idx) else None
+    scale_f, scale_E = _units_scales(path, units, idx, freq_unit, modulus_unit)
+    try:
+        data = np.array([[float(r[i]) for i in idx] for r in rows])
+    except (ValueError, IndexError) as err:
+        raise ValueError(f"{path}: non-numeric or missing value in the data rows ({err})") from None
+    return validate_dma(data[:, 0] * scale_f, data[:, 1] * scale_E, data[:, 2] * scale_E, sort=sort)
+
+
+def _units_scales(path: Path, units: list[str] | None, idx: list[int], freq_unit: str,
+                  modulus_unit: str | None) -> tuple[float, float]:
+    if units is None:
+        mod = modulus_unit or "MPa"
+    else:
+        fu, m1, m2 = (units[i] if i < len(units) else "" for i in idx)
+        if fu != freq_unit:
+            raise ValueError(f"{path}: the units row gives frequency in {fu!r} but freq_unit = {freq_unit!r}")
+        if m1 != m2 or (modulus_unit is not None and m1 != modulus_unit):
+            raise ValueError(f"{path}: modulus units {m1!r}, {m2!r} (units row) vs modulus_unit = {modulus_unit!r}")
+        mod = m1
+    if mod not in MODULUS_UNITS:
+        raise ValueError(f"{path}: modulus unit {mod!r}: expected one of {list(MODULUS_UNITS)}")
+    return FREQ_UNITS[freq_unit], MODULUS_UNITS[mod]
+
+
+# --------------------------------------------------------------------------------------------
+# the fit
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ErrorStats:
+    """Maximum and root-mean-square relative error over the data points."""
+
+    max: float
+    rms: float
+
+    @classmethod
+    def of(cls, fitted: np.ndarray, data: np.ndarray) -> ErrorStats:
+        rel = np.abs(fitted / data - 1.0)
+        return cls(max=float(rel.max()), rms=float(np.sqrt(np.mean(rel**2))))
+
+
+@dataclass(frozen=True)
+class PronyFit:
+    """Result of :func:`fit_prony`: the series, the (fitted or given) E_inf and the errors."""
+
+    series: PronySeries
+    E_inf: float
+    rel_error_storage: ErrorStats
+    rel_error_loss: ErrorStats
+    n_data: int
+    E_inf_fitted: bool
+
+    @property
+    def E0(self) -> float:
+        return self.series.E0(self.E_inf)
+
+    def report(self) -> str:
+        s, nz = self.series, int((self.series.gamma > 0).sum())
+        lines = [f"Prony fit (eq. 3.34) to {self.n_data} points of E' and E'': {len(s)} relaxation times "
+                 f"{s.tau.min():.3g} .. {s.tau.max():.3g} s, {nz} non-zero terms",
+                 f"  E_inf = {self.E_inf:.6g} MPa ({'fitted' if self.E_inf_fitted else 'given'}), "
+                 f"E0 = {self.E0:.6g} MPa, gamma_inf = {s.gamma_inf:.6g}",
+                 f"  relative error E':  max {self.rel_error_storage.max:.3%}, rms {self.rel_error_storage.rms:.3%}",
+                 f"  relative error E'': max {self.rel_error_loss.max:.3%}, rms {self.rel_error_loss.rms:.3%}"]
+        if max(self.rel_error_storage.max, self.rel_error_loss.max) > 0.05:
+            lines.append("  note: errors above 5 %; if a denser tau grid does not help, the data may be "
+                         "inconsistent with any linear viscoelastic model (check minimax_rel_error_bound)")
+        return "\n".join(lines)
+
+
+def default_tau(omega: np.ndarray, n_terms: int | None = None) -> np.ndarray:
+    """Relaxation times for a fit over ``omega`` (rad/s).
+
+    Without ``n_terms``: one per decade at integer powers of ten, from 10^floor(log10(1/w_max)) to
+    10^ceil(log10(1/w_min)) (the data range rounded outwards, as pyvisco's 'round' window).
+    With ``n_terms``: log-spaced exactly over 1/w_max .. 1/w_min.
+    """
+    lo, hi = 1.0 / float(np.max(omega)), 1.0 / float(np.min(omega))
+    if n_terms is None:
+        e0, e1 = math.floor(math.log10(lo) + 1e-9), math.ceil(math.log10(hi) - 1e-9)
+        return np.logspace(e0, e1, e1 - e0 + 1)
+    if isinstance(n_terms, bool) or not isinstance(n_terms, (int, np.integer)) or n_terms < 1:
+        raise ValueError(f"fit_prony.n_terms = {n_terms!r}: expected a positive integer")
+    return np.geomspace(lo, hi, int(n_terms)) if n_terms > 1 else np.array([math.sqrt(lo * hi)])
+
+
+def _design(omega: np.ndarray, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Columns (E_inf, E_1 .. E_n) of E' and E'' in eq. (3.34)."""
+    wt = np.outer(omega, tau)
+    A1 = np.hstack([np.ones((omega.size, 1)), wt**2 / (1 + wt**2)])
+    A2 = np.hstack([np.zeros((omega.size, 1)), wt / (1 + wt**2)])
+    return A1, A2
+
+
+def _check_tau(tau: Any) -> np.ndarray:
+    t = np.array(tau, dtype=float, ndmin=1)
+    if t.ndim != 1 or t.size == 0 or not np.isfinite(t).all() or (t <= 0).any():
+        raise ValueError(f"fit_prony.tau = {tau!r}: expected a non-empty 1-D array of finite times > 0 s")
+    if np.unique(t).size != t.size:
+        raise ValueError(f"fit_prony.tau = {tau!r}: expected distinct relaxation times")
+    return t
+
+
+def fit_prony(omega: Any, E_storage: Any, E_loss: Any, n_terms: int | None = None, tau: Any = None,
+              E_inf: float | None = None, weights: str = "relative") -> PronyFit:
+    """Fit a Prony series (eq. 3.34) to E'(omega) and E''(omega) at once.
+
+    omega in rad/s (strictly increasing, > 0), moduli in MPa.  Unknowns E_inf >= 0 and E_k >= 0
+    (non-negative least squares, scipy.optimize.nnls); ``E_inf`` given fixes the long-term modulus.
+    ``weights="relative"`` minimises sum((E'_fit/E' - 1)^2 + (E''_fit/E'' - 1)^2), ``"absolute"``
+    the plain squared residuals.  Relaxation times: ``tau`` if given, else :func:`default_tau`
+    (``n_terms`` log-spaced over the data range, or one per decade).  The result's series is
+    gamma_k = E_k / E0 (eq. 3.36) with all terms (zeros included, see ``PronySeries.pruned``).
+    """
+    if weights not in WEIGHTS:
+        raise ValueError(f"fit_prony.weights = {weights!r}: expected one of {WEIGHTS}")
+    w, E1, E2 = validate_dma(omega, E_storage, E_loss, positive_loss=(weights == "relative"))
+    if tau is not None and n_terms is not None:
+        raise ValueError("fit_prony: give either n_terms or tau, not both")
+    tau = default_tau(w, n_terms) if tau is None else _check_tau(tau)
+    A1, A2 = _design(w, tau)
+    b1 = E1.copy()
+    if E_inf is not None:
+        E_inf = _given_E_inf(E_inf)
+        A1, A2, b1 = A1[:, 1:], A2[:, 1:], E1 - E_inf
+    x = _solve_nnls(A1, A2, b1, E2, (E1, E2) if weights == "relative" else None)
+    E_inf_value = float(E_inf) if E_inf is not None else float(x[0])
+    E_k = x if E_inf is not None else x[1:]
+    if E_inf_value <= 0:
+        raise ValueError("fit_prony: the fitted E_inf is 0 (a fluid-like fit, no equilibrium spring); "
+                         "give E_inf or relaxation times tau not beyond the lowest data frequency")
+    series = PronySeries.from_moduli(E_inf_value, E_k, tau)
+    return PronyFit(series=series, E_inf=E_inf_value,
+                    rel_error_storage=ErrorStats.of(series.storage(w, E_inf_value), E1),
+                    rel_error_loss=ErrorStats.of(series.loss(w, E_inf_value), E2),
+                    n_data=int(w.size), E_inf_fitted=E_inf is None)
+
+
+def _given_E_inf(E_inf: Any) -> float:
+    try:
+        value = float(E_inf)
+    except (TypeError, ValueError):
+        value = math.nan
+    if isinstance(E_inf, bool) or not math.isfinite(value) or value <= 0:
+        raise ValueError(f"fit_prony.E_inf = {E_inf!r}: expected a finite value > 0 MPa (or None to fit it)")
+    return value
+
+
+def _solve_nnls(A1: np.ndarray, A2: np.ndarray, b1: np.ndarray, b2: np.ndarray,
+                scale: tuple[np.ndarray, np.ndarray] | None) -> np.ndarray:
+    if scale is not None:
+        A1, b1 = A1 / scale[0][:, None], b1 / scale[0]
+        A2, b2 = A2 / scale[1][:, None], b2 / scale[1]
+    A, b = np.vstack([A1, A2]), np.concatenate([b1, b2])
+    norm = np.linalg.norm(A, axis=0)
+    norm[norm == 0] = 1.0
+    x, _ = nnls(A / norm, b, maxiter=50 * A.shape[1] + 1000)
+    return x / norm
+
+
+def minimax_rel_error_bound(omega: Any, E_storage: Any, E_loss: Any, tau: Any) -> float:
+    """Smallest achievable max relative error (E' and E'' together) of any Prony series on ``tau``.
+
+    Linear programme: minimise t subject to |E'_fit/E' - 1| <= t, |E''_fit/E'' - 1| <= t,
+    E_inf >= 0, E_k >= 0.  With a dense grid extending beyond the data this approximates the
+    bound over all linear viscoelastic solids: data violating the Kramers-Kronig relations give a
+    large value whatever the fit.
+    """
+    w, E1, E2 = validate_dma(omega, E_storage, E_loss)
+    A1, A2 = _design(w, _check_tau(tau))
+    A = np.vstack([A1 / E1[:, None], A2 / E2[:, None]])
+    n, m = A.shape[1], A.shape[0]
+    ones = np.ones((m, 1))
+    res = linprog(np.r_[np.zeros(n), 1.0], A_ub=np.block([[A, -ones], [-A, -ones]]),
+                  b_ub=np.r_[np.ones(m), -np.ones(m)], bounds=[(0, None)] * (n + 1), method="highs")
+    if res.status != 0:
+        raise RuntimeError(f"minimax_rel_error_bound: linear programme failed: {res.message}")
+    return float(res.fun)
+
+
+# --------------------------------------------------------------------------------------------
+# smooth target spectra (used for the illustrative default compound)
+# --------------------------------------------------------------------------------------------
+
+
+def havriliak_negami(omega: Any, E_inf: float, E_glassy: float, tau0: float, alpha: float,
+                     beta: float) -> np.ndarray:
+    """Havriliak-Negami modulus E*(w) = E_glassy - (E_glassy - E_inf) / (1 + (i w tau0)^alpha)^beta.
+
+    E*(0) = E_inf, E*(inf) = E_glassy; E'' rises as w^alpha below the peak and falls as
+    w^(-alpha beta) above it (0 < alpha, beta <= 1).  omega in rad/s, moduli in MPa.
+    """
+    w = np.asarray(omega, dtype=float)
+    return E_glassy - (E_glassy - E_inf) / (1.0 + (1j * w * tau0) ** alpha) ** beta
+
+
+def hn_loss_peak_omega(tau0: float, alpha: float, beta: float) -> float:
+    """Angular frequency of the E'' maximum of :func:`havriliak_negami` (closed form).
+
+    w_max = (1/tau0) [sin(alpha pi / (2 beta + 2)) / sin(alpha beta pi / (2 beta + 2))]^(1/alpha).
+    """
+    ratio = math.sin(alpha * math.pi / (2 * beta + 2)) / math.sin(alpha * beta * math.pi / (2 * beta + 2))
+    return ratio ** (1.0 / alpha) / tau0
+
+
+def loss_peak_omega(series: PronySeries, E_inf: float, points_per_decade: int = 200) -> float:
+    """Angular frequency of the E'' maximum of a Prony series (dense grid search), rad/s."""
+    lo, hi = math.log10(1 / series.tau.max()) - 2, math.log10(1 / series.tau.min()) + 2
+    w = np.logspace(lo, hi, int((hi - lo) * points_per_decade) + 1)
+    return float(w[np.argmax(series.loss(w, E_inf))])
+
+
+# --------------------------------------------------------------------------------------------
+# output
+# --------------------------------------------------------------------------------------------
+
+
+def _toml_list(values: np.ndarray) -> str:
+    return "[\n" + "".join(f"    {float(v)!r},\n" for v in values) + "]"
+
+
+def prony_toml(series: PronySeries) -> str:
+    """``gamma = [...]`` and ``tau = [...]`` lines (full precision) for a compound's [prony] table."""
+    return f"gamma = {_toml_list(series.gamma)}\ntau = {_toml_list(series.tau)}\n"
+
+
+def plot_fit(fit: PronyFit, omega: Any, E1: Any, E2: Any, path: str | Path) -> Path:
+    """Plot data vs fit (log-log E', E'' over frequency in Hz) and the relative errors; save to path."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    w, E1, E2 = validate_dma(omega, E1, E2, positive_loss=False)
+    f = w / (2 * np.pi)
+    wd = np.logspace(np.log10(w.min()), np.log10(w.max()), 400)
+    fig, (ax, ax_err) = plt.subplots(2, 1, figsize=(7, 7), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
+    ax.loglog(f, E1, "o", ms=3, color="C0", label="E' data")
+    ax.loglog(f, E2, "s", ms=3, color="C1", label="E'' data")
+    ax.loglog(wd / (2 * np.pi), fit.series.storage(wd, fit.E_inf), "-", color="C0", label="E' Prony")
+    ax.loglog(wd / (2 * np.pi), fit.series.loss(wd, fit.E_inf), "-", color="C1", label="E'' Prony")
+    ax.set_ylabel("modulus (MPa)")
+    ax.set_title(f"Prony fit: {int((fit.series.gamma > 0).sum())} terms, E_inf = {fit.E_inf:.4g} MPa")
+    ax.legend()
+    ax_err.semilogx(f, 100 * (fit.series.storage(w, fit.E_inf) / E1 - 1), ".-", color="C0", label="E'")
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ax_err.semilogx(f, 100 * (fit.series.loss(w, fit.E_inf) / E2 - 1), ".-", color="C1", label="E''")
+    ax_err.axhline(0, color="k", lw=0.5)
+    ax_err.set_xlabel("frequency (Hz)")
+    ax_err.set_ylabel("rel. error (%)")
+    ax_err.legend()
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
