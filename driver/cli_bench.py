@@ -1,0 +1,35 @@
+"""``rubberfriction bench NAME``: benchmarks that print figures (speed and memory live here, not in tests)."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+
+BENCHMARKS = {
+    "bulk": ("rubberfriction.driver.bench_bulk", "Newton iteration cost of the viscoelastic block vs dofs"),
+    "contact": ("rubberfriction.driver.bench_contact", "contact search/assembly scaling, Hertz error vs time"),
+    "surfaces": ("rubberfriction.driver.bench_surfaces", "decomposition of a 2-million-point profile"),
+    "theory": ("rubberfriction.driver.bench_theory", "50-velocity mu(v) curve from the analytical theories"),
+    "sliding": ("rubberfriction.driver.bench_sliding", "micro-cell speed-accuracy and stability sweep"),
+    "multiscale": ("rubberfriction.driver.bench_multiscale", "default scene and four-scale point, serial vs ranks"),
+}
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("bench", help="run a benchmark and print its figures",
+                       description="Benchmarks: " + "; ".join(f"{k}: {v[1]}" for k, v in BENCHMARKS.items()))
+    p.add_argument("name", choices=sorted(BENCHMARKS), help="which benchmark")
+    p.add_argument("args", nargs=argparse.REMAINDER, help="options passed to the benchmark (see NAME --help)")
+    p.set_defaults(func=_run)
+
+
+def _run(args: argparse.Namespace) -> int:
+    module_name, _ = BENCHMARKS[args.name]
+    try:
+        module = importlib.import_module(module_name)
+    except ModuleNotFoundError as err:
+        if err.name == module_name:
+            print(f"benchmark {args.name!r} is not available in this build ({module_name} missing)")
+            return 2
+        raise
+    return int(module.main(args.args) or 0)

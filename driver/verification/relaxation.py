@@ -1,0 +1,139 @@
+"""Bulk viscoelasticity against the linear closed forms of a Prony series (eqs. 3.34, 3.72-3.78).
+
+One element in homogeneous simple shear of small amplitude (finite strain = linear up to
+O(gamma^2)), every node prescribed.  Two histories:
+
+* ramp over t_ramp then hold:  sigma(t) = gamma0 G_inf [1 + sum_k g_k tau_k e^(-t/tau_k)
+  (e^(t_ramp/tau_k) - 1) / t_ramp],  g_k = gamma_k / gamma_inf  (long-term Mooney-Rivlin moduli);
+* harmonic shear gamma0 sin(omega t):  G', G'' from a least-squares fit of the stress (sin, cos
+  and the known transients exp(-t/tau_k)), compared with eq. (3.34) in shear form
+  (E = 3G for an incompressible material), and the viscous energy per cycle with pi gamma0^2 G''.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+import ufl
+from dolfinx import fem
+from dolfinx import mesh as dmesh
+from mpi4py import MPI
+
+from rubberfriction.driver.constraints import ConstraintMap, ConstraintSpec
+from rubberfriction.driver.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.driver.solid import SolidProblem
+from rubberfriction.driver.verification import check
+from rubberfriction.forms.kinematics import deformation_gradient
+from rubberfriction.forms.materials import Compound, MooneyRivlin, PronySeries
+
+
+class ShearCell:
+    """One Q1P0 element in homogeneous simple shear gamma(t)."""
+
+    def __init__(self, hyperelastic: MooneyRivlin, gamma, tau):
+        m = dmesh.create_unit_square(MPI.COMM_SELF, 1, 1, dmesh.CellType.quadrilateral)
+        tags = dmesh.meshtags(m, 1, np.array([], np.int32), np.array([], np.int32))
+        mat = Compound(name="shear-cell", hyperelastic=hyperelastic,
+                       prony=PronySeries(np.asarray(gamma, float), np.asarray(tau, float)), wlf=None,
+                       thermal=None)
+        self.sp = SolidProblem(m, tags, mat)
+        spec = ConstraintSpec(self.sp.W.dofmap.index_map.size_local)
+        d = self.sp.displacement_dofs()
+        spec.fix(d.ravel(), 0.0)
+        self.cmap = ConstraintMap(spec)
+        self.ux, self.z = d[:, 0], self.sp.node_X[:, 1]
+        pb = ConstrainedNonlinearProblem(self.sp.residual, self.sp.jacobian(), self.sp.w, self.cmap)
+        self.newton = NewtonSolver(pb, NewtonSettings(rtol=1e-12, atol=1e-15))
+        u, _ = self.sp.split()
+        F = deformation_gradient(u)
+        sigma = F * self.sp.second_piola() * F.T / ufl.det(F)
+        self._tau_xy = fem.Expression(sigma[0, 1], self.sp.rule.points)  # homogeneous: any point
+
+    def step(self, gamma: float, dt: float) -> tuple[float, float]:
+        """Advance one step to shear gamma; returns (shear stress, viscous energy of the step)."""
+        for dof, z in zip(self.ux, self.z):
+            self.cmap.fixed_roots[int(self.cmap.roots[dof])] = gamma * z
+        self.sp.prepare_step(dt)
+        res = self.newton.solve()
+        if not res.converged:
+            raise RuntimeError(f"shear cell: Newton failed: {res.reason}")
+        dE = self.sp.commit_step()
+        return float(self._tau_xy.eval(np.array([0], np.int32)).mean()), dE
+
+
+def ramp_hold(hyperelastic: MooneyRivlin, gamma, tau, *, dt: float, t_ramp: float, t_end: float,
+              gamma0: float = 1e-5) -> dict:
+    """Max relative stress error over a ramp-and-hold history sampled every dt."""
+    G_inf = hyperelastic.mu
+    g = np.asarray(gamma, float) / (1.0 - np.sum(gamma))
+    tau = np.asarray(tau, float)
+    cell = ShearCell(hyperelastic, gamma, tau)
+    times, fe, exact = [], [], []
+    for i in range(1, int(round(t_end / dt)) + 1):
+        t = i * dt
+        s, _ = cell.step(gamma0 * min(t / t_ramp, 1.0), dt)
+        if t >= t_ramp - 1e-12:
+            times.append(t)
+            fe.append(s)
+            exact.append(gamma0 * G_inf * (1.0 + np.sum(g * tau * np.exp(-t / tau) * np.expm1(t_ramp / tau)) / t_ramp))
+    fe, exact = np.array(fe), np.array(exact)
+    err = np.abs(fe - exact) / np.abs(exact)
+    return {"t": np.array(times), "stress": fe, "exact": exact, "max_rel_error": float(err.max())}
+
+
+def harmonic_shear(hyperelastic: MooneyRivlin, gamma, tau, *, omega: float, per_cycle: int = 200,
+                   cycles: int = 6, gamma0: float = 1e-5) -> dict:
+    """G', G'' and energy per cycle from the FE response to gamma0 sin(omega t)."""
+    G_inf = hyperelastic.mu
+    g = np.asarray(gamma, float) / (1.0 - np.sum(gamma))
+    tau = np.asarray(tau, float)
+    wt = omega * tau
+    G_storage = G_inf * (1.0 + np.sum(g * wt**2 / (1.0 + wt**2)))
+    G_loss = G_inf * np.sum(g * wt / (1.0 + wt**2))
+    cell = ShearCell(hyperelastic, gamma, tau)
+    dt = 2.0 * np.pi / omega / per_cycle
+    t = dt * np.arange(1, per_cycle * cycles + 1)
+    stress, energy = np.empty_like(t), np.empty_like(t)
+    for i, ti in enumerate(t):
+        stress[i], energy[i] = cell.step(gamma0 * np.sin(omega * ti), dt)
+    A = np.column_stack([np.sin(omega * t), np.cos(omega * t)] + [np.exp(-t / tk) for tk in tau])
+    coef = np.linalg.lstsq(A, stress, rcond=None)[0]
+    gam = gamma0 * np.sin(omega * t[-per_cycle - 1:])
+    sig = stress[-per_cycle - 1:]
+    return {"G_storage": coef[0] / gamma0, "G_loss": coef[1] / gamma0,
+            "G_storage_exact": G_storage, "G_loss_exact": G_loss,
+            "energy_per_cycle": float(energy[-per_cycle:].sum()),
+            "loop_area": float(np.sum(0.5 * (sig[1:] + sig[:-1]) * np.diff(gam))),
+            "energy_exact": float(np.pi * gamma0**2 * G_loss)}
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--C10", type=float, default=0.174, help="MPa (default: compound m1)")
+    p.add_argument("--C01", type=float, default=0.300, help="MPa")
+    p.add_argument("--D1", type=float, default=0.0208, help="1/MPa")
+    p.add_argument("--gamma", type=float, nargs="+", default=[0.5, 0.3], help="Prony gamma_k")
+    p.add_argument("--tau", type=float, nargs="+", default=[0.01, 0.1], help="Prony tau_k [s]")
+    p.add_argument("--dt-factor", type=float, default=0.1, help="dt = factor * tau_min")
+    p.add_argument("--omega", type=float, nargs="*", default=None,
+                   help="frequencies [rad/s] for harmonic shear (default: 0.1, 1, 10 / tau_min)")
+
+
+def run(args: argparse.Namespace) -> dict:
+    hyp = MooneyRivlin(args.C10, args.C01, args.D1)
+    if len(args.gamma) != len(args.tau):
+        raise SystemExit("--gamma and --tau need the same number of terms")
+    tmin, tmax = min(args.tau), max(args.tau)
+    dt = args.dt_factor * tmin
+    r = ramp_hold(hyp, args.gamma, args.tau, dt=dt, t_ramp=dt, t_end=3.0 * tmax)
+    checks = [check("relaxation max rel. error", r["max_rel_error"], 0.0, None)]
+    checks[0]["rel_error"] = r["max_rel_error"]
+    checks[0]["tolerance"], checks[0]["passed"] = 0.01, r["max_rel_error"] <= 0.01
+    for w in args.omega or [0.1 / tmin, 1.0 / tmin, 10.0 / tmin]:
+        h = harmonic_shear(hyp, args.gamma, args.tau, omega=w)
+        checks += [check(f"G' at omega={w:g}", h["G_storage"], h["G_storage_exact"], 0.01),
+                   check(f"G'' at omega={w:g}", h["G_loss"], h["G_loss_exact"], 0.01),
+                   check(f"energy/cycle omega={w:g}", h["energy_per_cycle"], h["energy_exact"], 0.01)]
+    return {"case": "relaxation", "parameters": {"C10": args.C10, "C01": args.C01, "D1": args.D1,
+                                                "gamma": args.gamma, "tau": args.tau, "dt": dt},
+            "checks": checks, "notes": ["shear moduli; E = 3 G for an incompressible material"]}
