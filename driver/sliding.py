@@ -1,0 +1,351 @@
+"""One single-scale sliding run: a viscoelastic block pressed onto a rigid surface and slid over it.
+
+The building block of every multiscale loop (thesis 6.2.1, 6.2.2, 6.4).  The run is a pure function
+of its `SlidingSpec`: same inputs, same result.
+
+Load history (thesis 6.2.2):
+1. initial contact: the block (bottom at the highest asperity) is pushed down by a small prescribed
+   displacement of its top edge until it carries load;
+2. compression: the top edge becomes one vertical unknown (all its u_z tied) loaded by the force
+   F_z = p l, ramped from the contact load to p over `compression_time`;
+3. sliding at v with p held: the master surface translates by -v t (periodic micro cell, the block
+   stays) while the top edge is held in x; the friction force is the x-reaction of the top edge.
+
+Micro cell: periodic boundary conditions x_r - x_l = X_r - X_l on the left/right edges (eq. 6.5)
+with the periodic master, so the cell slides over many periods.  Macro block: non-periodic.
+
+Failure handling: a step that does not converge (or inverts an element) is retried with half the
+step (cut-back), steps grow again after easy successes; when the step gets too small the run falls
+back to node-to-segment contact; a run that still fails returns `status="failed"` with the reason
+and the time reached.  Nothing is raised through the caller.
+
+Outputs: mu(t) = F_x/F_z (eq. 6.2) and mu from dissipated energy (eq. 2.8: viscous (+ frictional)
+energy per sliding distance over F_z), their averages over the homogenisation window, the mean
+contact pressure over contact nodes and steps (eq. 6.11), the contact length (area per unit depth)
+and its average (7.4), dissipation by depth.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from rubberfriction.driver.constraints import ConstraintMap, ConstraintSpec
+from rubberfriction.driver.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.driver.solid import SolidProblem, SolidSettings
+
+
+@dataclass(frozen=True)
+class SlidingSpec:
+    """Everything a sliding run depends on (plain data; hashed by the campaign store).
+
+    Lengths mm, pressure MPa, velocity mm/s, time s, temperature K.
+    """
+
+    surface_x: np.ndarray  # master polyline vertices (one period if periodic), z = surface_h
+    surface_h: np.ndarray
+    period: float  # > 0: periodic master and periodic cell of this length
+    pressure: float
+    velocity: float
+    compound: object  # rubberfriction.forms.materials.Compound
+    block_length: float = 0.0  # 0: = period (micro cell)
+    block_height: float = 0.0  # 0: = block_length (thesis 6.2.2)
+    temperature: float | None = None  # K; None: the WLF reference temperature
+    friction: object = None  # None (frictionless), a float mu, or a friction law object
+    element: str = "Q1P0"
+    contact: str = "mortar"  # or "nts"
+    h_contact: float = 0.0  # contact-face element size; 0: from the surface (see mesh_size)
+    elements_per_wavelength: int = 16
+    grading: float = 1.15  # growth ratio of element height away from the contact face
+    slide_distance: float = 0.0  # 0: 3 periods (or 3 block lengths)
+    step_length: float = 0.0  # sliding distance per step; 0: h_contact / 2
+    compression_time: float = 0.0  # 0: one step of the sliding time scale x 10
+    compression_steps: int = 10
+    window_start: float = 1.0 / 3.0  # fraction of the sliding distance before averaging (run-in)
+    penalty: float = 0.0  # 0: automatic
+    max_cutbacks: int = 8
+
+
+@dataclass
+class SlidingResult:
+    status: str  # "ok" or "failed"
+    reason: str = ""
+    t_reached: float = 0.0
+    series: dict[str, np.ndarray] = field(default_factory=dict)
+    mu_force: float = float("nan")
+    mu_energy: float = float("nan")
+    mean_pressure: float = float("nan")  # eq. (6.11)
+    contact_fraction: float = float("nan")  # time-averaged contact length / block length (7.4)
+    dissipation_by_depth: tuple[np.ndarray, np.ndarray] | None = None
+    stats: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+
+def default_h_contact(spec: SlidingSpec) -> float:
+    """Contact-face element size: shortest resolved wavelength / elements_per_wavelength.
+
+    The shortest wavelength is estimated from the sample's zero crossings of the slope (twice the
+    mean spacing of slope sign changes), bounded below by 4 master segments.
+    """
+    x, h = np.asarray(spec.surface_x), np.asarray(spec.surface_h)
+    dx = np.diff(x).mean()
+    slope = np.diff(h) / np.diff(x)
+    changes = np.count_nonzero(np.diff(np.sign(slope)) != 0)
+    L = spec.period if spec.period > 0 else x[-1] - x[0]
+    lam = 2.0 * L / max(changes, 1)
+    lam = max(lam, 4.0 * dx)
+    return lam / spec.elements_per_wavelength
+
+
+class ContactLike:
+    """What a sliding run needs from the contact module (``rubberfriction.driver.contact``)."""
+
+    def hook(self, x, A, b) -> None: ...  # assemble into the full-space system
+    def set_master_offset(self, dx: float, dz: float) -> None: ...
+    def set_time_step(self, dt: float) -> None: ...
+    def commit(self) -> None: ...
+    def state(self) -> dict: ...  # pressure, active, weight, Fx, Fz, contact_length, dissipation
+    def couplings(self) -> list: ...  # (rows, cols) the contact may write
+
+
+@dataclass
+class _Phase:
+    name: str
+    t_end: float
+    dt: float
+
+
+class SlidingRun:
+    """Set-up and time loop of one sliding run; `run()` returns a SlidingResult."""
+
+    def __init__(self, spec: SlidingSpec, mesh_factory=None, contact_factory=None, progress=None):
+        self.spec = spec
+        self.progress = progress
+        self._mesh_factory = mesh_factory
+        self._contact_factory = contact_factory
+
+    # --- set-up ------------------------------------------------------------------------------
+    def _geometry(self) -> tuple[float, float, float]:
+        s = self.spec
+        L = s.block_length or s.period
+        if not L > 0:
+            raise ValueError("block_length: needs a positive value (or a periodic surface)")
+        H = s.block_height or L
+        hc = s.h_contact or default_h_contact(s)
+        return L, H, hc
+
+    def build(self, contact_formulation: str) -> None:
+        s = self.spec
+        L, H, hc = self._geometry()
+        self.L, self.H, self.hc = L, H, hc
+        z0 = float(np.max(s.surface_h))  # block bottom rests on the highest asperity
+        body = self._mesh_factory(L, H, hc, s.grading, z0)
+        self.mesh, self.facet_tags = body.mesh, body.facet_tags
+        self.sp = SolidProblem(self.mesh, self.facet_tags, s.compound, SolidSettings(element=s.element))
+        if s.temperature is not None:
+            self.sp.set_temperature(s.temperature)
+        nfull = self.sp.W.dofmap.index_map.size_local * self.sp.W.dofmap.index_map_bs
+        X, d = self.sp.node_X, self.sp.displacement_dofs()
+        tol = 1e-9 * max(L, H)
+        self.top = np.nonzero(np.abs(X[:, 1] - (z0 + H)) < tol)[0]
+        spec = ConstraintSpec(nfull)
+        spec.fix(d[self.top, 0], 0.0)  # held in x: F_x is the reaction here
+        spec.tie(d[self.top, 1])
+        self.top_z_dof = int(d[self.top[0], 1])
+        if s.period > 0:
+            left = np.nonzero(np.abs(X[:, 0] - X[:, 0].min()) < tol)[0]
+            right = np.nonzero(np.abs(X[:, 0] - X[:, 0].max()) < tol)[0]
+            left, right = left[np.argsort(X[left, 1])], right[np.argsort(X[right, 1])]
+            if left.size != right.size or np.abs(X[left, 1] - X[right, 1]).max() > tol:
+                raise RuntimeError("periodic cell: left and right edge nodes do not match")
+            spec.equal(d[left, 0], d[right, 0])  # x_r - x_l = X_r - X_l, eq. (6.5)
+            spec.equal(d[left, 1], d[right, 1])
+        spec.fix(self.top_z_dof, 0.0)  # displacement control until contact carries load
+        self.cspec = spec
+        self.cmap = ConstraintMap(spec)
+        self.contact = self._contact_factory(self.sp, s, contact_formulation)
+        self.fext = np.zeros(nfull)
+        self.problem = ConstrainedNonlinearProblem(
+            self.sp.residual, self.sp.jacobian(), self.sp.w, self.cmap, hooks=[self.contact.hook],
+            extra_couplings=self.contact.couplings(), external_force=self.fext)
+        self.force_scale = s.pressure * L
+        self.newton = NewtonSolver(self.problem, NewtonSettings(rtol=1e-8, atol=1e-12 * self.force_scale),
+                                   force_scale=self.force_scale)
+
+    def _switch_to_force_control(self) -> None:
+        """The tied top u_z becomes an unknown loaded by F_ext (compression phase)."""
+        self.cspec.fixed.pop(self.top_z_dof)
+        x = self.sp.w.x.array.copy()
+        self.cmap = ConstraintMap(self.cspec)
+        self.problem.constraints = self.cmap
+        self.problem.P = self.cmap.P
+        self.problem.Ar = None
+        self.problem.br = self.cmap.P.createVecRight()
+        self.problem.dur = self.cmap.P.createVecRight()
+        self.sp.w.x.array[:] = x
+
+    # --- one step with cut-backs ---------------------------------------------------------------
+    def _solve_step(self, t: float, dt: float, apply_load) -> tuple[bool, str, int]:
+        """Advance from t to t + dt (sub-stepping on failure). Returns (ok, reason, cutbacks)."""
+        cutbacks, t_cur, h = 0, t, dt
+        while t_cur < t + dt - 1e-12 * dt:
+            h = min(h, t + dt - t_cur)
+            x_saved = self.sp.w.x.array.copy()
+            apply_load(t_cur + h)
+            self.sp.prepare_step(h)
+            self.contact.set_time_step(h)
+            res = self.newton.solve()
+            self.newton_iterations += res.iterations
+            ok, reason = res.converged, res.reason
+            if ok and self._inverted():
+                ok, reason = False, "element inversion (det F <= 0)"
+            if ok:
+                self.step_energy += self.sp.commit_step()
+                self.contact.commit()
+                self.step_friction_energy += float(self.contact.state().get("dissipation", 0.0))
+                t_cur += h
+                continue
+            self.sp.w.x.array[:] = x_saved
+            cutbacks += 1
+            self.cutbacks += 1
+            if cutbacks > self.spec.max_cutbacks:
+                return False, reason, cutbacks
+            h *= 0.5
+        return True, "", cutbacks
+
+    def _inverted(self) -> bool:
+        if self._detF is None:
+            import ufl
+            from dolfinx import fem
+
+            from rubberfriction.forms.kinematics import deformation_gradient
+
+            u, _ = self.sp.split()
+            self._detF = fem.Expression(ufl.det(deformation_gradient(u)), self.sp.rule.points)
+            ncell = self.mesh.topology.index_map(2).size_local
+            self._cells = np.arange(ncell, dtype=np.int32)
+        return bool(self._detF.eval(self._cells).min() <= 0.0)
+
+    def _top_reaction(self) -> float:
+        """Vertical force the tied top edge carries (internal force sum at its u_z dofs)."""
+        d = self.sp.displacement_dofs()[self.top, 1]
+        return float(self.problem.reaction(d).sum())
+
+    # --- the run -------------------------------------------------------------------------------
+    def run(self) -> SlidingResult:
+        wall0 = time.perf_counter()
+        attempts = [(self.spec.contact, 1.0)]
+        if self.spec.contact == "mortar":
+            attempts.append(("nts", 1.0))
+        attempts.append((attempts[-1][0], 0.25))  # stabilisation: smaller sliding steps
+        last = None
+        for i, (formulation, step_factor) in enumerate(attempts):
+            result = self._attempt(formulation, step_factor)
+            result.stats["fallback_level"] = i
+            result.stats["contact_formulation"] = formulation
+            result.stats["wall_time"] = time.perf_counter() - wall0
+            if result.ok:
+                return result
+            last = result
+        return last
+
+    def _attempt(self, formulation: str, step_factor: float) -> SlidingResult:
+        s = self.spec
+        self.cutbacks, self.newton_iterations = 0, 0
+        self._detF = None
+        self.step_energy = self.step_friction_energy = 0.0
+        try:
+            self.build(formulation)
+        except (ValueError, RuntimeError) as err:
+            return SlidingResult("failed", reason=f"set-up: {err}")
+        L, F_target = self.L, s.pressure * self.L
+        step_len = (s.step_length or 0.5 * self.hc) * step_factor
+        dt_slide = step_len / s.velocity
+        t_p = s.compression_time or 10.0 * dt_slide * s.compression_steps
+        dt_p = t_p / s.compression_steps
+        t = 0.0
+        # 1. initial contact under displacement control
+        delta, Fz = 0.0, 0.0
+        ddelta = 1e-4 * self.H
+        for _ in range(60):
+            target = delta + ddelta
+
+            def load(_t, target=target):
+                self.cmap.update_value(self.top_z_dof, -target)
+
+            ok, reason, _ = self._solve_step(t, dt_p, load)
+            if not ok:
+                return SlidingResult("failed", reason=f"initial contact: {reason}", t_reached=t)
+            t, delta = t + dt_p, target
+            Fz = -self._top_reaction()
+            if Fz >= 0.02 * F_target:
+                break
+            ddelta *= 2.0
+        else:
+            return SlidingResult("failed", reason="initial contact: no load after 60 increments", t_reached=t)
+        # 2. compression to p over t_p under force control
+        self._switch_to_force_control()
+        F0 = min(Fz, F_target)
+        rows = []
+        for k in range(1, s.compression_steps + 1):
+            Fk = F0 + (F_target - F0) * k / s.compression_steps
+
+            def load(_t, Fk=Fk):
+                self.fext[:] = 0.0
+                self.fext[self.top_z_dof] = -Fk
+
+            ok, reason, _ = self._solve_step(t, dt_p, load)
+            if not ok:
+                return SlidingResult("failed", reason=f"compression: {reason}", t_reached=t)
+            t += dt_p
+        # 3. sliding at v with p held
+        distance = s.slide_distance or 3.0 * (s.period if s.period > 0 else L)
+        nsteps = int(np.ceil(distance / step_len))
+        t_s = t
+        keep = self.fext.copy()
+        for k in range(1, nsteps + 1):
+            self.step_energy = self.step_friction_energy = 0.0
+
+            def load(tk):
+                self.fext[:] = keep
+                self.contact.set_master_offset(-s.velocity * (tk - t_s), 0.0)
+
+            ok, reason, _ = self._solve_step(t, dt_slide, load)
+            if not ok:
+                res = self._result(rows, distance, "failed", f"sliding: {reason}", t)
+                return res
+            t += dt_slide
+            st = self.contact.state()
+            rows.append((t, s.velocity * (t - t_s), st["Fx"], st["Fz"], st["contact_length"],
+                         self.step_energy, self.step_friction_energy, st["mean_pressure"]))
+            if self.progress:
+                self.progress(k, nsteps)
+        return self._result(rows, distance, "ok", "", t)
+
+    def _result(self, rows, distance, status, reason, t) -> SlidingResult:
+        s = self.spec
+        cols = ["t", "s", "Fx", "Fz", "contact_length", "viscous_energy", "friction_energy", "mean_pressure"]
+        arr = np.array(rows, dtype=float).reshape(-1, len(cols))
+        series = {c: arr[:, i] for i, c in enumerate(cols)}
+        res = SlidingResult(status, reason=reason, t_reached=t, series=series)
+        res.stats = {"cutbacks": self.cutbacks, "newton_iterations": self.newton_iterations,
+                     "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size)}
+        if len(rows) == 0:
+            return res
+        Fz = series["Fz"]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            series["mu_force"] = -series["Fx"] / Fz  # friction force on the block opposes +x sliding
+        win = series["s"] > s.window_start * distance
+        if status == "ok" and np.count_nonzero(win) >= 2:
+            ds = np.diff(np.concatenate([[0.0], series["s"]]))[win]
+            res.mu_force = float(np.sum(series["mu_force"][win] * ds) / ds.sum())
+            energy = (series["viscous_energy"] + series["friction_energy"])[win].sum()
+            res.mu_energy = float(energy / (np.mean(Fz[win]) * ds.sum()))
+            res.mean_pressure = float(np.mean(series["mean_pressure"][win]))
+            res.contact_fraction = float(np.mean(series["contact_length"][win]) / self.L)
+        return res
