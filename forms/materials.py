@@ -131,16 +131,18 @@ class MooneyRivlin:
     tabulated positive C01 would soften the material, mu = 2 (C10 - C01), which for compound c1
     (C10 = 0.136, C01 = 0.518) would even be negative.
 
-    ``form="feap"`` (eq. 3.53, no volumetric/isochoric split)::
+    ``form="feap"`` (eq. 3.53, no volumetric/isochoric split), used here as::
 
-        Psi = mu1/2 (I_b - 3 - 2 ln J) - mu2/2 (II_b - 3 - 4 ln J) + lambda/4 (J^2 - 1 - 2 ln J)
+        Psi = mu1/2 (I_b - 3 - 2 ln J) + mu2/2 (II_b - 3 - 4 ln J) + lambda/4 (J^2 - 1 - 2 ln J)
 
-    Linearising the stress (3.54) gives the shear modulus mu1 - mu2 and the first Lamé constant
-    lambda - 2 mu2.  The same small-strain moduli (mu = 2 (C10 + C01), K = 2/D1) therefore
-    follow from ``mu1 = 2 C10``, ``mu2 = -2 C01`` (negative: eq. 3.53 subtracts the second
-    invariant term) and ``lambda = K - 2/3 mu + 2 mu2``; see :attr:`mu1`, :attr:`mu2`,
-    :attr:`lam`.  The constants are stored as C10, C01, D1 in both forms; ``form`` only tells
-    the finite-element forms which strain energy to build.
+    with ``mu1 = 2 C10``, ``mu2 = 2 C01``, ``lambda = K - 2/3 mu - 2 mu2`` (:attr:`mu1`,
+    :attr:`mu2`, :attr:`lam`).  Linearising the stress (3.54) gives the shear modulus
+    mu1 + mu2 = mu and the first Lamé constant lambda + 2 mu2, i.e. the bulk modulus K = 2/D1:
+    the same small-strain moduli as the split form.  The thesis prints ``- mu2/2 (II_b ...)``
+    (the same sign issue as in 3.58); that is this energy with mu2 -> -mu2 (a negative mu2 in
+    the printed convention).  ``forms/hyperelastic.py`` uses this "+ mu2" convention.  The
+    constants are stored as C10, C01, D1 in both forms; ``form`` only tells the finite-element
+    forms which strain energy to build.
 
     Interpretation: these constants describe the LONG-TERM (equilibrium) response; the thesis
     fits them to quasi-static tests (ch. 3.3.3).  Validation: C10 > 0, C01 >= 0 (C01 = 0 is
@@ -180,15 +182,14 @@ class MooneyRivlin:
 
     @classmethod
     def from_feap(cls, mu1: float, mu2: float, lam: float) -> MooneyRivlin:
-        """Inverse of the FEAP mapping (eq. 3.53): C10 = mu1/2, C01 = -mu2/2, K = lam + 2/3 mu - 2 mu2."""
+        """Inverse of the FEAP mapping ("+ mu2" convention): C10 = mu1/2, C01 = mu2/2, K = lam + 2/3 mu + 2 mu2."""
         mu1 = _positive("MooneyRivlin.from_feap", "mu1", mu1, "MPa")
-        mu2 = _real("MooneyRivlin.from_feap", "mu2", mu2, "MPa")
+        mu2 = _nonnegative("MooneyRivlin.from_feap", "mu2", mu2, "MPa")
         lam = _real("MooneyRivlin.from_feap", "lam", lam, "MPa")
-        mu = mu1 - mu2
-        K = lam + 2.0 * mu / 3.0 - 2.0 * mu2
+        K = lam + 2.0 * (mu1 + mu2) / 3.0 + 2.0 * mu2
         if K <= 0:
-            raise ValueError(f"MooneyRivlin.from_feap: lam = {lam!r} gives a bulk modulus K = {K!r}; expected K > 0")
-        return cls(C10=mu1 / 2.0, C01=-mu2 / 2.0, D1=2.0 / K, form="feap")
+            raise ValueError(f"MooneyRivlin.from_feap.lam = {lam!r} gives a bulk modulus K = {K!r}; expected K > 0")
+        return cls(C10=mu1 / 2.0, C01=mu2 / 2.0, D1=2.0 / K, form="feap")
 
     @property
     def mu(self) -> float:
@@ -222,13 +223,13 @@ class MooneyRivlin:
 
     @property
     def mu2(self) -> float:
-        """FEAP form (eq. 3.53): mu2 = -2 C01, MPa (so that mu1 - mu2 = mu)."""
-        return -2.0 * self.C01
+        """FEAP form (eq. 3.53, "+ mu2" convention): mu2 = 2 C01, MPa (mu1 + mu2 = mu)."""
+        return 2.0 * self.C01
 
     @property
     def lam(self) -> float:
-        """FEAP form (eq. 3.53): lambda with linearised bulk modulus K: lambda = K - 2/3 mu + 2 mu2."""
-        return self.K - 2.0 * self.mu / 3.0 + 2.0 * self.mu2
+        """FEAP form (eq. 3.53): lambda = K - 2/3 mu - 2 mu2, MPa (linearised bulk modulus K)."""
+        return self.K - 2.0 * self.mu / 3.0 - 2.0 * self.mu2
 
 
 # --------------------------------------------------------------------------------------------
@@ -379,7 +380,7 @@ class WLF:
             raise ValueError(f"WLF.log10_aT: T = {bad!r} K is at or below the WLF singularity "
                              f"T_ref - c2 = {self.T_singular!r} K; expected T > {self.T_singular!r} K")
         dT = TT - self.T_ref
-        return _as_output(-self.c1 * dT / (self.c2 + dT))
+        return _as_output(-self.c1 * dT / (self.c2 + dT) + 0.0)  # + 0.0: no "-0" at T_ref
 
     def aT(self, T: Any) -> float | np.ndarray:
         """Shift factor a(T) = 10**log10_aT(T)."""

@@ -135,7 +135,7 @@ def read_dma_csv(path: str | Path, freq_unit: str = "Hz",
         raise ValueError(f"{path}: expected a header row of column names and data rows")
     header, rows = rows[0], rows[1:]
     idx = [_column_index(header, c, path) for c in columns]
-    units = rows.pop(0) if not all(_is_number(rows[0][i]) for i in idx) else None
+    units = rows.pop(0) if not any(_is_number(rows[0][i]) for i in idx if i < len(rows[0])) else None
     scale_f, scale_E = _units_scales(path, units, idx, freq_unit, modulus_unit)
     try:
         data = np.array([[float(r[i]) for i in idx] for r in rows])
@@ -297,17 +297,21 @@ def _solve_nnls(A1: np.ndarray, A2: np.ndarray, b1: np.ndarray, b2: np.ndarray,
     return x / norm
 
 
-def minimax_rel_error_bound(omega: Any, E_storage: Any, E_loss: Any, tau: Any) -> float:
-    """Smallest achievable max relative error (E' and E'' together) of any Prony series on ``tau``.
+def minimax_rel_error_bound(omega: Any, E_storage: Any, E_loss: Any, tau: Any, curves: str = "both") -> float:
+    """Smallest achievable max relative error of any Prony series on the grid ``tau``.
 
-    Linear programme: minimise t subject to |E'_fit/E' - 1| <= t, |E''_fit/E'' - 1| <= t,
-    E_inf >= 0, E_k >= 0.  With a dense grid extending beyond the data this approximates the
-    bound over all linear viscoelastic solids: data violating the Kramers-Kronig relations give a
-    large value whatever the fit.
+    Linear programme: minimise t subject to |E'_fit/E' - 1| <= t and/or |E''_fit/E'' - 1| <= t
+    (``curves`` = "both", "storage" or "loss"), E_inf >= 0, E_k >= 0.  With a dense grid
+    extending beyond the data this approximates the bound over all linear viscoelastic solids:
+    data violating the Kramers-Kronig relations give a large value for "both" whatever the fit.
     """
     w, E1, E2 = validate_dma(omega, E_storage, E_loss)
     A1, A2 = _design(w, _check_tau(tau))
-    A = np.vstack([A1 / E1[:, None], A2 / E2[:, None]])
+    blocks = {"both": [A1 / E1[:, None], A2 / E2[:, None]], "storage": [A1 / E1[:, None]],
+              "loss": [A2 / E2[:, None]]}
+    if curves not in blocks:
+        raise ValueError(f"minimax_rel_error_bound.curves = {curves!r}: expected one of {list(blocks)}")
+    A = np.vstack(blocks[curves])
     n, m = A.shape[1], A.shape[0]
     ones = np.ones((m, 1))
     res = linprog(np.r_[np.zeros(n), 1.0], A_ub=np.block([[A, -ones], [-A, -ones]]),

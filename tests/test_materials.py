@@ -103,7 +103,7 @@ def _psi_split(mr: MooneyRivlin, F: np.ndarray) -> float:
 
 
 def _psi_feap(mu1: float, mu2: float, lam: float, F: np.ndarray) -> float:
-    """Eq. (3.53) as printed."""
+    """Eq. (3.53) as printed ("- mu2/2"); the module's "+ mu2" convention is this with mu2 -> -mu2."""
     J = np.linalg.det(F)
     b = F @ F.T
     I, II = np.trace(b), 0.5 * (np.trace(b) ** 2 - np.trace(b @ b))
@@ -135,8 +135,9 @@ def test_mr_split_form_small_strain(name: str) -> None:
 def test_mr_feap_mapping(name: str) -> None:
     """Eq. 3.53 with mu1, mu2, lambda from the mapping has the same small-strain mu and K."""
     mr = MooneyRivlin(*TABLES[name], form="feap")
-    assert mr.mu1 - mr.mu2 == pytest.approx(mr.mu, rel=1e-12)
-    mu, K = _small_strain_moduli(lambda F: _psi_feap(mr.mu1, mr.mu2, mr.lam, F))
+    assert mr.mu1 + mr.mu2 == pytest.approx(mr.mu, rel=1e-12)
+    assert mr.mu2 == pytest.approx(2 * TABLES[name][1], rel=1e-12)
+    mu, K = _small_strain_moduli(lambda F: _psi_feap(mr.mu1, -mr.mu2, mr.lam, F))
     assert mu == pytest.approx(mr.mu, rel=1e-3)
     assert K == pytest.approx(mr.K, rel=1e-3)
     back = MooneyRivlin.from_feap(mr.mu1, mr.mu2, mr.lam)
