@@ -1,0 +1,278 @@
+"""``rubberfriction surface ...``: analyse road profiles, split them into scales, make samples.
+
+Subcommands
+-----------
+``analyse FILE``   defects, rms height/slope, PSD (with power-law fit) and HDC (eq. 2.5 fit);
+                   ``--plot out.png`` (profile, PSD with band edges, HDC with fit), ``--json``.
+``split FILE...``  band-pass scales (eq. 6.10) from one or several measurements of a surface
+                   (each band from the coarsest file that resolves it) and periodic samples:
+                   ``--edges 20 3 0.3 --samples 10 --seed 1 --out DIR``.
+``default``        the embedded default road (CAPTIF measured + self-affine generated) with its
+                   samples: ``--out DIR``.
+``generate KIND``  synthetic profiles: ``self-affine``, ``two-sine`` (eqs. 6.7-6.8),
+                   ``sawtooth`` (ch. 6.4.1) to CSV.
+``compare FILE``   the three decompositions of thesis fig. 6.5 side by side (``--plot``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+
+def _jsonable(obj: Any) -> Any:
+    if isinstance(obj, dict):
+        return {str(k): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_jsonable(v) for v in obj]
+    if isinstance(obj, (np.floating, np.integer, np.bool_)):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, float) and not np.isfinite(obj):
+        return None
+    if hasattr(obj, "to_dict"):
+        return _jsonable(obj.to_dict())
+    return obj
+
+
+def _write_json(path: str | Path, data: dict[str, Any]) -> None:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(_jsonable(data), indent=2))
+
+
+def _add_reader_args(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("reading")
+    g.add_argument("--delimiter", help="column delimiter (default: detected); 'tab', ',', ';', 'whitespace'")
+    g.add_argument("--skiprows", type=int, help="header lines (default: detected)")
+    g.add_argument("--x-col", help="position column, index or header name (default: detected)")
+    g.add_argument("--h-col", help="height column, index or header name (default: detected)")
+    g.add_argument("--units", default="mm", help="units in the file, or 'auto' from the header (default mm)")
+    g.add_argument("--dx", type=float, help="spacing for files without a position column")
+    g.add_argument("--dataset", help="HDF5 dataset of heights")
+    g.add_argument("--invert", action="store_true", help="heights increase downwards in the file")
+    g.add_argument("--max-gap", type=float, help="longest gap (mm) to interpolate (default 0.5 %% of the scan)")
+    g.add_argument("--long-gaps", choices=("longest", "error"), default="longest",
+                   help="longer gaps: keep the longest stretch between them, or fail")
+    g.add_argument("--no-outliers", action="store_true", help="do not detect outliers")
+
+
+def _col(v: str | None) -> int | str | None:
+    if v is None:
+        return None
+    return int(v) if v.lstrip("-").isdigit() else v
+
+
+def _load(path: str, args: argparse.Namespace):
+    from rubberfriction.driver.surfaces import load_profile
+
+    delim = {"tab": "\t", "\\t": "\t"}.get(args.delimiter, args.delimiter)
+    return load_profile(
+        path, delimiter=delim, skiprows=args.skiprows, x_col=_col(args.x_col),
+        h_col=_col(args.h_col), units=args.units, dx=args.dx, dataset=args.dataset,
+        invert=args.invert, max_gap=args.max_gap, long_gaps=args.long_gaps,
+        outliers=not args.no_outliers,
+    )
+
+
+def _cmd_analyse(args: argparse.Namespace) -> int:
+    from rubberfriction.driver.surfaces import (
+        band_split,
+        fit_hdc,
+        fit_psd_power_law,
+        hdc,
+        psd_1d,
+        rms_from_psd,
+    )
+    from rubberfriction.driver.surfaces.plots import plot_analysis
+
+    prof = _load(args.file, args)
+    window = None if args.window == "none" else args.window
+    q, c = psd_1d(prof, window=window, detrend=args.detrend)
+    lam_long, lam_short = args.psd_fit if args.psd_fit else (prof.length / 10, 8 * prof.dx)
+    pfit = fit_psd_power_law(q, c, (2 * np.pi / lam_long, 2 * np.pi / lam_short))
+    lam, ch = hdc(prof)
+    lo, hi = args.hdc_range if args.hdc_range else (4 * prof.dx, prof.length / 4)
+    hfit = fit_hdc(lam, ch, (lo, hi))
+    print(f"file: {prof.source}")
+    if "defects" in prof.meta:
+        print(str(prof.meta["defects"]))
+    print(f"points {prof.n}, dx {prof.dx:.6g} mm, length {prof.length:.6g} mm")
+    print(f"rms height {prof.rms_height():.5g} mm, rms slope {prof.rms_slope():.4g}")
+    print(f"PSD ({args.window} window, {args.detrend} detrend): rms from PSD {rms_from_psd(q, c):.5g} mm")
+    print(f"PSD power law over {lam_long:.4g}-{lam_short:.4g} mm: H = {pfit.H:.4f}, "
+          f"K = {pfit.K:.4g} mm^(2-2H) (C1D = K q^-(1+2H))")
+    print(f"HDC fit eq. (2.5) over {hfit.fit_range[0]:.4g}-{hfit.fit_range[1]:.4g} mm: H = {hfit.H:.4f}, "
+          f"xi_par = {hfit.xi_par:.4g} mm, xi_perp = {hfit.xi_perp:.4g} mm"
+          + ("" if hfit.plateau_found else " (no plateau in range: xi_par is a lower bound)"))
+    bands_out = []
+    if args.edges:
+        for b in band_split(prof, args.edges, allow_unresolved=True):
+            lo_b, hi_b = b.meta["band"]
+            res = "" if b.meta["resolved"] else " (partly beyond the resolution)"
+            print(f"band {lo_b:g}-{hi_b:g} mm: rms height {b.rms_height():.5g} mm, rms slope "
+                  f"{b.rms_slope():.4g}{res}")
+            bands_out.append({"band_mm": [lo_b, hi_b], "rms_height_mm": b.rms_height(),
+                              "rms_slope": b.rms_slope(), "resolved": b.meta["resolved"]})
+    if args.plot:
+        plot_analysis(prof, q, c, lam, ch, args.plot, edges=args.edges, psd_fit=pfit, hdc_fit=hfit)
+        print(f"plot: {args.plot}")
+    if args.json:
+        _write_json(args.json, {
+            "file": prof.source, "n": prof.n, "dx_mm": prof.dx, "length_mm": prof.length,
+            "rms_height_mm": prof.rms_height(), "rms_slope": prof.rms_slope(),
+            "defects": prof.meta.get("defects"),
+            "psd": {"convention": "Persson 1D, two-sided, h_rms^2 = 2 Int_0^inf C1D dq",
+                    "window": args.window, "detrend": args.detrend,
+                    "power_law_fit": {"H": pfit.H, "K": pfit.K, "lambda_range_mm": [lam_long, lam_short]}},
+            "hdc_fit": hfit.to_dict(),
+            "bands": bands_out,
+        })
+        print(f"json: {args.json}")
+    return 0
+
+
+def _write_samples(road, samples, out: Path) -> dict[str, Any]:
+    from rubberfriction.driver.surfaces import samples_table
+    from rubberfriction.driver.surfaces.plots import plot_samples
+
+    out.mkdir(parents=True, exist_ok=True)
+    files = []
+    for sc, group in zip(road.scales, samples):
+        for j, s in enumerate(group):
+            f = out / f"{sc.name}_sample{j:02d}.csv"
+            s.to_csv(f)
+            files.append(f.name)
+        print(samples_table(group))
+    plot_samples(samples, out / "samples.png", names=road.names)
+    summary = {"surface": road.to_dict(), "samples": [[s.summary() for s in g] for g in samples],
+               "files": files}
+    _write_json(out / "summary.json", summary)
+    print(f"wrote {len(files)} samples, summary.json and samples.png to {out}")
+    return summary
+
+
+def _cmd_split(args: argparse.Namespace) -> int:
+    from rubberfriction.driver.surfaces import multiscale_from_measurements
+
+    profiles = [_load(f, args) for f in args.files]
+    road = multiscale_from_measurements(profiles, args.edges, filter=args.filter,
+                                        name=", ".join(Path(f).name for f in args.files))
+    print(road.describe())
+    samples = road.extract_samples(args.samples, args.seed, top_fraction=args.top_fraction)
+    _write_samples(road, samples, Path(args.out))
+    return 0
+
+
+def _cmd_default(args: argparse.Namespace) -> int:
+    from rubberfriction.driver.surfaces import default_road
+
+    road = default_road(args.shared_data)
+    print(road.describe())
+    samples = road.extract_samples(args.samples, args.seed, top_fraction=args.top_fraction)
+    _write_samples(road, samples, Path(args.out))
+    return 0
+
+
+def _cmd_generate(args: argparse.Namespace) -> int:
+    from rubberfriction.driver.surfaces import sawtooth_profile, self_affine_profile, two_sine_profile
+
+    if args.kind == "self-affine":
+        qr = 2 * np.pi / args.rolloff if args.rolloff else None
+        qs = 2 * np.pi / args.cutoff if args.cutoff else None
+        p = self_affine_profile(args.length, args.dx, H=args.hurst, rms_height=args.rms,
+                                q_rolloff=qr, q_cutoff=qs, seed=args.seed)
+    elif args.kind == "two-sine":
+        p = two_sine_profile(args.length, args.dx)
+    else:
+        p = sawtooth_profile(args.length, args.dx, wavelength=args.wavelength, height=args.height,
+                             orientation=args.orientation, steep_fraction=args.steep_fraction)
+    p.to_csv(args.out, header=json.dumps(_jsonable(p.meta.get("provenance", {}))))
+    print(f"{p.source}: {p.n} points, rms height {p.rms_height():.5g} mm -> {args.out}")
+    return 0
+
+
+def _cmd_compare(args: argparse.Namespace) -> int:
+    from rubberfriction.driver.surfaces import compare_decompositions
+    from rubberfriction.driver.surfaces.plots import plot_decompositions
+
+    prof = _load(args.file, args)
+    res = compare_decompositions(prof, args.edges, seed=args.seed)
+    for key, bands in res.items():
+        rms = ", ".join(f"{b.meta['band'][0]:g}-{b.meta['band'][1]:g}: {b.rms_height():.4g}" for b in bands)
+        print(f"{key:<20} rms height per scale (mm): {rms}")
+    if args.plot:
+        plot_decompositions(res, args.plot)
+        print(f"plot: {args.plot}")
+    return 0
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``surface`` with its subcommands to the ``rubberfriction`` command."""
+    p = subparsers.add_parser("surface", help="rough surfaces: analyse, split into scales, samples",
+                              description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = p.add_subparsers(dest="surface_command", metavar="SUBCOMMAND")
+    p.set_defaults(func=lambda a: (p.print_help(), 2)[1])
+
+    a = sub.add_parser("analyse", aliases=["analyze"], help="defects, PSD, HDC of a profile")
+    a.add_argument("file")
+    _add_reader_args(a)
+    a.add_argument("--window", choices=("hann", "none"), default="hann")
+    a.add_argument("--detrend", choices=("mean", "linear"), default="linear")
+    a.add_argument("--psd-fit", nargs=2, type=float, metavar=("LAMBDA_LONG", "LAMBDA_SHORT"),
+                   help="wavelength range (mm) of the PSD power-law fit")
+    a.add_argument("--hdc-range", nargs=2, type=float, metavar=("LO", "HI"),
+                   help="lag range (mm) of the HDC fit (default 4 dx .. L/4)")
+    a.add_argument("--edges", nargs="+", type=float, help="band edges (mm) to mark and report")
+    a.add_argument("--plot", help="PNG with profile, PSD and HDC")
+    a.add_argument("--json", help="write the results as JSON")
+    a.set_defaults(func=_cmd_analyse)
+
+    s = sub.add_parser("split", help="band-pass scales and periodic samples")
+    s.add_argument("files", nargs="+", help="one or several measurements of the same surface")
+    _add_reader_args(s)
+    s.add_argument("--edges", nargs="+", type=float, required=True, help="descending band edges (mm)")
+    s.add_argument("--samples", type=int, default=10, help="samples per scale (default 10)")
+    s.add_argument("--seed", type=int, default=1)
+    s.add_argument("--top-fraction", type=float, default=0.2,
+                   help="sample centres in the top fraction of the carrier (default 0.2)")
+    s.add_argument("--filter", choices=("ideal", "cosine"), default="ideal")
+    s.add_argument("--out", required=True, help="output folder")
+    s.set_defaults(func=_cmd_split)
+
+    d = sub.add_parser("default", help="the embedded default road and its samples")
+    d.add_argument("--out", required=True, help="output folder")
+    d.add_argument("--samples", type=int, default=10)
+    d.add_argument("--seed", type=int, default=1)
+    d.add_argument("--top-fraction", type=float, default=0.2)
+    d.add_argument("--shared-data", help="folder with captif_chipseal_station0.dat")
+    d.set_defaults(func=_cmd_default)
+
+    g = sub.add_parser("generate", help="synthetic profiles to CSV")
+    g.add_argument("kind", choices=("self-affine", "two-sine", "sawtooth"))
+    g.add_argument("--out", required=True)
+    g.add_argument("--length", type=float, default=20.0, help="mm")
+    g.add_argument("--dx", type=float, default=0.005, help="mm")
+    g.add_argument("--hurst", type=float, default=0.8)
+    g.add_argument("--rms", type=float, default=0.1, help="rms height (mm)")
+    g.add_argument("--rolloff", type=float, help="roll-off wavelength (mm)")
+    g.add_argument("--cutoff", type=float, help="cut-off wavelength (mm)")
+    g.add_argument("--seed", type=int, default=0)
+    g.add_argument("--wavelength", type=float, default=5.0, help="sawtooth wavelength (mm)")
+    g.add_argument("--height", type=float, default=1.0, help="sawtooth peak to valley (mm)")
+    g.add_argument("--orientation", choices=("sharp", "smooth"), default="sharp")
+    g.add_argument("--steep-fraction", type=float, default=0.1)
+    g.set_defaults(func=_cmd_generate)
+
+    c = sub.add_parser("compare", help="fig. 6.5: HDC sinusoids vs PSD reconstruction vs filtering")
+    c.add_argument("file")
+    _add_reader_args(c)
+    c.add_argument("--edges", nargs="+", type=float, required=True)
+    c.add_argument("--seed", type=int, default=0)
+    c.add_argument("--plot", help="PNG")
+    c.set_defaults(func=_cmd_compare)
