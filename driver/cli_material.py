@@ -1,7 +1,8 @@
 """``rubberfriction material``: inspect material files and fit Prony series to DMA data.
 
     rubberfriction material show NAME|FILE [--T-C 0]
-    rubberfriction material fit DMA.csv [--terms N] [--plot out.png] [--toml out.toml] [--base tread_default]
+    rubberfriction material fit DMA.csv [--terms N] [--plot out.png] [--toml out.toml]
+                                        [--base tread_default]
 
 ``show`` prints the summary of a compound (or road), E'(f), E''(f) and tan delta at a few
 frequencies, and the WLF shift table.  ``fit`` fits a Prony series (eq. 3.34, non-negative least
@@ -24,32 +25,42 @@ WLF_TABLE_C = (-40.0, -20.0, 0.0, 20.0, 40.0, 60.0, 80.0, 100.0)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("material", help="show material files, fit Prony series to DMA data",
-                                   description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = subparsers.add_parser("material",
+                                   help="show material files, fit Prony series to DMA data",
+                                   description=__doc__,
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.set_defaults(func=lambda args: (parser.print_help(), 2)[1])
     sub = parser.add_subparsers(dest="material_command", metavar="ACTION")
 
     show = sub.add_parser("show", help="summary, moduli and WLF table of a compound or road")
     show.add_argument("name", help="a shipped name (e.g. tread_default, m1, r1) or a TOML file")
-    show.add_argument("--T-C", type=float, default=None, help="temperature (degC) of the moduli table")
+    show.add_argument("--T-C", type=float, default=None,
+                      help="temperature (degC) of the moduli table")
     show.set_defaults(func=run_show)
 
     fit = sub.add_parser("fit", help="fit a Prony series to a DMA master curve (pyvisco CSV)")
-    fit.add_argument("dma", type=Path, help="CSV: header row, optional units row, frequency, E', E''")
-    fit.add_argument("--terms", type=int, default=None, help="number of Prony terms (default: one per decade)")
+    fit.add_argument("dma", type=Path,
+                     help="CSV: header row, optional units row, frequency, E', E''")
+    fit.add_argument("--terms", type=int, default=None,
+                     help="number of Prony terms (default: one per decade)")
     fit.add_argument("--freq-unit", choices=("Hz", "rad/s"), default="Hz")
-    fit.add_argument("--columns", nargs=3, default=("f", "E_stor", "E_loss"), metavar=("FREQ", "E1", "E2"))
+    fit.add_argument("--columns", nargs=3, default=("f", "E_stor", "E_loss"),
+                     metavar=("FREQ", "E1", "E2"))
     fit.add_argument("--T-C", type=float, default=None,
-                     help="temperature (degC) of the master curve; default: the base compound's WLF T_ref")
+                     help="temperature (degC) of the master curve; default: the base "
+                          "compound's WLF T_ref")
     fit.add_argument("--base", default=M.DEFAULT_COMPOUND,
                      help="compound providing Mooney-Rivlin, WLF and thermal data for --toml")
     fit.add_argument("--fix-E-inf", action="store_true",
                      help="fix E_inf to the base compound's Mooney-Rivlin long-term modulus")
     fit.add_argument("--bound", action="store_true",
-                     help="also compute the best max error any Prony series could reach (linear programme)")
+                     help="also compute the best max error any Prony series could reach "
+                          "(linear programme)")
     fit.add_argument("--plot", type=Path, default=None, help="write a PNG of data, fit and errors")
-    fit.add_argument("--toml", type=Path, default=None, help="write a compound TOML with the fitted series")
-    fit.add_argument("--name", default=None, help="compound name for --toml (default: the CSV name)")
+    fit.add_argument("--toml", type=Path, default=None,
+                     help="write a compound TOML with the fitted series")
+    fit.add_argument("--name", default=None,
+                     help="compound name for --toml (default: the CSV name)")
     fit.set_defaults(func=run_fit)
 
 
@@ -94,8 +105,10 @@ def moduli_table(compound: M.Compound, T: float | None = None) -> list[str]:
         where += f" ({compound.wlf.T_ref - M.ZERO_CELSIUS:g} degC)"
     f = np.array(SHOW_FREQUENCIES_HZ)
     E = compound.complex_modulus(2 * np.pi * f, T)
-    lines = [f"moduli at {where}:", f"  {'f (Hz)':>10} {'E_stor (MPa)':>13} {'E_loss (MPa)':>13} {'tan delta':>10}"]
-    lines += [f"  {fi:>10.0e} {e.real:>13.5g} {e.imag:>13.5g} {e.imag / e.real:>10.4f}" for fi, e in zip(f, E)]
+    lines = [f"moduli at {where}:",
+             f"  {'f (Hz)':>10} {'E_stor (MPa)':>13} {'E_loss (MPa)':>13} {'tan delta':>10}"]
+    lines += [f"  {fi:>10.0e} {e.real:>13.5g} {e.imag:>13.5g} {e.imag / e.real:>10.4f}"
+              for fi, e in zip(f, E)]
     return lines
 
 
@@ -122,18 +135,22 @@ def run_fit(args: argparse.Namespace) -> int:
 
     try:
         base = M.load_compound(args.base)
-        omega, E1, E2 = P.read_dma_csv(args.dma, freq_unit=args.freq_unit, columns=tuple(args.columns))
-        fit = P.fit_prony(omega, E1, E2, n_terms=args.terms, E_inf=base.E_inf if args.fix_E_inf else None)
+        omega, E1, E2 = P.read_dma_csv(args.dma, freq_unit=args.freq_unit,
+                                       columns=tuple(args.columns))
+        fixed = base.E_inf if args.fix_E_inf else None
+        fit = P.fit_prony(omega, E1, E2, n_terms=args.terms, E_inf=fixed)
     except (ValueError, OSError) as err:
         print(f"error: {err}")
         return 1
-    print(f"{args.dma}: {omega.size} points, {omega.min() / (2 * np.pi):.3g} .. {omega.max() / (2 * np.pi):.3g} Hz")
+    f = omega / (2 * np.pi)
+    print(f"{args.dma}: {omega.size} points, {f.min():.3g} .. {f.max():.3g} Hz")
     print(fit.report())
     if args.bound:
-        dense = np.logspace(np.log10(fit.series.tau.min()) - 2, np.log10(fit.series.tau.max()) + 2,
-                            4 * int(np.log10(fit.series.tau.max() / fit.series.tau.min()) + 4) + 1)
+        lo, hi = np.log10(fit.series.tau.min()) - 2, np.log10(fit.series.tau.max()) + 2
+        dense = np.logspace(lo, hi, int(4 * (hi - lo)) + 1)
         bound = P.minimax_rel_error_bound(omega, E1, E2, dense)
-        print(f"  best possible max relative error of any Prony series (4/decade, 2 decades beyond): {bound:.3%}")
+        print("  best possible max relative error of any Prony series "
+              f"(4/decade, 2 decades beyond): {bound:.3%}")
     if args.plot is not None:
         print(f"plot: {P.plot_fit(fit, omega, E1, E2, args.plot)}")
     if args.toml is not None:
@@ -143,11 +160,13 @@ def run_fit(args: argparse.Namespace) -> int:
 
 def _shifted_series(fit, base: M.Compound, T_C: float | None) -> tuple[M.PronySeries, str]:
     series = fit.series.pruned()
-    if T_C is None or base.wlf is None:
-        return series, "" if T_C is None else f"# data temperature {T_C:g} degC: {base.name} has no WLF, not shifted\n"
-    T = T_C + M.ZERO_CELSIUS
-    aT = float(base.wlf.aT(T))
-    return series.shifted(1.0 / aT), f"# tau shifted from {T_C:g} degC to T_ref by 1/a(T) = {1 / aT:.6g} (eq. 3.37)\n"
+    if T_C is None:
+        return series, ""
+    if base.wlf is None:
+        return series, f"# data temperature {T_C:g} degC: {base.name} has no WLF, not shifted\n"
+    aT = float(base.wlf.aT(T_C + M.ZERO_CELSIUS))
+    note = f"# tau shifted from {T_C:g} degC to T_ref by 1/a(T) = {1 / aT:.6g} (eq. 3.37)\n"
+    return series.shifted(1.0 / aT), note
 
 
 def write_compound_toml(args: argparse.Namespace, fit, base: M.Compound) -> Path:
@@ -159,12 +178,16 @@ def write_compound_toml(args: argparse.Namespace, fit, base: M.Compound) -> Path
     mr = base.hyperelastic
     ratio = base.E_inf / fit.E_inf
     report = "".join(f"# {line}\n" for line in fit.report().splitlines())
-    text = (f"# Written by `rubberfriction material fit {args.dma}`; format: forms/data/README.md\n{report}"
-            f"# E_inf of the fit = {fit.E_inf:.6g} MPa; the compound uses the Mooney-Rivlin E_inf = "
-            f"{base.E_inf:.6g} MPa, so its moduli are the fitted ones scaled by {ratio:.4g}.\n{shift_note}"
+    text = (f"# Written by `rubberfriction material fit {args.dma}`; "
+            f"format: forms/data/README.md\n{report}"
+            f"# E_inf of the fit = {fit.E_inf:.6g} MPa; the compound uses the Mooney-Rivlin "
+            f"E_inf = {base.E_inf:.6g} MPa, so its moduli are the fitted ones scaled by "
+            f"{ratio:.4g}.\n{shift_note}"
             f'kind = "compound"\nname = "{name}"\n'
-            f'description = "Prony series fitted to {args.dma.name}; equilibrium, WLF and thermal data of {base.name}"\n'
-            f'source = "Prony: rubberfriction material fit {args.dma.name}; Mooney-Rivlin/WLF/thermal: {base.name}"\n\n'
+            f'description = "Prony series fitted to {args.dma.name}; equilibrium, WLF and '
+            f'thermal data of {base.name}"\n'
+            f'source = "Prony: rubberfriction material fit {args.dma.name}; '
+            f'Mooney-Rivlin/WLF/thermal: {base.name}"\n\n'
             + _units_block(base.thermal is not None)
             + f'\n[hyperelastic]\nmodel = "mooney_rivlin"\nform = "{mr.form}"\n'
               f"C10 = {mr.C10!r}  # MPa\nC01 = {mr.C01!r}  # MPa\nD1 = {mr.D1!r}  # 1/MPa\n"
@@ -174,14 +197,15 @@ def write_compound_toml(args: argparse.Namespace, fit, base: M.Compound) -> Path
     M.load_compound(args.toml)  # the file must load
     print(f"compound file: {args.toml} ({len(series)} non-zero terms)")
     if abs(ratio - 1) > 0.05:
-        print(f"note: fitted E_inf = {fit.E_inf:.4g} MPa differs from {base.name}'s Mooney-Rivlin E_inf = "
-              f"{base.E_inf:.4g} MPa (x{ratio:.3g}); --fix-E-inf fits with the latter")
+        print(f"note: fitted E_inf = {fit.E_inf:.4g} MPa differs from {base.name}'s "
+              f"Mooney-Rivlin E_inf = {base.E_inf:.4g} MPa (x{ratio:.3g}); --fix-E-inf fits "
+              "with the latter")
     return args.toml
 
 
 def _units_block(thermal: bool) -> str:
-    text = ('[units]\nlength = "mm"\ntime = "s"\nmass = "t"\nforce = "N"\nstress = "MPa"\nenergy = "mJ"\n'
-            'temperature = "K"\n')
+    text = ('[units]\nlength = "mm"\ntime = "s"\nmass = "t"\nforce = "N"\nstress = "MPa"\n'
+            'energy = "mJ"\ntemperature = "K"\n')
     if thermal:
         text += 'density = "t/mm^3"\nspecific_heat = "mJ/(t K)"\nconductivity = "mW/(mm K)"\n'
     return text

@@ -68,7 +68,8 @@ def _nonnegative(owner: str, name: str, value: Any, unit: str) -> float:
 
 def _text(owner: str, name: str, value: Any, *, empty_ok: bool = True) -> str:
     if not isinstance(value, str) or (not empty_ok and not value.strip()):
-        raise ValueError(f"{owner}.{name} = {value!r}: expected a {'' if empty_ok else 'non-empty '}string")
+        raise ValueError(f"{owner}.{name} = {value!r}: expected a "
+                         f"{'' if empty_ok else 'non-empty '}string")
     return value
 
 
@@ -85,7 +86,8 @@ def _float_array(owner: str, name: str, value: Any, unit: str) -> np.ndarray:
     try:
         arr = np.array(value, dtype=float, ndmin=1)
     except (TypeError, ValueError):
-        raise ValueError(f"{owner}.{name} = {value!r}: expected a 1-D array of numbers ({unit})") from None
+        raise ValueError(f"{owner}.{name} = {value!r}: expected a 1-D array of numbers "
+                         f"({unit})") from None
     if arr.ndim != 1:
         raise ValueError(f"{owner}.{name}: expected a 1-D array ({unit}), got shape {arr.shape}")
     bad = ~np.isfinite(arr)
@@ -182,13 +184,17 @@ class MooneyRivlin:
 
     @classmethod
     def from_feap(cls, mu1: float, mu2: float, lam: float) -> MooneyRivlin:
-        """Inverse of the FEAP mapping ("+ mu2" convention): C10 = mu1/2, C01 = mu2/2, K = lam + 2/3 mu + 2 mu2."""
+        """Inverse of the FEAP mapping ("+ mu2" convention).
+
+        C10 = mu1/2, C01 = mu2/2, K = lam + 2/3 (mu1 + mu2) + 2 mu2.
+        """
         mu1 = _positive("MooneyRivlin.from_feap", "mu1", mu1, "MPa")
         mu2 = _nonnegative("MooneyRivlin.from_feap", "mu2", mu2, "MPa")
         lam = _real("MooneyRivlin.from_feap", "lam", lam, "MPa")
         K = lam + 2.0 * (mu1 + mu2) / 3.0 + 2.0 * mu2
         if K <= 0:
-            raise ValueError(f"MooneyRivlin.from_feap.lam = {lam!r} gives a bulk modulus K = {K!r}; expected K > 0")
+            raise ValueError(f"MooneyRivlin.from_feap.lam = {lam!r} gives a bulk modulus K = "
+                             f"{K!r}; expected K > 0")
         return cls(C10=mu1 / 2.0, C01=mu2 / 2.0, D1=2.0 / K, form="feap")
 
     @property
@@ -257,7 +263,8 @@ class PronySeries:
         if gamma.shape != tau.shape:
             raise ValueError(f"PronySeries.gamma has {gamma.size} terms but PronySeries.tau has "
                              f"{tau.size}: expected one relaxation time per modulus")
-        for name, arr, cond, expect in (("gamma", gamma, gamma < 0, ">= 0"), ("tau", tau, tau <= 0, "> 0 s")):
+        checks = (("gamma", gamma, gamma < 0, ">= 0"), ("tau", tau, tau <= 0, "> 0 s"))
+        for name, arr, cond, expect in checks:
             if cond.any():
                 i = int(np.argmax(cond))
                 raise ValueError(f"PronySeries.{name}[{i}] = {arr[i]!r}: expected {expect}")
@@ -324,11 +331,13 @@ class PronySeries:
         tt = _finite_nd("PronySeries.relaxation", "t", t, "s")
         if (tt < 0).any():
             raise ValueError(f"PronySeries.relaxation.t: min {tt.min()!r}: expected t >= 0 s")
-        return _as_output(self.E0(E_inf) * (self.gamma_inf + np.exp(-np.divide.outer(tt, self.tau)) @ self.gamma))
+        decay = np.exp(-np.divide.outer(tt, self.tau)) @ self.gamma
+        return _as_output(self.E0(E_inf) * (self.gamma_inf + decay))
 
     def shifted(self, factor: float) -> PronySeries:
         """The same spectrum with every tau multiplied by ``factor`` (e.g. a(T), eq. 3.37)."""
-        return PronySeries(self.gamma, self.tau * _positive("PronySeries.shifted", "factor", factor, "-"))
+        factor = _positive("PronySeries.shifted", "factor", factor, "-")
+        return PronySeries(self.gamma, self.tau * factor)
 
     def pruned(self) -> PronySeries:
         """Drop terms with gamma_k == 0 (they carry no stress but cost internal variables)."""
@@ -360,7 +369,8 @@ class WLF:
     def __post_init__(self) -> None:
         object.__setattr__(self, "c1", _positive("WLF", "c1", self.c1, "- (dimensionless)"))
         object.__setattr__(self, "c2", _positive("WLF", "c2", self.c2, "K"))
-        object.__setattr__(self, "T_ref", _positive("WLF", "T_ref", self.T_ref, "K (absolute temperature)"))
+        T_ref = _positive("WLF", "T_ref", self.T_ref, "K (absolute temperature)")
+        object.__setattr__(self, "T_ref", T_ref)
 
     @classmethod
     def from_celsius(cls, c1: float, c2: float, T_ref_C: float) -> WLF:
@@ -378,7 +388,8 @@ class WLF:
         if (TT <= self.T_singular).any():
             bad = float(TT[TT <= self.T_singular].flat[0])
             raise ValueError(f"WLF.log10_aT: T = {bad!r} K is at or below the WLF singularity "
-                             f"T_ref - c2 = {self.T_singular!r} K; expected T > {self.T_singular!r} K")
+                             f"T_ref - c2 = {self.T_singular!r} K; expected T > "
+                             f"{self.T_singular!r} K")
         dT = TT - self.T_ref
         return _as_output(-self.c1 * dT / (self.c2 + dT) + 0.0)  # + 0.0: no "-0" at T_ref
 
@@ -492,8 +503,8 @@ class Compound:
         if T is None:
             return omega
         if self.wlf is None:
-            raise ValueError(f"Compound {self.name!r}: T = {T!r} K given but the compound has no WLF "
-                             "data; expected T=None (reference temperature)")
+            raise ValueError(f"Compound {self.name!r}: T = {T!r} K given but the compound has no "
+                             "WLF data; expected T=None (reference temperature)")
         return np.multiply(omega, self.wlf.aT(_positive("Compound", "T", T, "K")))
 
     def complex_modulus(self, omega: Any, T: float | None = None) -> complex | np.ndarray:
@@ -517,20 +528,21 @@ def _compound_summary_lines(c: Compound) -> list[str]:
              f"    mu = 2(C10+C01) = {mr.mu:.4g} MPa, K = 2/D1 = {mr.K:.4g} MPa, "
              f"E_inf = {c.E_inf:.4g} MPa, nu_inf = {mr.nu:.4f}"]
     if mr.form == "feap":
-        lines.append(f"    FEAP (eq. 3.53): mu1 = {mr.mu1:.4g}, mu2 = {mr.mu2:.4g}, lambda = {mr.lam:.4g} MPa")
+        lines.append(f"    FEAP (eq. 3.53): mu1 = {mr.mu1:.4g}, mu2 = {mr.mu2:.4g}, lambda = "
+                     f"{mr.lam:.4g} MPa")
     lines += _prony_summary_lines(c)
     if c.wlf is None:
         lines.append("  WLF: none (no temperature shift available)")
     else:
         w = c.wlf
         lines.append(f"  WLF: c1 = {w.c1:g}, c2 = {w.c2:g} K, T_ref = {w.T_ref:g} K "
-                     f"({w.T_ref - ZERO_CELSIUS:g} degC); singular at {w.T_singular - ZERO_CELSIUS:g} degC")
+                     f"({w.T_ref - ZERO_CELSIUS:g} degC); singular at "
+                     f"{w.T_singular - ZERO_CELSIUS:g} degC")
     if c.thermal is None:
         lines.append("  thermal: none")
     else:
         t = c.thermal
-        lines.append(f"  thermal: rho = {t.rho:g} t/mm^3, c = {t.c:g} mJ/(t K), k = {t.k:g} mW/(mm K), "
-                     f"diffusivity = {t.diffusivity:.4g} mm^2/s")
+        lines.append(_thermal_line(t))
     return lines
 
 
@@ -544,12 +556,17 @@ def _prony_summary_lines(c: Compound) -> list[str]:
              f"    instantaneous Poisson ratio from E0 and K: nu0 = (3K - E0)/(6K) = {c.nu0:.4f}"]
     if c.nu0 < 0.0:
         lines.append(f"    WARNING: nu0 < 0{' and < -1' if c.nu0 < -1 else ''}: the glassy modulus "
-                     f"E0 = {c.E0:.4g} MPa exceeds {'9K' if c.nu0 < -1 else '3K'} with K = {K:.4g} MPa "
-                     "(D1 of the quasi-static fit).")
-        lines.append(f"    The FE model (viscous isochoric part, elastic bulk K, eq. 3.77) has at t = 0 "
-                     f"G0 = {c.G0:.4g} MPa > K: nu0 = {c.nu0_fe:.4f}, E0 = {c.E0_fe:.4g} MPa "
+                     f"E0 = {c.E0:.4g} MPa exceeds {'9K' if c.nu0 < -1 else '3K'} with "
+                     f"K = {K:.4g} MPa (D1 of the quasi-static fit).")
+        lines.append("    The FE model (viscous isochoric part, elastic bulk K, eq. 3.77) has at "
+                     f"t = 0 G0 = {c.G0:.4g} MPa > K: nu0 = {c.nu0_fe:.4f}, E0 = {c.E0_fe:.4g} MPa "
                      f"({100 * c.E0_fe / c.E0:.3g} % of the Prony E0).")
     return lines
+
+
+def _thermal_line(t: Thermal) -> str:
+    return (f"  thermal: rho = {t.rho:g} t/mm^3, c = {t.c:g} mJ/(t K), k = {t.k:g} mW/(mm K), "
+            f"diffusivity = {t.diffusivity:.4g} mm^2/s")
 
 
 @dataclass(frozen=True)
@@ -591,11 +608,11 @@ class Road:
 
     def summary(self) -> str:
         lines = [f"road {self.name}: {self.description}".rstrip(": "), f"  source: {self.source}",
-                 f"  E = {self.E:g} MPa, nu = {self.nu:g} (mu = {self.mu:.5g} MPa, K = {self.K:.5g} MPa)"]
+                 f"  E = {self.E:g} MPa, nu = {self.nu:g} (mu = {self.mu:.5g} MPa, K = "
+                 f"{self.K:.5g} MPa)"]
         if self.thermal is not None:
             t = self.thermal
-            lines.append(f"  thermal: rho = {t.rho:g} t/mm^3, c = {t.c:g} mJ/(t K), k = {t.k:g} mW/(mm K), "
-                         f"diffusivity = {t.diffusivity:.4g} mm^2/s")
+            lines.append(_thermal_line(t))
         return "\n".join(lines)
 
 
@@ -607,7 +624,8 @@ class Road:
 # file in other units must be converted), except temperature: "K" or "degC".
 BASE_UNITS = {"length": ("mm",), "time": ("s",), "mass": ("t",), "force": ("N",),
               "stress": ("MPa",), "energy": ("mJ",), "temperature": ("K", "degC")}
-THERMAL_UNITS = {"density": ("t/mm^3",), "specific_heat": ("mJ/(tK)",), "conductivity": ("mW/(mmK)",)}
+THERMAL_UNITS = {"density": ("t/mm^3",), "specific_heat": ("mJ/(tK)",),
+                 "conductivity": ("mW/(mmK)",)}
 
 
 def resolve_data_path(name_or_path: str | Path) -> Path:
@@ -619,7 +637,8 @@ def resolve_data_path(name_or_path: str | Path) -> Path:
         path = DATA_DIR / f"{text}.toml"
     if not path.is_file():
         known = ", ".join(available()) or "none"
-        raise ValueError(f"material file {text!r} not found (looked at {path}); shipped names: {known}")
+        raise ValueError(f"material file {text!r} not found (looked at {path}); shipped names: "
+                         f"{known}")
     return path
 
 
@@ -641,12 +660,14 @@ def _read_toml(path: Path) -> dict[str, Any]:
         raise ValueError(f"{path}: not valid TOML: {err}") from None
 
 
-def _check_keys(where: str, table: Any, allowed: set[str], required: set[str] = frozenset()) -> dict:
+def _check_keys(where: str, table: Any, allowed: set[str],
+                required: set[str] = frozenset()) -> dict:
     if not isinstance(table, dict):
         raise ValueError(f"{where}: expected a table, got {table!r}")
     unknown = set(table) - allowed
     if unknown:
-        raise ValueError(f"{where}: unknown key(s) {sorted(unknown)}; expected some of {sorted(allowed)}")
+        raise ValueError(f"{where}: unknown key(s) {sorted(unknown)}; expected some of "
+                         f"{sorted(allowed)}")
     missing = required - set(table)
     if missing:
         raise ValueError(f"{where}: missing key(s) {sorted(missing)}")
@@ -659,11 +680,13 @@ def _check_units(path: Path, doc: dict, thermal: bool) -> str:
         raise ValueError(f"{path}: missing [units] table; every material file must state its units "
                          f"({', '.join(f'{k} = {v[0]!r}' for k, v in BASE_UNITS.items())})")
     expected = dict(BASE_UNITS, **(THERMAL_UNITS if thermal else {}))
-    units = _check_keys(f"{path} [units]", doc["units"], set(BASE_UNITS) | set(THERMAL_UNITS), set(expected))
+    units = _check_keys(f"{path} [units]", doc["units"], set(BASE_UNITS) | set(THERMAL_UNITS),
+                        set(expected))
     for key, accepted in expected.items():
         value = str(units[key]).replace(" ", "")
         if value not in accepted:
-            raise ValueError(f"{path} [units].{key} = {units[key]!r}: expected {' or '.join(map(repr, accepted))} "
+            expect = " or ".join(map(repr, accepted))
+            raise ValueError(f"{path} [units].{key} = {units[key]!r}: expected {expect} "
                              "(convert the data to the project units)")
     return str(units["temperature"])
 
@@ -678,7 +701,8 @@ def _kind(path: Path, doc: dict, expected: str) -> None:
         raise ValueError(f"{path}: kind = {doc.get('kind')!r}; expected kind = {expected!r}")
 
 
-COMPOUND_KEYS = {"kind", "name", "description", "source", "units", "hyperelastic", "prony", "wlf", "thermal"}
+COMPOUND_KEYS = {"kind", "name", "description", "source", "units", "hyperelastic", "prony", "wlf",
+                 "thermal"}
 
 
 def load_compound(name_or_path: str | Path, _seen: tuple[Path, ...] = ()) -> Compound:
@@ -702,7 +726,8 @@ def load_compound(name_or_path: str | Path, _seen: tuple[Path, ...] = ()) -> Com
     """
     path = resolve_data_path(name_or_path).resolve()
     if path in _seen:
-        raise ValueError(f"{path}: circular same_as reference ({' -> '.join(p.stem for p in _seen)})")
+        raise ValueError(f"{path}: circular same_as reference "
+                         f"({' -> '.join(p.stem for p in _seen)})")
     doc = _read_toml(path)
     _kind(path, doc, "compound")
     T_unit = _check_units(path, doc, "thermal" in doc)
@@ -725,7 +750,8 @@ def _load_hyperelastic(path: Path, table: Any) -> MooneyRivlin:
     return MooneyRivlin(t["C10"], t["C01"], t["D1"], t.get("form", "split"))
 
 
-def _load_wlf(path: Path, table: Any, T_unit: str, seen: tuple[Path, ...]) -> tuple[WLF | None, str]:
+def _load_wlf(path: Path, table: Any, T_unit: str,
+              seen: tuple[Path, ...]) -> tuple[WLF | None, str]:
     if table is None:
         return None, ""
     t = _check_keys(f"{path} [wlf]", table, {"c1", "c2", "T_ref", "same_as", "note"})
@@ -733,7 +759,8 @@ def _load_wlf(path: Path, table: Any, T_unit: str, seen: tuple[Path, ...]) -> tu
         _check_keys(f"{path} [wlf]", t, {"same_as", "note"})
         ref = load_compound(_sibling(path, t["same_as"]), seen)
         if ref.wlf is None:
-            raise ValueError(f"{path} [wlf].same_as = {t['same_as']!r}: that compound has no WLF data")
+            raise ValueError(f"{path} [wlf].same_as = {t['same_as']!r}: that compound has "
+                             "no WLF data")
         return ref.wlf, f" [WLF: same as {ref.name}]"
     _check_keys(f"{path} [wlf]", t, set(t), {"c1", "c2", "T_ref"})
     return WLF(t["c1"], t["c2"], _to_kelvin(t["T_ref"], T_unit, f"{path} [wlf].T_ref")), ""
@@ -746,8 +773,8 @@ def _sibling(path: Path, ref: Any) -> str | Path:
     return candidate if "/" not in ref and candidate.is_file() else ref
 
 
-PRONY_KEYS = {"gamma", "tau", "same_as", "fit_from", "n_terms", "columns", "freq_unit", "T", "E_inf",
-              "note", "generator"}
+PRONY_KEYS = {"gamma", "tau", "same_as", "fit_from", "n_terms", "columns", "freq_unit", "T",
+              "E_inf", "note", "generator"}
 
 
 def _load_prony(path: Path, table: Any, T_unit: str, hyper: MooneyRivlin, wlf: WLF | None,
@@ -757,7 +784,8 @@ def _load_prony(path: Path, table: Any, T_unit: str, hyper: MooneyRivlin, wlf: W
     t = _check_keys(f"{path} [prony]", table, PRONY_KEYS)
     ways = [k for k in ("gamma", "same_as", "fit_from") if k in t]
     if len(ways) != 1:
-        raise ValueError(f"{path} [prony]: give exactly one of gamma/tau (inline), same_as, fit_from; got {ways}")
+        raise ValueError(f"{path} [prony]: give exactly one of gamma/tau (inline), same_as, "
+                         f"fit_from; got {ways}")
     if "gamma" in t:
         _check_keys(f"{path} [prony]", t, {"gamma", "tau", "note", "generator"}, {"gamma", "tau"})
         return PronySeries(t["gamma"], t["tau"]), ""
@@ -765,7 +793,8 @@ def _load_prony(path: Path, table: Any, T_unit: str, hyper: MooneyRivlin, wlf: W
         _check_keys(f"{path} [prony]", t, {"same_as", "note"})
         ref = load_compound(_sibling(path, t["same_as"]), seen)
         if ref.prony is None:
-            raise ValueError(f"{path} [prony].same_as = {t['same_as']!r}: that compound has no Prony series")
+            raise ValueError(f"{path} [prony].same_as = {t['same_as']!r}: that compound has no "
+                             "Prony series")
         return ref.prony, f" [Prony series: same gamma_k, tau_k as {ref.name}]"
     return _fit_prony_from_file(path, t, T_unit, hyper, wlf)
 
@@ -784,13 +813,15 @@ def _fit_prony_from_file(path: Path, t: dict, T_unit: str, hyper: MooneyRivlin,
     mode = t.get("E_inf", "fit")
     if mode not in ("fit", "hyperelastic"):
         raise ValueError(f"{where}.E_inf = {mode!r}: expected 'fit' or 'hyperelastic'")
-    fit = fit_prony(omega, E1, E2, n_terms=t.get("n_terms"), E_inf=hyper.E if mode == "hyperelastic" else None)
+    fixed = hyper.E if mode == "hyperelastic" else None
+    fit = fit_prony(omega, E1, E2, n_terms=t.get("n_terms"), E_inf=fixed)
     T_data = _to_kelvin(t["T"], T_unit, f"{where}.T")
     series = fit.series
     if wlf is not None and T_data != wlf.T_ref:
         series = series.shifted(1.0 / float(wlf.aT(T_data)))  # tau_ref = tau(T) / a(T), eq. 3.37
-    note = (f" [Prony series fitted from {csv.name} at {T_data:g} K: E_inf(fit) = {fit.E_inf:.4g} MPa vs "
-            f"E_inf(MR) = {hyper.E:.4g} MPa; max rel. error E' {fit.rel_error_storage.max:.2%}, "
+    note = (f" [Prony series fitted from {csv.name} at {T_data:g} K: "
+            f"E_inf(fit) = {fit.E_inf:.4g} MPa vs E_inf(MR) = {hyper.E:.4g} MPa; "
+            f"max rel. error E' {fit.rel_error_storage.max:.2%}, "
             f"E'' {fit.rel_error_loss.max:.2%}]")
     return series, note
 
@@ -859,10 +890,12 @@ class SpectrumGenerator:
             if value > 1.0:
                 raise ValueError(f"{own}.{name} = {value!r}: expected 0 < {name} <= 1")
         if self.tau_max <= self.tau_min:
-            raise ValueError(f"{own}.tau_max = {self.tau_max!r}: expected > tau_min = {self.tau_min!r}")
+            raise ValueError(f"{own}.tau_max = {self.tau_max!r}: expected > tau_min = "
+                             f"{self.tau_min!r}")
         for name in ("n_terms", "points_per_decade"):
             if not isinstance(getattr(self, name), int) or getattr(self, name) < 2:
-                raise ValueError(f"{own}.{name} = {getattr(self, name)!r}: expected an integer >= 2")
+                raise ValueError(f"{own}.{name} = {getattr(self, name)!r}: expected an "
+                                 "integer >= 2")
 
     def peak_frequency_Hz(self, wlf: WLF) -> float:
         """Target E'' peak frequency at T_ref: f_Tg * a(Tg), Hz."""
@@ -872,16 +905,18 @@ class SpectrumGenerator:
         """Havriliak-Negami time constant placing the E'' maximum at :meth:`peak_frequency_Hz`."""
         from rubberfriction.forms.prony import hn_loss_peak_omega
 
-        return hn_loss_peak_omega(1.0, self.alpha, self.beta) / (2 * np.pi * self.peak_frequency_Hz(wlf))
+        w_peak = 2 * np.pi * self.peak_frequency_Hz(wlf)
+        return hn_loss_peak_omega(1.0, self.alpha, self.beta) / w_peak
 
     def target(self, omega: Any, E_inf: float, wlf: WLF) -> np.ndarray:
         """The smooth target E*(omega) at T_ref, MPa."""
         from rubberfriction.forms.prony import havriliak_negami
 
-        return havriliak_negami(omega, E_inf, self.E_glassy, self.tau_hn(wlf), self.alpha, self.beta)
+        return havriliak_negami(omega, E_inf, self.E_glassy, self.tau_hn(wlf), self.alpha,
+                                self.beta)
 
     def fit(self, E_inf: float, wlf: WLF) -> Any:
-        """Fit the Prony series to the target; returns a :class:`~rubberfriction.forms.prony.PronyFit`."""
+        """Fit the Prony series to the target (a :class:`~rubberfriction.forms.prony.PronyFit`)."""
         from rubberfriction.forms.prony import fit_prony
 
         decades = np.log10(self.tau_max / self.tau_min)
@@ -892,14 +927,16 @@ class SpectrumGenerator:
         return fit_prony(omega, target.real, target.imag, tau=tau, E_inf=E_inf)
 
 
-def spectrum_generator(name_or_path: str | Path = DEFAULT_COMPOUND) -> tuple[SpectrumGenerator, Compound]:
+def spectrum_generator(
+        name_or_path: str | Path = DEFAULT_COMPOUND) -> tuple[SpectrumGenerator, Compound]:
     """Read ``[prony.generator]`` of a compound file (default: tread_default) and the compound."""
     path = resolve_data_path(name_or_path).resolve()
     doc = _read_toml(path)
     gen = doc.get("prony", {}).get("generator")
     if gen is None:
         raise ValueError(f"{path}: no [prony.generator] table")
-    gen = _check_keys(f"{path} [prony.generator]", dict(gen), GENERATOR_KEYS, GENERATOR_KEYS - {"points_per_decade"})
+    gen = _check_keys(f"{path} [prony.generator]", dict(gen), GENERATOR_KEYS,
+                      GENERATOR_KEYS - {"points_per_decade"})
     if gen.pop("model") != "havriliak_negami":
         raise ValueError(f"{path} [prony.generator].model: expected 'havriliak_negami'")
     T_unit = _check_units(path, doc, "thermal" in doc)
@@ -910,7 +947,7 @@ def spectrum_generator(name_or_path: str | Path = DEFAULT_COMPOUND) -> tuple[Spe
 def regenerate_prony_toml(name_or_path: str | Path = DEFAULT_COMPOUND) -> str:
     """Re-run the generator of a compound file and return its ``gamma``/``tau`` TOML lines.
 
-    ``python -c "from rubberfriction.forms.materials import regenerate_prony_toml as r; print(r())"``
+    ``print(rubberfriction.forms.materials.regenerate_prony_toml())``
     reproduces the numbers stored in ``forms/data/tread_default.toml``.
     """
     from rubberfriction.forms.prony import prony_toml

@@ -5,11 +5,11 @@ The complex modulus of n Maxwell elements in parallel with an equilibrium spring
     E'(w)  = E_inf + sum_k E_k (w tau_k)^2 / (1 + (w tau_k)^2),
     E''(w) =         sum_k E_k  w tau_k    / (1 + (w tau_k)^2),
 
-is linear in the unknowns (E_inf, E_1 .. E_n) once the relaxation times are fixed.  :func:`fit_prony`
-solves the non-negative least-squares problem on E' and E'' together (scipy.optimize.nnls), by
-default with relative weights (each residual divided by the measured value), so that the glassy and
-the rubbery ends of a master curve count alike.  Relaxation times are log-spaced over the data
-range unless given.
+is linear in the unknowns (E_inf, E_1 .. E_n) once the relaxation times are fixed.
+:func:`fit_prony` solves the non-negative least-squares problem on E' and E'' together
+(scipy.optimize.nnls), by default with relative weights (each residual divided by the measured
+value), so that the glassy and the rubbery ends of a master curve count alike.  Relaxation times
+are log-spaced over the data range unless given.
 
 A DMA master curve that violates the Kramers-Kronig relations cannot be matched by ANY Prony series
 (any linear viscoelastic solid); :func:`minimax_rel_error_bound` computes the smallest possible
@@ -63,15 +63,18 @@ def validate_dma(omega: Any, E_storage: Any, E_loss: Any, *, sort: bool = False,
     relative weights divide by it), duplicated frequencies, and frequencies not strictly
     increasing.  Unsorted data are sorted only when asked (``sort=True``), never silently.
     """
-    w, E1, E2 = (_data_array(n, v) for n, v in (("omega", omega), ("E_storage", E_storage), ("E_loss", E_loss)))
+    named = (("omega", omega), ("E_storage", E_storage), ("E_loss", E_loss))
+    w, E1, E2 = (_data_array(n, v) for n, v in named)
     if not w.size == E1.size == E2.size:
         raise ValueError(f"DMA data: omega, E_storage, E_loss have {w.size}, {E1.size}, {E2.size} "
                          "points; expected equal lengths")
     if w.size < 2:
         raise ValueError(f"DMA data omega: {w.size} point(s); expected at least 2")
-    for name, arr, cond, expect in (("omega", w, w <= 0, "> 0 rad/s"), ("E_storage", E1, E1 <= 0, "> 0 MPa"),
-                                    ("E_loss", E2, (E2 <= 0) if positive_loss else (E2 < 0),
-                                     "> 0 MPa (relative weights)" if positive_loss else ">= 0 MPa")):
+    loss_check = ((E2 <= 0, "> 0 MPa (relative weights)") if positive_loss
+                  else (E2 < 0, ">= 0 MPa"))
+    checks = (("omega", w, w <= 0, "> 0 rad/s"), ("E_storage", E1, E1 <= 0, "> 0 MPa"),
+              ("E_loss", E2) + loss_check)
+    for name, arr, cond, expect in checks:
         if cond.any():
             i = int(np.argmax(cond))
             raise ValueError(f"DMA data {name}[{i}] = {arr[i]!r}: expected {expect}")
@@ -81,11 +84,13 @@ def validate_dma(omega: Any, E_storage: Any, E_loss: Any, *, sort: bool = False,
     step = np.diff(w)
     if (step == 0).any():
         i = int(np.argmax(step == 0))
-        raise ValueError(f"DMA data omega[{i + 1}] = {w[i + 1]!r} repeats omega[{i}]; expected distinct frequencies")
+        raise ValueError(f"DMA data omega[{i + 1}] = {w[i + 1]!r} repeats omega[{i}]; expected "
+                         "distinct frequencies")
     if (step < 0).any():
         i = int(np.argmax(step < 0))
         raise ValueError(f"DMA data omega is not sorted: omega[{i}] = {w[i]!r} > omega[{i + 1}] = "
-                         f"{w[i + 1]!r}; expected increasing frequencies (sort explicitly, e.g. sort=True)")
+                         f"{w[i + 1]!r}; expected increasing frequencies (sort explicitly, e.g. "
+                         "sort=True)")
     return w, E1, E2
 
 
@@ -106,7 +111,8 @@ def _read_rows(path: Path) -> list[list[str]]:
 def _column_index(header: list[str], col: str | int, path: Path) -> int:
     if isinstance(col, int):
         if not 0 <= col < len(header):
-            raise ValueError(f"{path}: column index {col} out of range (file has {len(header)} columns)")
+            raise ValueError(f"{path}: column index {col} out of range (file has {len(header)} "
+                             "columns)")
         return col
     if col not in header:
         raise ValueError(f"{path}: column {col!r} not found; header is {header}")
@@ -115,7 +121,8 @@ def _column_index(header: list[str], col: str | int, path: Path) -> int:
 
 def read_dma_csv(path: str | Path, freq_unit: str = "Hz",
                  columns: Sequence[str | int] = ("f", "E_stor", "E_loss"),
-                 modulus_unit: str | None = None, sort: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                 modulus_unit: str | None = None,
+                 sort: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Read a DMA master curve in the pyvisco CSV format; return (omega rad/s, E' MPa, E'' MPa).
 
     Format (pyvisco ``freq_user_master.csv``): a header row of column names (``f, E_stor,
@@ -127,7 +134,8 @@ def read_dma_csv(path: str | Path, freq_unit: str = "Hz",
     """
     path = Path(path)
     if freq_unit not in FREQ_UNITS:
-        raise ValueError(f"read_dma_csv.freq_unit = {freq_unit!r}: expected one of {list(FREQ_UNITS)}")
+        raise ValueError(f"read_dma_csv.freq_unit = {freq_unit!r}: expected one of "
+                         f"{list(FREQ_UNITS)}")
     if len(columns) != 3:
         raise ValueError(f"read_dma_csv.columns = {columns!r}: expected three (frequency, E', E'')")
     rows = _read_rows(path)
@@ -135,7 +143,8 @@ def read_dma_csv(path: str | Path, freq_unit: str = "Hz",
         raise ValueError(f"{path}: expected a header row of column names and data rows")
     header, rows = rows[0], rows[1:]
     idx = [_column_index(header, c, path) for c in columns]
-    units = rows.pop(0) if not any(_is_number(rows[0][i]) for i in idx if i < len(rows[0])) else None
+    numeric = [_is_number(rows[0][i]) for i in idx if i < len(rows[0])]
+    units = rows.pop(0) if not any(numeric) else None
     scale_f, scale_E = _units_scales(path, units, idx, freq_unit, modulus_unit)
     try:
         data = np.array([[float(r[i]) for i in idx] for r in rows])
@@ -151,9 +160,11 @@ def _units_scales(path: Path, units: list[str] | None, idx: list[int], freq_unit
     else:
         fu, m1, m2 = (units[i] if i < len(units) else "" for i in idx)
         if fu != freq_unit:
-            raise ValueError(f"{path}: the units row gives frequency in {fu!r} but freq_unit = {freq_unit!r}")
+            raise ValueError(f"{path}: the units row gives frequency in {fu!r} but freq_unit = "
+                             f"{freq_unit!r}")
         if m1 != m2 or (modulus_unit is not None and m1 != modulus_unit):
-            raise ValueError(f"{path}: modulus units {m1!r}, {m2!r} (units row) vs modulus_unit = {modulus_unit!r}")
+            raise ValueError(f"{path}: modulus units {m1!r}, {m2!r} (units row) vs modulus_unit = "
+                             f"{modulus_unit!r}")
         mod = m1
     if mod not in MODULUS_UNITS:
         raise ValueError(f"{path}: modulus unit {mod!r}: expected one of {list(MODULUS_UNITS)}")
@@ -195,15 +206,19 @@ class PronyFit:
 
     def report(self) -> str:
         s, nz = self.series, int((self.series.gamma > 0).sum())
-        lines = [f"Prony fit (eq. 3.34) to {self.n_data} points of E' and E'': {len(s)} relaxation times "
+        lines = [f"Prony fit (eq. 3.34) to {self.n_data} points of E' and E'': "
+                 f"{len(s)} relaxation times "
                  f"{s.tau.min():.3g} .. {s.tau.max():.3g} s, {nz} non-zero terms",
                  f"  E_inf = {self.E_inf:.6g} MPa ({'fitted' if self.E_inf_fitted else 'given'}), "
                  f"E0 = {self.E0:.6g} MPa, gamma_inf = {s.gamma_inf:.6g}",
-                 f"  relative error E':  max {self.rel_error_storage.max:.3%}, rms {self.rel_error_storage.rms:.3%}",
-                 f"  relative error E'': max {self.rel_error_loss.max:.3%}, rms {self.rel_error_loss.rms:.3%}"]
+                 f"  relative error E':  max {self.rel_error_storage.max:.3%}, rms "
+                 f"{self.rel_error_storage.rms:.3%}",
+                 f"  relative error E'': max {self.rel_error_loss.max:.3%}, rms "
+                 f"{self.rel_error_loss.rms:.3%}"]
         if max(self.rel_error_storage.max, self.rel_error_loss.max) > 0.05:
-            lines.append("  note: errors above 5 %; if a denser tau grid does not help, the data may be "
-                         "inconsistent with any linear viscoelastic model (check minimax_rel_error_bound)")
+            lines.append("  note: errors above 5 %; if a denser tau grid does not help, the data "
+                         "may be inconsistent with any linear viscoelastic model (check "
+                         "minimax_rel_error_bound)")
         return "\n".join(lines)
 
 
@@ -234,7 +249,8 @@ def _design(omega: np.ndarray, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]
 def _check_tau(tau: Any) -> np.ndarray:
     t = np.array(tau, dtype=float, ndmin=1)
     if t.ndim != 1 or t.size == 0 or not np.isfinite(t).all() or (t <= 0).any():
-        raise ValueError(f"fit_prony.tau = {tau!r}: expected a non-empty 1-D array of finite times > 0 s")
+        raise ValueError(f"fit_prony.tau = {tau!r}: expected a non-empty 1-D array of finite "
+                         "times > 0 s")
     if np.unique(t).size != t.size:
         raise ValueError(f"fit_prony.tau = {tau!r}: expected distinct relaxation times")
     return t
@@ -266,8 +282,9 @@ def fit_prony(omega: Any, E_storage: Any, E_loss: Any, n_terms: int | None = Non
     E_inf_value = float(E_inf) if E_inf is not None else float(x[0])
     E_k = x if E_inf is not None else x[1:]
     if E_inf_value <= 0:
-        raise ValueError("fit_prony: the fitted E_inf is 0 (a fluid-like fit, no equilibrium spring); "
-                         "give E_inf or relaxation times tau not beyond the lowest data frequency")
+        raise ValueError("fit_prony: the fitted E_inf is 0 (a fluid-like fit, no equilibrium "
+                         "spring); give E_inf or relaxation times tau not beyond the lowest data "
+                         "frequency")
     series = PronySeries.from_moduli(E_inf_value, E_k, tau)
     return PronyFit(series=series, E_inf=E_inf_value,
                     rel_error_storage=ErrorStats.of(series.storage(w, E_inf_value), E1),
@@ -281,7 +298,8 @@ def _given_E_inf(E_inf: Any) -> float:
     except (TypeError, ValueError):
         value = math.nan
     if isinstance(E_inf, bool) or not math.isfinite(value) or value <= 0:
-        raise ValueError(f"fit_prony.E_inf = {E_inf!r}: expected a finite value > 0 MPa (or None to fit it)")
+        raise ValueError(f"fit_prony.E_inf = {E_inf!r}: expected a finite value > 0 MPa (or None "
+                         "to fit it)")
     return value
 
 
@@ -297,7 +315,8 @@ def _solve_nnls(A1: np.ndarray, A2: np.ndarray, b1: np.ndarray, b2: np.ndarray,
     return x / norm
 
 
-def minimax_rel_error_bound(omega: Any, E_storage: Any, E_loss: Any, tau: Any, curves: str = "both") -> float:
+def minimax_rel_error_bound(omega: Any, E_storage: Any, E_loss: Any, tau: Any,
+                            curves: str = "both") -> float:
     """Smallest achievable max relative error of any Prony series on the grid ``tau``.
 
     Linear programme: minimise t subject to |E'_fit/E' - 1| <= t and/or |E''_fit/E'' - 1| <= t
@@ -310,7 +329,8 @@ def minimax_rel_error_bound(omega: Any, E_storage: Any, E_loss: Any, tau: Any, c
     blocks = {"both": [A1 / E1[:, None], A2 / E2[:, None]], "storage": [A1 / E1[:, None]],
               "loss": [A2 / E2[:, None]]}
     if curves not in blocks:
-        raise ValueError(f"minimax_rel_error_bound.curves = {curves!r}: expected one of {list(blocks)}")
+        raise ValueError(f"minimax_rel_error_bound.curves = {curves!r}: expected one of "
+                         f"{list(blocks)}")
     A = np.vstack(blocks[curves])
     n, m = A.shape[1], A.shape[0]
     ones = np.ones((m, 1))
@@ -342,7 +362,8 @@ def hn_loss_peak_omega(tau0: float, alpha: float, beta: float) -> float:
 
     w_max = (1/tau0) [sin(alpha pi / (2 beta + 2)) / sin(alpha beta pi / (2 beta + 2))]^(1/alpha).
     """
-    ratio = math.sin(alpha * math.pi / (2 * beta + 2)) / math.sin(alpha * beta * math.pi / (2 * beta + 2))
+    x = math.pi / (2 * beta + 2)
+    ratio = math.sin(alpha * x) / math.sin(alpha * beta * x)
     return ratio ** (1.0 / alpha) / tau0
 
 
@@ -363,12 +384,12 @@ def _toml_list(values: np.ndarray) -> str:
 
 
 def prony_toml(series: PronySeries) -> str:
-    """``gamma = [...]`` and ``tau = [...]`` lines (full precision) for a compound's [prony] table."""
+    """``gamma = [...]`` and ``tau = [...]`` lines (full precision) for a [prony] table."""
     return f"gamma = {_toml_list(series.gamma)}\ntau = {_toml_list(series.tau)}\n"
 
 
 def plot_fit(fit: PronyFit, omega: Any, E1: Any, E2: Any, path: str | Path) -> Path:
-    """Plot data vs fit (log-log E', E'' over frequency in Hz) and the relative errors; save to path."""
+    """Plot data vs fit (log-log E', E'' over frequency in Hz) and the relative errors."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -377,17 +398,22 @@ def plot_fit(fit: PronyFit, omega: Any, E1: Any, E2: Any, path: str | Path) -> P
     w, E1, E2 = validate_dma(omega, E1, E2, positive_loss=False)
     f = w / (2 * np.pi)
     wd = np.logspace(np.log10(w.min()), np.log10(w.max()), 400)
-    fig, (ax, ax_err) = plt.subplots(2, 1, figsize=(7, 7), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
+    fig, (ax, ax_err) = plt.subplots(2, 1, figsize=(7, 7), sharex=True,
+                                     gridspec_kw={"height_ratios": [3, 1.3]})
     ax.loglog(f, E1, "o", ms=3, color="C0", label="E' data")
     ax.loglog(f, E2, "s", ms=3, color="C1", label="E'' data")
-    ax.loglog(wd / (2 * np.pi), fit.series.storage(wd, fit.E_inf), "-", color="C0", label="E' Prony")
-    ax.loglog(wd / (2 * np.pi), fit.series.loss(wd, fit.E_inf), "-", color="C1", label="E'' Prony")
+    fd = wd / (2 * np.pi)
+    ax.loglog(fd, fit.series.storage(wd, fit.E_inf), "-", color="C0", label="E' Prony")
+    ax.loglog(fd, fit.series.loss(wd, fit.E_inf), "-", color="C1", label="E'' Prony")
     ax.set_ylabel("modulus (MPa)")
-    ax.set_title(f"Prony fit: {int((fit.series.gamma > 0).sum())} terms, E_inf = {fit.E_inf:.4g} MPa")
+    n_terms = int((fit.series.gamma > 0).sum())
+    ax.set_title(f"Prony fit: {n_terms} terms, E_inf = {fit.E_inf:.4g} MPa")
     ax.legend()
-    ax_err.semilogx(f, 100 * (fit.series.storage(w, fit.E_inf) / E1 - 1), ".-", color="C0", label="E'")
+    err1 = 100 * (fit.series.storage(w, fit.E_inf) / E1 - 1)
     with np.errstate(divide="ignore", invalid="ignore"):
-        ax_err.semilogx(f, 100 * (fit.series.loss(w, fit.E_inf) / E2 - 1), ".-", color="C1", label="E''")
+        err2 = 100 * (fit.series.loss(w, fit.E_inf) / E2 - 1)
+    ax_err.semilogx(f, err1, ".-", color="C0", label="E'")
+    ax_err.semilogx(f, err2, ".-", color="C1", label="E''")
     ax_err.axhline(0, color="k", lw=0.5)
     ax_err.set_xlabel("frequency (Hz)")
     ax_err.set_ylabel("rel. error (%)")

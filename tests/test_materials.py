@@ -1,4 +1,4 @@
-"""Material objects and data files against closed forms and the thesis tables (ch. 3.3, app. A, C)."""
+"""Material objects and data files vs closed forms and the thesis tables (ch. 3.3, app. A, C)."""
 
 from __future__ import annotations
 
@@ -25,7 +25,8 @@ C = 273.15  # K at 0 degC
 #     0 degC: dT = -20 ->  159.0 / 89.32  =  1.7801164353...
 #    40 degC: dT =  20 -> -159.0 / 129.32 = -1.2295081967...
 #    80 degC: dT =  60 -> -477.0 / 169.32 = -2.8171509568...
-WLF_TABLE = [(-10.0, 3.0068078669), (0.0, 1.7801164353), (40.0, -1.2295081967), (80.0, -2.8171509568)]
+WLF_TABLE = [(-10.0, 3.0068078669), (0.0, 1.7801164353), (40.0, -1.2295081967),
+             (80.0, -2.8171509568)]
 
 
 @pytest.fixture()
@@ -47,8 +48,8 @@ def test_wlf_vectorised_and_shift(wlf_m1: WLF) -> None:
     assert wlf_m1.log10_aT(20.0 + C) == 0.0
     # eq. 3.37: tau(T) = a(T) tau_ref; colder -> slower
     assert wlf_m1.shift_tau(1e-3, 0.0 + C) == pytest.approx(1e-3 * 10**1.7801164353, rel=1e-8)
-    np.testing.assert_allclose(wlf_m1.shift_tau(np.array([1.0, 2.0]), 40.0 + C), 10**-1.2295081967 * np.array([1, 2]),
-                               rtol=1e-8)
+    np.testing.assert_allclose(wlf_m1.shift_tau(np.array([1.0, 2.0]), 40.0 + C),
+                               10**-1.2295081967 * np.array([1, 2]), rtol=1e-8)
     assert WLF.from_celsius(7.95, 109.32, 20.0) == wlf_m1
 
 
@@ -91,7 +92,8 @@ def test_mr_moduli_m1() -> None:
     # A.7: E = 2 mu (1 + nu) = 3 K (1 - 2 nu)
     assert mr.E == pytest.approx(2 * mr.mu * (1 + mr.nu), rel=1e-12)
     assert mr.E == pytest.approx(3 * mr.K * (1 - 2 * mr.nu), rel=1e-12)
-    assert mr.E == pytest.approx(9 * 96.153846153846 * 0.948 / (3 * 96.153846153846 + 0.948), rel=1e-10)
+    K = 96.153846153846
+    assert mr.E == pytest.approx(9 * K * 0.948 / (3 * K + 0.948), rel=1e-10)
 
 
 def _psi_split(mr: MooneyRivlin, F: np.ndarray) -> float:
@@ -103,7 +105,7 @@ def _psi_split(mr: MooneyRivlin, F: np.ndarray) -> float:
 
 
 def _psi_feap(mu1: float, mu2: float, lam: float, F: np.ndarray) -> float:
-    """Eq. (3.53) as printed ("- mu2/2"); the module's "+ mu2" convention is this with mu2 -> -mu2."""
+    """Eq. (3.53) as printed ("- mu2/2"); the module's "+ mu2" convention: mu2 -> -mu2."""
     J = np.linalg.det(F)
     b = F @ F.T
     I, II = np.trace(b), 0.5 * (np.trace(b) ** 2 - np.trace(b @ b))
@@ -112,7 +114,7 @@ def _psi_feap(mu1: float, mu2: float, lam: float, F: np.ndarray) -> float:
 
 
 def _small_strain_moduli(psi) -> tuple[float, float]:
-    """Shear modulus from simple shear (Psi = mu g^2 / 2) and bulk modulus from dilatation (Psi = K e^2 / 2)."""
+    """mu from simple shear (Psi = mu g^2 / 2), K from pure dilatation (Psi = K e^2 / 2)."""
     g, e = 1e-4, 1e-4
     shear = np.eye(3)
     shear[0, 1] = g
@@ -190,7 +192,8 @@ def test_single_maxwell_closed_forms() -> None:
     assert s.storage(1e12 / tau, E_inf) == pytest.approx(100.0, rel=1e-12)  # E'(inf) = E0
     assert s.loss(0.0, E_inf) == 0.0
     wt = 3.7
-    assert s.complex_modulus(wt / tau, E_inf) == pytest.approx(E_inf + E1 * (1j * wt) / (1 + 1j * wt), rel=1e-14)
+    expected = E_inf + E1 * (1j * wt) / (1 + 1j * wt)
+    assert s.complex_modulus(wt / tau, E_inf) == pytest.approx(expected, rel=1e-14)
     # relaxation E(t) = E0 (gamma_inf + gamma exp(-t/tau))
     assert s.relaxation(0.0, E_inf) == pytest.approx(100.0)
     assert s.relaxation(tau, E_inf) == pytest.approx(E_inf + E1 / math.e, rel=1e-14)
@@ -198,7 +201,7 @@ def test_single_maxwell_closed_forms() -> None:
 
 
 def test_prony_sum_rule_and_shapes() -> None:
-    """Kramers-Kronig-type sum rule: (2/pi) Int E'' d ln(omega) = E0 - E_inf (each term gives pi/2 E_k)."""
+    """Kramers-Kronig-type sum rule (2/pi) Int E'' d ln(omega) = E0 - E_inf (pi/2 E_k per term)."""
     s = PronySeries([0.3, 0.2, 0.25, 0.1], [1e-5, 1e-3, 1e-1, 1e1])
     E_inf = 5.0
     lnw = np.linspace(np.log(1e-9), np.log(1e13), 200001)
@@ -206,7 +209,8 @@ def test_prony_sum_rule_and_shapes() -> None:
     assert integral == pytest.approx(s.E0(E_inf) - E_inf, rel=1e-6)
     W = np.ones((3, 4))
     assert s.storage(W, E_inf).shape == (3, 4) and s.relaxation(W, E_inf).shape == (3, 4)
-    assert isinstance(s.loss(1.0, E_inf), float) and isinstance(s.complex_modulus(1.0, E_inf), complex)
+    assert isinstance(s.loss(1.0, E_inf), float)
+    assert isinstance(s.complex_modulus(1.0, E_inf), complex)
 
 
 def test_prony_sorted_and_helpers() -> None:
@@ -239,9 +243,10 @@ def test_prony_bad_input(gamma, tau, match: str) -> None:
 
 def test_prony_bad_arguments() -> None:
     s = PronySeries([0.5], [1.0])
-    for call, field in ((lambda: s.storage(1.0, 0.0), "E_inf"), (lambda: s.storage(-1.0, 1.0), "omega"),
-                        (lambda: s.relaxation(-1.0, 1.0), r"\.t"), (lambda: s.E0(math.nan), "E_inf"),
-                        (lambda: PronySeries.from_moduli(1.0, [-1.0], [1.0]), "E_k")):
+    calls = ((lambda: s.storage(1.0, 0.0), "E_inf"), (lambda: s.storage(-1.0, 1.0), "omega"),
+             (lambda: s.relaxation(-1.0, 1.0), r"\.t"), (lambda: s.E0(math.nan), "E_inf"),
+             (lambda: PronySeries.from_moduli(1.0, [-1.0], [1.0]), "E_k"))
+    for call, field in calls:
         with pytest.raises(ValueError, match=field):
             call()
 
@@ -252,7 +257,8 @@ def test_published_pyvisco_relaxation(shared_data: Path) -> None:
     Tolerance 5 % max / 1 % rms: the accuracy of that published fit; a wrong E(t) formula (e.g.
     missing gamma_inf, tau used as a rate) is off by orders of magnitude.
     """
-    gamma, tau = np.loadtxt(shared_data / "pyvisco_prony_terms_KPf_MD.csv", delimiter=",", comments="#").T
+    terms = shared_data / "pyvisco_prony_terms_KPf_MD.csv"
+    gamma, tau = np.loadtxt(terms, delimiter=",", comments="#").T
     s = PronySeries(gamma, tau)
     E_inf = 1739.03 * s.gamma_inf
     assert s.E0(E_inf) == pytest.approx(1739.03, rel=1e-12)
@@ -290,7 +296,8 @@ def test_road_r1() -> None:
 
 def _compound(**kw) -> Compound:
     base = dict(name="x", hyperelastic=MooneyRivlin(0.174, 0.3, 0.0208),
-                prony=PronySeries([0.5, 0.3], [1e-6, 1e-3]), wlf=WLF.from_celsius(7.95, 109.32, 20.0),
+                prony=PronySeries([0.5, 0.3], [1e-6, 1e-3]),
+                wlf=WLF.from_celsius(7.95, 109.32, 20.0),
                 thermal=None, description="", source="test")
     base.update(kw)
     return Compound(**base)
@@ -300,8 +307,8 @@ def test_compound_wlf_shift() -> None:
     c = _compound()
     w = np.logspace(-2, 8, 11)
     # at 0 degC omega is equivalent to omega * a(0 degC) at 20 degC, a = 10^1.7801164353
-    np.testing.assert_allclose(c.complex_modulus(w, T=0.0 + C), c.prony.complex_modulus(w * 10**1.7801164353, c.E_inf),
-                               rtol=1e-8)
+    np.testing.assert_allclose(c.complex_modulus(w, T=0.0 + C),
+                               c.prony.complex_modulus(w * 10**1.7801164353, c.E_inf), rtol=1e-8)
     np.testing.assert_allclose(c.complex_modulus(w), c.complex_modulus(w, T=20.0 + C), rtol=1e-14)
     # colder is stiffer at a given frequency
     assert c.complex_modulus(10.0, T=0.0 + C).real > c.complex_modulus(10.0, T=40.0 + C).real
@@ -359,10 +366,12 @@ def test_thermal_and_wlf_tables() -> None:
         c = load_compound(name)
         assert (c.thermal.rho, c.thermal.c, c.thermal.k) == (1.208e-9, cap, 0.2553)
         if has_wlf:
-            assert (c.wlf.c1, c.wlf.c2) == (7.95, 109.32) and c.wlf.T_ref == pytest.approx(293.15, abs=1e-12)
+            assert (c.wlf.c1, c.wlf.c2) == (7.95, 109.32)
+            assert c.wlf.T_ref == pytest.approx(293.15, abs=1e-12)
         else:
             assert c.wlf is None
-    assert load_compound("c1").wlf == load_compound("m1").wlf and "WLF: same as" in load_compound("c1").source
+    assert load_compound("c1").wlf == load_compound("m1").wlf
+    assert "WLF: same as" in load_compound("c1").source
 
 
 def test_default_compound_regenerates() -> None:
@@ -379,13 +388,15 @@ def test_default_compound_physics() -> None:
     # Tg = -25 degC at 10 Hz: log10 a = 7.95*45/(109.32-45) = 357.75/64.32 = 5.5620335821
     f_peak = 10.0 * 10**5.5620335821
     assert gen.peak_frequency_Hz(d.wlf) == pytest.approx(f_peak, rel=1e-9)
-    target = gen.target(2 * np.pi * np.logspace(3, 9, 60001), d.E_inf, d.wlf)
-    assert 2 * np.pi * np.logspace(3, 9, 60001)[np.argmax(target.imag)] / (2 * np.pi) == pytest.approx(f_peak, rel=1e-3)
+    f = np.logspace(3, 9, 60001)
+    target = gen.target(2 * np.pi * f, d.E_inf, d.wlf)
+    assert f[np.argmax(target.imag)] == pytest.approx(f_peak, rel=1e-3)
     # one term per decade: the Prony E'' maximum lies within half a decade of the target peak
     assert abs(math.log10(loss_peak_omega(d.prony, d.E_inf) / (2 * np.pi) / f_peak)) < 0.5
     assert 500.0 < d.E0 < 2000.0              # glassy plateau of order 1 GPa
     assert d.E_inf == pytest.approx(MooneyRivlin(0.174, 0.300, 0.0208).E)
-    assert len(d.prony) == 13 and d.prony.tau[0] == pytest.approx(1e-10) and d.prony.tau[-1] == pytest.approx(1e2)
+    assert len(d.prony) == 13
+    assert (d.prony.tau[0], d.prony.tau[-1]) == pytest.approx((1e-10, 1e2))
     # rubbery at low frequency, glassy at high frequency
     assert d.complex_modulus(1e-6).real == pytest.approx(d.E_inf, rel=1e-3)
     assert d.complex_modulus(1e14).real == pytest.approx(d.E0, rel=1e-3)
@@ -426,9 +437,11 @@ def test_units_required(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match=r"missing \[units\]"):
         load_compound(_write(tmp_path, "a", _head() + HYPER))
     with pytest.raises(ValueError, match="missing key.*energy"):
-        load_compound(_write(tmp_path, "b", _head() + UNITS.format(T="K").replace('energy = "mJ"\n', "") + HYPER))
+        units = UNITS.format(T="K").replace('energy = "mJ"\n', "")
+        load_compound(_write(tmp_path, "b", _head() + units + HYPER))
     with pytest.raises(ValueError, match="stress"):
-        load_compound(_write(tmp_path, "c", _head() + UNITS.format(T="K").replace('"MPa"', '"Pa"') + HYPER))
+        units = UNITS.format(T="K").replace('"MPa"', '"Pa"')
+        load_compound(_write(tmp_path, "c", _head() + units + HYPER))
     with pytest.raises(ValueError, match="temperature"):
         load_compound(_write(tmp_path, "d", _head() + UNITS.format(T="F") + HYPER))
     thermal = "[thermal]\nrho = 1e-9\nc = 1e9\nk = 0.2\n"
@@ -482,13 +495,15 @@ def test_fit_from_dma_file(tmp_path: Path) -> None:
     true = PronySeries([0.3, 0.25, 0.2, 0.15], [1e-4, 1e-2, 1e-1, 1e1])
     w = np.logspace(-2, 5, 71)
     _write_dma(tmp_path / "dma.csv", w, true.complex_modulus(w, mr.E))
-    prony = ('[prony]\nfit_from = "dma.csv"\nfreq_unit = "rad/s"\ncolumns = ["omega", "E_stor", "E_loss"]\n'
-             'T = {T}\nE_inf = "hyperelastic"\n')
+    prony = ('[prony]\nfit_from = "dma.csv"\nfreq_unit = "rad/s"\n'
+             'columns = ["omega", "E_stor", "E_loss"]\nT = {T}\nE_inf = "hyperelastic"\n')
+    head = _head() + UNITS.format(T="degC") + HYPER
     wlf = "[wlf]\nc1 = 7.95\nc2 = 109.32\nT_ref = 20.0\n"
-    c = load_compound(_write(tmp_path, "a", _head() + UNITS.format(T="degC") + HYPER + prony.format(T=20.0) + wlf))
+    c = load_compound(_write(tmp_path, "a", head + prony.format(T=20.0) + wlf))
     np.testing.assert_allclose(c.complex_modulus(w), true.complex_modulus(w, mr.E), rtol=1e-6)
     assert "fitted from dma.csv" in c.source
-    # the same curve measured at 40 degC: at 20 degC the times are longer by 1/a(40 degC) = 10^1.2295081967
-    c40 = load_compound(_write(tmp_path, "b", _head() + UNITS.format(T="degC") + HYPER + prony.format(T=40.0) + wlf))
+    # the same curve measured at 40 degC: at 20 degC the times are longer by 1/a(40 degC)
+    c40 = load_compound(_write(tmp_path, "b", head + prony.format(T=40.0) + wlf))
     np.testing.assert_allclose(c40.prony.tau, c.prony.tau * 10**1.2295081967, rtol=1e-8)
-    np.testing.assert_allclose(c40.complex_modulus(w, T=40.0 + C), true.complex_modulus(w, mr.E), rtol=1e-6)
+    np.testing.assert_allclose(c40.complex_modulus(w, T=40.0 + C), true.complex_modulus(w, mr.E),
+                               rtol=1e-6)

@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 from rubberfriction.forms.materials import PronySeries
-from rubberfriction.forms.prony import (default_tau, fit_prony, havriliak_negami, hn_loss_peak_omega,
-                                        minimax_rel_error_bound, plot_fit, read_dma_csv, validate_dma)
+from rubberfriction.forms.prony import (default_tau, fit_prony, havriliak_negami,
+                                        hn_loss_peak_omega, minimax_rel_error_bound, plot_fit,
+                                        read_dma_csv, validate_dma)
 
 # a known 8-term series on decade relaxation times, E_inf = 3 MPa
 TRUE_TAU = np.logspace(-6, 1, 8)
@@ -22,7 +23,8 @@ def _known() -> PronySeries:
     return PronySeries(TRUE_GAMMA, TRUE_TAU)
 
 
-def _data(series: PronySeries, omega: np.ndarray, E_inf: float = E_INF) -> tuple[np.ndarray, np.ndarray]:
+def _data(series: PronySeries, omega: np.ndarray,
+          E_inf: float = E_INF) -> tuple[np.ndarray, np.ndarray]:
     """E', E'' of eq. (3.34) written out here, independently of PronySeries."""
     E0 = E_inf / (1 - series.gamma.sum())
     wt = np.outer(omega, series.tau)
@@ -50,7 +52,7 @@ def test_recovers_known_series_fixed_E_inf() -> None:
 
 
 def test_default_grid_reproduces_moduli() -> None:
-    """Default grid: decades from 10^floor(log10(1/w_max)) to 10^ceil(log10(1/w_min)) (here 1e-7 .. 1e3 s)."""
+    """Default grid: decades 10^floor(log10(1/w_max)) .. 10^ceil(log10(1/w_min)), 1e-7 .. 1e3 s."""
     E1, E2 = _data(_known(), OMEGA)
     tau = default_tau(OMEGA)
     np.testing.assert_allclose(tau, np.logspace(-7, 3, 11))
@@ -85,7 +87,7 @@ def test_reported_errors_are_the_errors() -> None:
 
 
 def _kkt_violation(omega, E1, E2, fit) -> float:
-    """Optimality of the relative least-squares problem: gradient >= 0 on zero unknowns, = 0 on positive ones.
+    """KKT optimality of the relative least squares: gradient >= 0 on zero unknowns, 0 elsewhere.
 
     Returned relative to the gradient scale; written independently of the module.
     """
@@ -146,8 +148,8 @@ def test_havriliak_negami_peak_closed_form() -> None:
     # Debye case alpha = beta = 1: a single Maxwell element with tau0
     w = np.array([0.1, 1.0, 10.0])
     single = PronySeries.from_moduli(1.0, [999.0], [1.0])
-    np.testing.assert_allclose(havriliak_negami(w, 1.0, 1000.0, 1.0, 1.0, 1.0), single.complex_modulus(w, 1.0),
-                               rtol=1e-12)
+    np.testing.assert_allclose(havriliak_negami(w, 1.0, 1000.0, 1.0, 1.0, 1.0),
+                               single.complex_modulus(w, 1.0), rtol=1e-12)
 
 
 # ------------------------------------------------------------------------------------------
