@@ -507,3 +507,52 @@ def test_fit_from_dma_file(tmp_path: Path) -> None:
     np.testing.assert_allclose(c40.prony.tau, c.prony.tau * 10**1.2295081967, rtol=1e-8)
     np.testing.assert_allclose(c40.complex_modulus(w, T=40.0 + C), true.complex_modulus(w, mr.E),
                                rtol=1e-6)
+
+
+# ------------------------------------------------------------------------------------------
+# command line (driver/cli_material.py), on its own parser
+# ------------------------------------------------------------------------------------------
+
+
+def _cli(argv: list[str]) -> int:
+    import argparse
+
+    from rubberfriction.driver import cli_material
+
+    parser = argparse.ArgumentParser(prog="rubberfriction")
+    cli_material.register(parser.add_subparsers(dest="command"))
+    args = parser.parse_args(argv)
+    return int(args.func(args) or 0)
+
+
+def test_cli_show(capsys) -> None:
+    assert _cli(["material", "show", "tread_default"]) == 0
+    out = capsys.readouterr().out
+    assert "E0 = E_inf/gamma_inf" in out and "tan delta" in out and "log10 aT" in out
+    d = load_compound("tread_default")
+    E10 = d.complex_modulus(2 * np.pi * 10.0)
+    assert f"{E10.real:.5g}" in out and f"{E10.imag / E10.real:.4f}" in out
+    assert _cli(["material", "show", "r1"]) == 0 and "40000 MPa" in capsys.readouterr().out
+    assert _cli(["material", "show", "no_such_material"]) == 1
+
+
+def test_cli_fit_writes_loadable_compound(tmp_path: Path) -> None:
+    """``material fit`` with the base E_inf fixed reproduces a known series; --T-C shifts tau."""
+    base = load_compound("tread_default")
+    true = PronySeries([0.4, 0.3, 0.2], [1e-5, 1e-3, 1e-1])
+    f = np.logspace(-1, 4, 51)
+    E = true.complex_modulus(2 * np.pi * f, base.E_inf)
+    csv = tmp_path / "dma.csv"
+    csv.write_text("f,E_stor,E_loss\nHz,MPa,MPa\n" + "".join(f"{a!r},{b.real!r},{b.imag!r}\n"
+                                                           for a, b in zip(f, E)))
+    out, png = tmp_path / "fit.toml", tmp_path / "fit.png"
+    assert _cli(["material", "fit", str(csv), "--fix-E-inf", "--toml", str(out),
+                 "--plot", str(png)]) == 0
+    c = load_compound(out)
+    assert c.hyperelastic == base.hyperelastic and c.wlf == base.wlf and c.thermal == base.thermal
+    np.testing.assert_allclose(c.complex_modulus(2 * np.pi * f), E, rtol=1e-6)
+    assert png.stat().st_size > 0
+    out40 = tmp_path / "fit40.toml"
+    assert _cli(["material", "fit", str(csv), "--fix-E-inf", "--T-C", "40", "--toml", str(out40)]) == 0
+    np.testing.assert_allclose(load_compound(out40).prony.tau, c.prony.tau * 10**1.2295081967,
+                               rtol=1e-8)
