@@ -1,0 +1,796 @@
+#include "contact_interface.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace rf {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(const Clock::time_point& t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+int local_index(const std::vector<int>& ents, int e) {
+  const auto it = std::lower_bound(ents.begin(), ents.end(), e);
+  return static_cast<int>(it - ents.begin());
+}
+
+/// dst += src, with src's slot s (2 coordinates) mapped to dst variables base[s], base[s] + 1.
+void scatter(const D12& src, DX& dst, const std::array<int, 6>& base) {
+  dst.v += src.v;
+  for (int s = 0; s < 6; ++s) {
+    const int b = base[static_cast<std::size_t>(s)];
+    if (b < 0) continue;
+    dst.d[b] += src.d[2 * s];
+    dst.d[b + 1] += src.d[2 * s + 1];
+  }
+}
+
+DX& find_or_add(std::vector<std::pair<int, DX>>& list, int entity, Eigen::Index size) {
+  for (auto& [e, v] : list)
+    if (e == entity) return v;
+  list.emplace_back(entity, constantX(0.0, size));
+  return list.back().second;
+}
+
+}  // namespace
+
+void NodeOutput::resize(std::size_t n) {
+  status.assign(n, 0);
+  paired.assign(n, 0);
+  for (auto* v : {&gap, &pressure, &t_T, &dgamma, &dg_T, &velocity, &mu, &area, &q_slave, &q_master, &nx, &ny,
+                  &elastic_gap})
+    v->assign(n, 0.0);
+}
+
+ContactInterface::ContactInterface(SurfaceMesh slave, Method method) : slave_(std::move(slave)), method_(method) {
+  const std::size_t n = slave_.X.size();
+  xs_n_ = slave_.X;
+  ge_.assign(n, 0.0);
+  out_.resize(n);
+  for (const auto& d : slave_.dofs) max_dof_ = std::max({max_dof_, d[0], d[1]});
+  for (const auto d : slave_.temperature_dofs) max_dof_ = std::max(max_dof_, d);
+}
+
+void ContactInterface::set_rigid_master(RigidPolyline master) {
+  if (master_) throw std::invalid_argument("a deformable master is already set; one master per interface");
+  rigid_ = std::make_unique<RigidPolyline>(std::move(master));
+}
+
+void ContactInterface::set_deformable_master(SurfaceMesh master) {
+  if (rigid_) throw std::invalid_argument("a rigid master is already set; one master per interface");
+  for (const auto& d : master.dofs)
+    for (const auto& s : slave_.dofs)
+      if (d[0] == s[0] || d[0] == s[1] || d[1] == s[0] || d[1] == s[1])
+        throw std::invalid_argument("master surface: dof " + std::to_string(d[0]) + "/" + std::to_string(d[1]) +
+                                    " is also a slave dof; the two bodies must have distinct dofs");
+  master_ = std::make_unique<SurfaceMesh>(std::move(master));
+  xm_n_ = master_->X;
+  for (const auto& d : master_->dofs) max_dof_ = std::max({max_dof_, d[0], d[1]});
+  for (const auto d : master_->temperature_dofs) max_dof_ = std::max(max_dof_, d);
+}
+
+void ContactInterface::set_penalty(double cN, double cT) {
+  if (!std::isfinite(cN) || !(cN > 0.0)) {
+    std::ostringstream m;
+    m << "penalty c_N = " << cN << " is invalid, expected a finite value > 0 [MPa/mm]";
+    throw std::invalid_argument(m.str());
+  }
+  if (!std::isfinite(cT) || cT < 0.0) {
+    std::ostringstream m;
+    m << "penalty c_T = " << cT << " is invalid, expected a finite value >= 0 [MPa/mm]";
+    throw std::invalid_argument(m.str());
+  }
+  penalty_ = PenaltyChoice{};
+  penalty_.set = true;
+  penalty_.cN = cN;
+  penalty_.cT = cT;
+}
+
+void ContactInterface::set_auto_penalty(double E_eff, double alpha, double tangential_fraction) {
+  auto bad = [](const char* f, double v, const char* e) {
+    std::ostringstream m;
+    m << "automatic penalty: " << f << " = " << v << " is invalid, expected " << e;
+    throw std::invalid_argument(m.str());
+  };
+  if (!std::isfinite(E_eff) || !(E_eff > 0.0)) bad("E_eff", E_eff, "the effective modulus of the slave body > 0 [MPa]");
+  if (!std::isfinite(alpha) || !(alpha > 0.0)) bad("alpha", alpha, "a factor > 0");
+  if (!std::isfinite(tangential_fraction) || tangential_fraction < 0.0)
+    bad("tangential_fraction", tangential_fraction, "a fraction >= 0");
+  double h = slave_.h_min;
+  if (master_) h = std::min(h, master_->h_min);
+  penalty_ = PenaltyChoice{};
+  penalty_.set = true;
+  penalty_.automatic = true;
+  penalty_.alpha = alpha;
+  penalty_.tangential_fraction = tangential_fraction;
+  penalty_.E_eff = E_eff;
+  penalty_.h = h;
+  penalty_.cN = alpha * E_eff / h;
+  penalty_.cT = tangential_fraction * penalty_.cN;
+}
+
+void ContactInterface::set_thermal(const ThermalParameters& t) {
+  t.validate();
+  thermal_ = t;
+}
+
+void ContactInterface::set_fixed_dofs(std::vector<DofIndex> dofs) {
+  std::sort(dofs.begin(), dofs.end());
+  dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
+  fixed_ = std::move(dofs);
+}
+
+bool ContactInterface::is_fixed(DofIndex d) const { return std::binary_search(fixed_.begin(), fixed_.end(), d); }
+
+void ContactInterface::set_search_radius(double r) {
+  if (!std::isfinite(r) || !(r > 0.0)) {
+    std::ostringstream m;
+    m << "search radius = " << r << " is invalid, expected a finite distance > 0 [mm]";
+    throw std::invalid_argument(m.str());
+  }
+  search_radius_ = r;
+}
+
+void ContactInterface::set_gauss_points(int n) {
+  if (n < 1 || n > 8) throw std::invalid_argument("Gauss points per segment piece must be between 1 and 8");
+  n_gauss_ = n;
+}
+
+double ContactInterface::search_radius() const {
+  return search_radius_ > 0.0 ? search_radius_ : 2.0 * slave_.h_max;
+}
+
+void ContactInterface::positions(const double* u, std::size_t n, std::vector<V2<double>>& xs,
+                                 std::vector<V2<double>>& xm) const {
+  if (max_dof_ >= 0 && static_cast<std::size_t>(max_dof_) >= n) {
+    std::ostringstream m;
+    m << "solution array has " << n << " entries but the contact refers to dof " << max_dof_;
+    throw std::invalid_argument(m.str());
+  }
+  xs.resize(slave_.X.size());
+  for (std::size_t i = 0; i < xs.size(); ++i) {
+    const auto& d = slave_.dofs[i];
+    xs[i] = {slave_.X[i].x + u[d[0]], slave_.X[i].y + u[d[1]]};
+    if (!std::isfinite(xs[i].x) || !std::isfinite(xs[i].y))
+      throw std::invalid_argument("non-finite displacement at slave node " + std::to_string(i));
+  }
+  xm.clear();
+  if (master_) {
+    xm.resize(master_->X.size());
+    for (std::size_t i = 0; i < xm.size(); ++i) {
+      const auto& d = master_->dofs[i];
+      xm[i] = {master_->X[i].x + u[d[0]], master_->X[i].y + u[d[1]]};
+      if (!std::isfinite(xm[i].x) || !std::isfinite(xm[i].y))
+        throw std::invalid_argument("non-finite displacement at master node " + std::to_string(i));
+    }
+  }
+}
+
+void ContactInterface::reset_history(const double* u, std::size_t n, const V2<double>& offset) {
+  positions(u, n, xs_n_, xm_n_);
+  offset_n_ = offset;
+  std::fill(ge_.begin(), ge_.end(), 0.0);
+}
+
+MasterSegment ContactInterface::master_segment(const MasterRef& m) const {
+  MasterSegment s;
+  if (rigid_) {
+    rigid_->segment(m.seg, m.image, s.q0, s.q1);
+    s.q0 = s.q0 + offset_;
+    s.q1 = s.q1 + offset_;
+    s.normal_sign = -1.0;
+  } else {
+    const auto& sg = master_->segments[static_cast<std::size_t>(m.seg)];
+    s.q0 = xm_[static_cast<std::size_t>(sg[0])];
+    s.q1 = xm_[static_cast<std::size_t>(sg[1])];
+    s.normal_sign = 1.0;
+  }
+  return s;
+}
+
+std::array<int, 2> ContactInterface::master_nodes(const MasterRef& m) const {
+  if (rigid_) return {-1, -1};
+  return master_->segments[static_cast<std::size_t>(m.seg)];
+}
+
+void ContactInterface::candidates(const V2<double>& lo, const V2<double>& hi, std::vector<MasterRef>& out) const {
+  out.clear();
+  std::vector<int> ids;
+  if (rigid_) {
+    const V2<double> l = lo - offset_, h = hi - offset_;
+    const SegmentGrid& g = rigid_->grid();
+    if (rigid_->periodic()) {
+      const double L = rigid_->period();
+      const long k0 = static_cast<long>(std::floor((l.x - g.upper().x) / L));
+      const long k1 = static_cast<long>(std::ceil((h.x - g.lower().x) / L));
+      for (long k = k0; k <= k1; ++k) {
+        ids.clear();
+        const double sh = static_cast<double>(k) * L;
+        g.query({l.x - sh, l.y}, {h.x - sh, h.y}, ids);
+        for (int s : ids) out.push_back({k, s});
+      }
+    } else {
+      g.query(l, h, ids);
+      for (int s : ids) out.push_back({0, s});
+    }
+  } else {
+    master_grid_.query(lo, hi, ids);
+    for (int s : ids) out.push_back({0, s});
+  }
+}
+
+SlaveSegment ContactInterface::slave_segment(int e) const {
+  const auto& sg = slave_.segments[static_cast<std::size_t>(e)];
+  const int a = sg[0], b = sg[1];
+  const int p = slave_.prev[static_cast<std::size_t>(a)], q = slave_.next[static_cast<std::size_t>(b)];
+  SlaveSegment s;
+  s.has_prev = p >= 0;
+  s.has_next = q >= 0;
+  s.x = {xs_[static_cast<std::size_t>(s.has_prev ? p : a)], xs_[static_cast<std::size_t>(a)],
+         xs_[static_cast<std::size_t>(b)], xs_[static_cast<std::size_t>(s.has_next ? q : b)]};
+  return s;
+}
+
+void ContactInterface::search_mortar(std::vector<PairRecord>& pairs) const {
+  const double r = search_radius();
+  const double R = 1.5 * r;
+  const double tol = 1e-12;
+  struct Cand {
+    MasterRef ref;
+    MasterSegment seg;
+    Overlap ov;
+    std::array<int, 2> nodes;
+  };
+  std::vector<MasterRef> refs;
+  std::vector<Cand> cands;
+  std::vector<double> bps;
+  for (int e = 0; e < static_cast<int>(slave_.segments.size()); ++e) {
+    const SlaveSegment s = slave_segment(e);
+    V2<double> na, nb;
+    nodal_normals(s, na, nb);
+    V2<double> lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY};
+    for (const V2<double>& p : {s.x[1] + R * na, s.x[1] - R * na, s.x[2] + R * nb, s.x[2] - R * nb}) {
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+    }
+    candidates(lo, hi, refs);
+    cands.clear();
+    for (const MasterRef& ref : refs) {
+      Cand c{ref, master_segment(ref), Overlap{}, master_nodes(ref)};
+      c.ov = overlap(s, na, nb, c.seg);
+      if (c.ov.valid) cands.push_back(c);
+    }
+    if (cands.empty()) continue;
+    bps.clear();
+    for (const Cand& c : cands) {
+      bps.push_back(c.ov.lo);
+      bps.push_back(c.ov.hi);
+    }
+    std::sort(bps.begin(), bps.end());
+    // choose, on every elementary interval, the candidate with the smallest |gap| (within r)
+    struct Piece {
+      int cand;
+      double lo, hi;
+    };
+    std::vector<Piece> pieces;
+    for (std::size_t i = 0; i + 1 < bps.size(); ++i) {
+      const double a = bps[i], b = bps[i + 1];
+      if (!(b - a > tol)) continue;
+      const double mid = 0.5 * (a + b);
+      int best = -1;
+      double best_abs = INFINITY;
+      for (std::size_t k = 0; k < cands.size(); ++k) {
+        const Cand& c = cands[k];
+        if (mid < c.ov.lo || mid > c.ov.hi) continue;
+        const double g = normal_gap_at(s, na, nb, c.seg, mid);
+        if (!(std::abs(g) <= r)) continue;
+        if (std::abs(g) < best_abs) {
+          best_abs = std::abs(g);
+          best = static_cast<int>(k);
+        }
+      }
+      if (best < 0) continue;
+      if (!pieces.empty() && pieces.back().cand == best && std::abs(pieces.back().hi - a) <= 1e-10)
+        pieces.back().hi = b;
+      else
+        pieces.push_back({best, a, b});
+    }
+    for (const Piece& pc : pieces) {
+      const Cand& c = cands[static_cast<std::size_t>(pc.cand)];
+      auto make_bp = [&](double xi) {
+        Breakpoint bp;
+        bp.xi = xi;
+        if (std::abs(xi - c.ov.lo) <= tol) {
+          bp.kind = c.ov.lo_kind;
+          bp.xi = c.ov.lo;
+          return bp;
+        }
+        if (std::abs(xi - c.ov.hi) <= tol) {
+          bp.kind = c.ov.hi_kind;
+          bp.xi = c.ov.hi;
+          return bp;
+        }
+        // an end point of another candidate (overlapping projections)
+        for (const Cand& o : cands) {
+          for (int end = 0; end < 2; ++end) {
+            const double v = end == 0 ? o.ov.lo : o.ov.hi;
+            const Breakpoint::Kind k = end == 0 ? o.ov.lo_kind : o.ov.hi_kind;
+            if (std::abs(v - xi) > tol) continue;
+            if (k == Breakpoint::slave_start || k == Breakpoint::slave_end) {
+              bp.kind = k;
+              bp.xi = v;
+              return bp;
+            }
+            const int node = k == Breakpoint::master_q0 ? o.nodes[0] : o.nodes[1];
+            const V2<double> q = k == Breakpoint::master_q0 ? o.seg.q0 : o.seg.q1;
+            bp.xi = v;
+            if (node >= 0 && node == c.nodes[0])
+              bp.kind = Breakpoint::master_q0;
+            else if (node >= 0 && node == c.nodes[1])
+              bp.kind = Breakpoint::master_q1;
+            else {
+              bp.kind = Breakpoint::foreign;
+              bp.q = q;
+            }
+            return bp;
+          }
+        }
+        throw std::logic_error("mortar segmentation: unmatched break point");
+      };
+      PairRecord pr;
+      pr.slave = e;
+      pr.master = c.ref;
+      pr.lo = make_bp(pc.lo);
+      pr.hi = make_bp(pc.hi);
+      pairs.push_back(pr);
+    }
+  }
+}
+
+void ContactInterface::search_nts(std::vector<PairRecord>& pairs) const {
+  const double r = search_radius();
+  const double R = 1.5 * r;
+  std::vector<MasterRef> refs;
+  for (int A = 0; A < slave_.num_nodes(); ++A) {
+    const int p = slave_.prev[static_cast<std::size_t>(A)], q = slave_.next[static_cast<std::size_t>(A)];
+    const V2<double> x = xs_[static_cast<std::size_t>(A)];
+    const V2<double> xp = p >= 0 ? xs_[static_cast<std::size_t>(p)] : x;
+    const V2<double> xn = q >= 0 ? xs_[static_cast<std::size_t>(q)] : x;
+    const V2<double> n = normalized(right_normal(xn - xp));
+    const V2<double> a = x + R * n, b = x - R * n;
+    candidates({std::min(a.x, b.x), std::min(a.y, b.y)}, {std::max(a.x, b.x), std::max(a.y, b.y)}, refs);
+    int best = -1;
+    double best_abs = INFINITY;
+    for (std::size_t k = 0; k < refs.size(); ++k) {
+      const MasterSegment m = master_segment(refs[k]);
+      const V2<double> t = m.q1 - m.q0;
+      const double den = cross(t, n);
+      if (den == 0.0) continue;
+      const double eta = cross(x - m.q0, n) / den;
+      if (eta < -1e-12 || eta > 1.0 + 1e-12) continue;
+      if (!(dot(n, m.outward_normal()) < 0.0)) continue;
+      const double g = dot(m.q0 + eta * t - x, n);
+      if (!(std::abs(g) <= r)) continue;
+      if (std::abs(g) < best_abs) {
+        best_abs = std::abs(g);
+        best = static_cast<int>(k);
+      }
+    }
+    if (best < 0) continue;
+    PairRecord pr;
+    pr.slave = A;
+    pr.master = refs[static_cast<std::size_t>(best)];
+    pairs.push_back(pr);
+  }
+}
+
+void ContactInterface::check_ready(std::size_t n, double dt) const {
+  if (!rigid_ && !master_)
+    throw std::invalid_argument("no master surface: call set_rigid_master(...) or set_deformable_master(...)");
+  if (!penalty_.set)
+    throw std::invalid_argument(
+        "no penalty parameters: call set_auto_penalty(E_eff, ...) (default) or set_penalty(c_N, c_T)");
+  if (friction_ && !(penalty_.cT > 0.0))
+    throw std::invalid_argument("friction needs a tangential penalty c_T > 0 (got c_T = 0)");
+  if (!std::isfinite(dt) || dt < 0.0) throw std::invalid_argument("dt must be finite and >= 0");
+  if (friction_ && friction_->depends_on_velocity() && !(dt > 0.0))
+    throw std::invalid_argument("the friction law depends on the sliding velocity: dt must be > 0");
+  if (thermal_.enabled) {
+    if (!slave_.has_temperature())
+      throw std::invalid_argument("thermal contact needs temperature dofs on the slave surface");
+    if (master_ && !master_->has_temperature())
+      throw std::invalid_argument("thermal contact with a deformable master needs temperature dofs on the master");
+    if (friction_ && !(dt > 0.0)) throw std::invalid_argument("frictional heating needs dt > 0");
+  }
+  (void)n;
+}
+
+void ContactInterface::evaluate(const double* u, std::size_t n, const V2<double>& offset, double dt, double T_ref,
+                                bool with_blocks) {
+  check_ready(n, dt);
+  if (!std::isfinite(offset.x) || !std::isfinite(offset.y))
+    throw std::invalid_argument("rigid master offset must be finite");
+  const auto t0 = Clock::now();
+  positions(u, n, xs_, xm_);
+  offset_ = offset;
+  if (master_) {
+    std::vector<V2<double>> a(master_->segments.size()), b(master_->segments.size());
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      a[k] = xm_[static_cast<std::size_t>(master_->segments[k][0])];
+      b[k] = xm_[static_cast<std::size_t>(master_->segments[k][1])];
+    }
+    master_grid_.build(a, b);
+  }
+  std::vector<PairRecord> pairs;
+  if (method_ == Method::mortar)
+    search_mortar(pairs);
+  else
+    search_nts(pairs);
+  const double t_search = seconds_since(t0);
+  const auto t1 = Clock::now();
+
+  const int ns = slave_.num_nodes();
+  const bool has_temp = slave_.has_temperature() || (master_ && master_->has_temperature());
+  const int stride = has_temp ? 3 : 2;
+  auto prev_of = [&](int A) { return slave_.prev[static_cast<std::size_t>(A)]; };
+  auto next_of = [&](int A) { return slave_.next[static_cast<std::size_t>(A)]; };
+
+  // slot entities of each pair and the slave nodes receiving it
+  auto slot_entities = [&](const PairRecord& pr, std::array<int, 2>& receivers, int& nrec) {
+    std::array<int, 6> ent{-1, -1, -1, -1, -1, -1};
+    if (method_ == Method::mortar) {
+      const auto& sg = slave_.segments[static_cast<std::size_t>(pr.slave)];
+      ent[0] = prev_of(sg[0]);
+      ent[1] = sg[0];
+      ent[2] = sg[1];
+      ent[3] = next_of(sg[1]);
+      receivers = {sg[0], sg[1]};
+      nrec = 2;
+    } else {
+      ent[0] = prev_of(pr.slave);
+      ent[1] = pr.slave;
+      ent[2] = next_of(pr.slave);
+      receivers = {pr.slave, -1};
+      nrec = 1;
+    }
+    const std::array<int, 2> mn = master_nodes(pr.master);
+    if (mn[0] >= 0) {
+      ent[4] = ns + mn[0];
+      ent[5] = ns + mn[1];
+    }
+    return ent;
+  };
+
+  std::vector<std::vector<int>> ents(static_cast<std::size_t>(ns));
+  for (const PairRecord& pr : pairs) {
+    std::array<int, 2> rec;
+    int nrec = 0;
+    const auto ent = slot_entities(pr, rec, nrec);
+    for (int k = 0; k < nrec; ++k) {
+      auto& L = ents[static_cast<std::size_t>(rec[static_cast<std::size_t>(k)])];
+      for (int e : ent)
+        if (e >= 0) L.push_back(e);
+    }
+  }
+  for (int A = 0; A < ns; ++A) {
+    auto& L = ents[static_cast<std::size_t>(A)];
+    if (L.empty()) continue;
+    for (int e : {prev_of(A), A, next_of(A)})
+      if (e >= 0) L.push_back(e);
+    std::sort(L.begin(), L.end());
+    L.erase(std::unique(L.begin(), L.end()), L.end());
+  }
+
+  struct Acc {
+    DX gx, gy, area;
+    std::vector<std::pair<int, DX>> D, M;
+  };
+  std::vector<Acc> acc(static_cast<std::size_t>(ns));
+  for (int A = 0; A < ns; ++A) {
+    const auto& L = ents[static_cast<std::size_t>(A)];
+    if (L.empty()) continue;
+    const Eigen::Index S = stride * static_cast<Eigen::Index>(L.size());
+    Acc& a = acc[static_cast<std::size_t>(A)];
+    a.gx = constantX(0.0, S);
+    a.gy = constantX(0.0, S);
+    a.area = constantX(0.0, S);
+  }
+
+  PairIntegrals pi;
+  for (const PairRecord& pr : pairs) {
+    std::array<int, 2> rec;
+    int nrec = 0;
+    const auto ent = slot_entities(pr, rec, nrec);
+    const MasterSegment ms = master_segment(pr.master);
+    if (method_ == Method::mortar) {
+      pi.set_zero();
+      integrate_piece(slave_segment(pr.slave), ms, pr.lo, pr.hi, n_gauss_, pi);
+    } else {
+      const int A = pr.slave;
+      const std::array<V2<double>, 3> x{xs_[static_cast<std::size_t>(ent[0] >= 0 ? ent[0] : A)],
+                                        xs_[static_cast<std::size_t>(A)],
+                                        xs_[static_cast<std::size_t>(ent[2] >= 0 ? ent[2] : A)]};
+      double eta = 0.0, g = 0.0;
+      if (!node_to_segment(x, ent[0] >= 0, ent[2] >= 0, ms, pi, eta, g)) continue;
+    }
+    for (int k = 0; k < nrec; ++k) {
+      const int A = rec[static_cast<std::size_t>(k)];
+      const auto& L = ents[static_cast<std::size_t>(A)];
+      const Eigen::Index S = stride * static_cast<Eigen::Index>(L.size());
+      std::array<int, 6> base;
+      for (int s = 0; s < 6; ++s)
+        base[static_cast<std::size_t>(s)] =
+            ent[static_cast<std::size_t>(s)] >= 0 ? stride * local_index(L, ent[static_cast<std::size_t>(s)]) : -1;
+      Acc& a = acc[static_cast<std::size_t>(A)];
+      const std::size_t r = static_cast<std::size_t>(k);
+      scatter(pi.gap[r][0], a.gx, base);
+      scatter(pi.gap[r][1], a.gy, base);
+      scatter(pi.area[r], a.area, base);
+      if (method_ == Method::mortar) {
+        scatter(pi.D[r][0], find_or_add(a.D, ent[1], S), base);
+        scatter(pi.D[r][1], find_or_add(a.D, ent[2], S), base);
+      } else {
+        scatter(pi.D[0][0], find_or_add(a.D, ent[1], S), base);
+      }
+      if (ent[4] >= 0) {
+        scatter(pi.M[r][0], find_or_add(a.M, ent[4], S), base);
+        scatter(pi.M[r][1], find_or_add(a.M, ent[5], S), base);
+      }
+    }
+  }
+
+  // nodal laws and local blocks
+  blocks_.clear();
+  out_.resize(static_cast<std::size_t>(ns));
+  InterfaceTotals tot;
+  tot.n_pairs = static_cast<int>(pairs.size());
+  tot.time_search = t_search;
+  LawParameters par;
+  par.cN = penalty_.cN;
+  par.cT = penalty_.cT;
+  par.friction = friction_.get();
+  par.dt = dt;
+  par.thermal = &thermal_;
+  const bool conduction_possible = thermal_.enabled && (master_ ? master_->has_temperature()
+                                                                : !std::isnan(thermal_.master_temperature));
+  for (int A = 0; A < ns; ++A) {
+    const auto& L = ents[static_cast<std::size_t>(A)];
+    Acc& a = acc[static_cast<std::size_t>(A)];
+    out_.gap[static_cast<std::size_t>(A)] = std::numeric_limits<double>::quiet_NaN();
+    if (L.empty() || !(a.area.v > 0.0)) continue;
+    const Eigen::Index S = stride * static_cast<Eigen::Index>(L.size());
+    auto pos = [&](int e) -> V2<DX> {
+      const int b = stride * local_index(L, e);
+      const V2<double> x = e < ns ? xs_[static_cast<std::size_t>(e)] : xm_[static_cast<std::size_t>(e - ns)];
+      return {variableX(x.x, b, S), variableX(x.y, b + 1, S)};
+    };
+    auto temp = [&](int e) -> DX {
+      const int b = stride * local_index(L, e) + 2;
+      const double th = e < ns ? u[slave_.temperature_dofs[static_cast<std::size_t>(e)]]
+                               : u[master_->temperature_dofs[static_cast<std::size_t>(e - ns)]];
+      return variableX(th, b, S);
+    };
+    NodalKinematics kin;
+    kin.gx = a.gx;
+    kin.gy = a.gy;
+    kin.area = a.area;
+    {
+      const int p = prev_of(A), q = next_of(A);
+      const V2<DX> xp = pos(p >= 0 ? p : A), xn = pos(q >= 0 ? q : A);
+      kin.normal = normalized(right_normal(xn - xp));
+    }
+    kin.slip_x = constantX(0.0, S);
+    kin.slip_y = constantX(0.0, S);
+    if (friction_) {
+      for (const auto& [B, DAB] : a.D) {
+        const V2<DX> x = pos(B);
+        const V2<double> xn = xs_n_[static_cast<std::size_t>(B)];
+        kin.slip_x += DAB * (x.x - xn.x);
+        kin.slip_y += DAB * (x.y - xn.y);
+      }
+      if (master_) {
+        for (const auto& [C, MAC] : a.M) {
+          const V2<DX> x = pos(C);
+          const V2<double> xn = xm_n_[static_cast<std::size_t>(C - ns)];
+          kin.slip_x -= MAC * (x.x - xn.x);
+          kin.slip_y -= MAC * (x.y - xn.y);
+        }
+      } else {
+        kin.slip_x -= a.area * (offset_.x - offset_n_.x);
+        kin.slip_y -= a.area * (offset_.y - offset_n_.y);
+      }
+    }
+    kin.temperature = slave_.has_temperature() ? temp(A) : constantX(T_ref, S);
+    kin.thermal_gap = constantX(0.0, S);
+    if (conduction_possible) {
+      for (const auto& [B, DAB] : a.D) kin.thermal_gap -= DAB * temp(B);
+      if (master_)
+        for (const auto& [C, MAC] : a.M) kin.thermal_gap += MAC * temp(C);
+      else
+        kin.thermal_gap += a.area * thermal_.master_temperature;
+    }
+    const NodalResponse resp = evaluate_nodal_law(kin, ge_[static_cast<std::size_t>(A)], par);
+
+    const std::size_t iA = static_cast<std::size_t>(A);
+    out_.paired[iA] = 1;
+    out_.status[iA] = resp.status;
+    out_.gap[iA] = resp.gap;
+    out_.pressure[iA] = resp.pressure;
+    out_.t_T[iA] = resp.t_T;
+    out_.dgamma[iA] = resp.dgamma;
+    out_.dg_T[iA] = resp.dg_T;
+    out_.velocity[iA] = resp.velocity;
+    out_.mu[iA] = resp.mu;
+    out_.area[iA] = a.area.v;
+    out_.nx[iA] = kin.normal.x.v;
+    out_.ny[iA] = kin.normal.y.v;
+    out_.elastic_gap[iA] = resp.status == open ? 0.0 : resp.elastic_gap;
+    ++tot.n_paired;
+    if (resp.status == open) continue;
+    ++tot.n_active;
+    if (resp.status == stick) ++tot.n_stick;
+    if (resp.status == slip) ++tot.n_slip;
+    tot.contact_length += a.area.v;
+    tot.force_x -= a.area.v * resp.P.x.v;
+    tot.force_z -= a.area.v * resp.P.y.v;
+    tot.friction_power += a.area.v * resp.friction_power;
+    tot.dissipation += a.area.v * resp.friction_power * dt;
+    if (resp.has_heat) {
+      out_.q_slave[iA] = resp.q_slave.v;
+      out_.q_master[iA] = resp.q_master.v;
+      tot.heat_slave += a.area.v * resp.q_slave.v;
+      tot.heat_master += a.area.v * resp.q_master.v;
+    }
+    if (!with_blocks) continue;
+
+    LocalBlock blk;
+    std::vector<const DX*> rowvals;
+    std::vector<DX> store;
+    store.reserve(3 * (a.D.size() + a.M.size()));
+    for (const auto& [B, DAB] : a.D) {
+      const auto& d = slave_.dofs[static_cast<std::size_t>(B)];
+      store.push_back(DAB * resp.P.x);
+      blk.rows.push_back(d[0]);
+      store.push_back(DAB * resp.P.y);
+      blk.rows.push_back(d[1]);
+    }
+    if (master_) {
+      for (const auto& [C, MAC] : a.M) {
+        const auto& d = master_->dofs[static_cast<std::size_t>(C - ns)];
+        store.push_back(-(MAC * resp.P.x));
+        blk.rows.push_back(d[0]);
+        store.push_back(-(MAC * resp.P.y));
+        blk.rows.push_back(d[1]);
+      }
+    }
+    if (resp.has_heat) {
+      for (const auto& [B, DAB] : a.D) {
+        store.push_back(-(DAB * resp.q_slave));
+        blk.rows.push_back(slave_.temperature_dofs[static_cast<std::size_t>(B)]);
+      }
+      if (master_ && master_->has_temperature()) {
+        for (const auto& [C, MAC] : a.M) {
+          store.push_back(-(MAC * resp.q_master));
+          blk.rows.push_back(master_->temperature_dofs[static_cast<std::size_t>(C - ns)]);
+        }
+      }
+    }
+    for (int e : L) {
+      if (e < ns) {
+        const auto& d = slave_.dofs[static_cast<std::size_t>(e)];
+        blk.cols.push_back(d[0]);
+        blk.cols.push_back(d[1]);
+        if (stride == 3) blk.cols.push_back(slave_.has_temperature() ? slave_.temperature_dofs[static_cast<std::size_t>(e)] : -1);
+      } else {
+        const auto& d = master_->dofs[static_cast<std::size_t>(e - ns)];
+        blk.cols.push_back(d[0]);
+        blk.cols.push_back(d[1]);
+        if (stride == 3)
+          blk.cols.push_back(master_->has_temperature() ? master_->temperature_dofs[static_cast<std::size_t>(e - ns)] : -1);
+      }
+    }
+    const std::size_t nr = blk.rows.size(), nc = blk.cols.size();
+    blk.r.resize(nr);
+    blk.K.resize(nr * nc);
+    for (std::size_t i = 0; i < nr; ++i) {
+      blk.r[i] = store[i].v;
+      for (std::size_t j = 0; j < nc; ++j) blk.K[i * nc + j] = store[i].d[static_cast<Eigen::Index>(j)];
+    }
+    blocks_.push_back(std::move(blk));
+  }
+  tot.time_integration = seconds_since(t1);
+  totals_ = tot;
+  evaluated_ = true;
+}
+
+void ContactInterface::commit() {
+  if (!evaluated_) throw std::logic_error("commit() before any evaluation");
+  for (std::size_t i = 0; i < ge_.size(); ++i) ge_[i] = out_.status[i] == open ? 0.0 : out_.elastic_gap[i];
+  xs_n_ = xs_;
+  xm_n_ = xm_;
+  offset_n_ = offset_;
+  cumulative_dissipation_ += totals_.dissipation;
+  ++steps_;
+}
+
+std::vector<std::pair<DofIndex, DofIndex>> ContactInterface::sparsity(const double* u, std::size_t n,
+                                                                      double margin) const {
+  const int ns = slave_.num_nodes();
+  auto chain = [&](int A, int depth) {
+    std::vector<int> nodes{A};
+    int p = A, q = A;
+    for (int k = 0; k < depth; ++k) {
+      if (p >= 0) p = slave_.prev[static_cast<std::size_t>(p)];
+      if (q >= 0) q = slave_.next[static_cast<std::size_t>(q)];
+      if (p >= 0) nodes.push_back(p);
+      if (q >= 0) nodes.push_back(q);
+    }
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    return nodes;
+  };
+  auto slave_dofs = [&](int e, std::vector<DofIndex>& out) {
+    out.push_back(slave_.dofs[static_cast<std::size_t>(e)][0]);
+    out.push_back(slave_.dofs[static_cast<std::size_t>(e)][1]);
+    if (slave_.has_temperature()) out.push_back(slave_.temperature_dofs[static_cast<std::size_t>(e)]);
+  };
+  std::vector<std::pair<DofIndex, DofIndex>> pairs;
+  std::vector<DofIndex> rows, cols;
+  for (int B = 0; B < ns; ++B) {
+    rows.clear();
+    cols.clear();
+    slave_dofs(B, rows);
+    for (int e : chain(B, 3)) slave_dofs(e, cols);
+    for (DofIndex r : rows)
+      for (DofIndex c : cols) pairs.emplace_back(r, c);
+  }
+  if (master_) {
+    std::vector<V2<double>> xs, xm;
+    positions(u, n, xs, xm);
+    std::vector<V2<double>> a(master_->segments.size()), b(master_->segments.size());
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      a[k] = xm[static_cast<std::size_t>(master_->segments[k][0])];
+      b[k] = xm[static_cast<std::size_t>(master_->segments[k][1])];
+    }
+    SegmentGrid grid;
+    grid.build(a, b);
+    const double mg = margin >= 0.0 ? margin : 2.0 * search_radius();
+    const double reach = mg + 1.5 * search_radius() + slave_.h_max;
+    std::vector<int> ids;
+    std::vector<DofIndex> group;
+    for (int A = 0; A < ns; ++A) {
+      group.clear();
+      for (int e : chain(A, 2)) slave_dofs(e, group);
+      ids.clear();
+      for (int e : chain(A, 1)) {
+        const V2<double> x = xs[static_cast<std::size_t>(e)];
+        grid.query({x.x - reach, x.y - reach}, {x.x + reach, x.y + reach}, ids);
+      }
+      std::set<int> mnodes;
+      for (int s : ids) {
+        mnodes.insert(master_->segments[static_cast<std::size_t>(s)][0]);
+        mnodes.insert(master_->segments[static_cast<std::size_t>(s)][1]);
+      }
+      for (int m : mnodes) {
+        group.push_back(master_->dofs[static_cast<std::size_t>(m)][0]);
+        group.push_back(master_->dofs[static_cast<std::size_t>(m)][1]);
+        if (master_->has_temperature()) group.push_back(master_->temperature_dofs[static_cast<std::size_t>(m)]);
+      }
+      for (DofIndex r : group)
+        for (DofIndex c : group) pairs.emplace_back(r, c);
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return pairs;
+}
+
+}  // namespace rf

@@ -1,0 +1,164 @@
+// One contact interface: a deformable slave surface against a rigid (optionally periodic)
+// polyline or a deformable master surface; mortar segment-to-segment or node-to-segment;
+// penalty normal contact, Coulomb friction with mu(p, v, T), thermal contact.
+//
+// Per Newton iteration `evaluate(u, offset, dt, T)` re-runs the search and the projections at the
+// current configuration and produces one dense local block per slave node (rows: the dofs that
+// receive the node's traction through D_AB / M_AC; columns: the node's stencil). Residual
+// convention: R(u) = F_int - F_ext, the contact adds dPi_c/du (the slave receives -D^T P), Newton
+// solves J du = -R. History (tangential elastic gap, positions of the last converged step) is
+// updated only by `commit()`.
+#pragma once
+
+#include "friction_law.hpp"
+#include "mortar_segment.hpp"
+#include "nodal_contact_law.hpp"
+#include "surface.hpp"
+#include "thermal_contact.hpp"
+
+#include <array>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rf {
+
+enum class Method { mortar, node_to_segment };
+
+struct PenaltyChoice {
+  bool set = false;
+  bool automatic = false;
+  double cN = 0.0, cT = 0.0;
+  double alpha = 0.0, tangential_fraction = 0.0, E_eff = 0.0, h = 0.0;
+};
+
+/// Dense contribution of one slave node's traction.
+struct LocalBlock {
+  std::vector<DofIndex> rows, cols;
+  std::vector<double> K;  ///< row-major, rows.size() x cols.size()
+  std::vector<double> r;  ///< residual entries for `rows`
+};
+
+/// Per slave node results of the last evaluation.
+struct NodeOutput {
+  std::vector<int> status;  ///< 0 open (or unpaired), 1 stick, 2 slip
+  std::vector<char> paired;
+  std::vector<double> gap, pressure, t_T, dgamma, dg_T, velocity, mu, area, q_slave, q_master, nx, ny;
+  std::vector<double> elastic_gap;  ///< trial tangential elastic gap (committed by commit())
+  void resize(std::size_t n);
+};
+
+struct InterfaceTotals {
+  double force_x = 0.0, force_z = 0.0;  ///< total contact force on the slave body [N/mm]
+  double contact_length = 0.0;          ///< sum of nodal weights of nodes in contact [mm]
+  double dissipation = 0.0;             ///< frictional dissipation of the step [mJ/mm]
+  double friction_power = 0.0;          ///< [mW/mm]
+  double heat_slave = 0.0, heat_master = 0.0;  ///< heat flow into slave / master [mW/mm]
+  int n_paired = 0, n_active = 0, n_stick = 0, n_slip = 0, n_pairs = 0;
+  double time_search = 0.0, time_integration = 0.0, time_assembly = 0.0;  ///< [s]
+};
+
+class ContactInterface {
+ public:
+  ContactInterface(SurfaceMesh slave, Method method);
+
+  void set_rigid_master(RigidPolyline master);
+  void set_deformable_master(SurfaceMesh master);
+  void set_penalty(double cN, double cT);
+  void set_auto_penalty(double E_eff, double alpha, double tangential_fraction);
+  void set_friction(std::shared_ptr<const FrictionLaw> law) { friction_ = std::move(law); }
+  void set_thermal(const ThermalParameters& t);
+  void set_fixed_dofs(std::vector<DofIndex> dofs);
+  void set_search_radius(double r);
+  void set_gauss_points(int n);
+  void set_allow_new_nonzeros(bool allow) { allow_new_nonzeros_ = allow; }
+
+  /// History reference: positions at u and the rigid offset become the last converged state;
+  /// tangential elastic gaps are cleared.
+  void reset_history(const double* u, std::size_t n, const V2<double>& offset);
+
+  /// Search, project, integrate and apply the nodal law at u (full local solution array).
+  void evaluate(const double* u, std::size_t n, const V2<double>& offset, double dt, double T_ref, bool with_blocks);
+  void commit();
+
+  const std::vector<LocalBlock>& blocks() const { return blocks_; }
+  const NodeOutput& nodes() const { return out_; }
+  const InterfaceTotals& totals() const { return totals_; }
+  InterfaceTotals& totals() { return totals_; }
+  const std::vector<DofIndex>& fixed_dofs() const { return fixed_; }
+  bool is_fixed(DofIndex d) const;
+  bool allow_new_nonzeros() const { return allow_new_nonzeros_; }
+  double cumulative_dissipation() const { return cumulative_dissipation_; }
+  int committed_steps() const { return steps_; }
+  const std::vector<double>& committed_elastic_gap() const { return ge_; }
+
+  /// Every (row, col) the contact may write. Rigid master: slave dofs within chain distance 3
+  /// (static). Deformable master: additionally master nodes within `margin` of the slave nodes at
+  /// displacement u (margin < 0: 2 x search radius).
+  std::vector<std::pair<DofIndex, DofIndex>> sparsity(const double* u, std::size_t n, double margin) const;
+
+  const PenaltyChoice& penalty() const { return penalty_; }
+  double search_radius() const;
+  int gauss_points() const { return n_gauss_; }
+  Method method() const { return method_; }
+  const SurfaceMesh& slave() const { return slave_; }
+  bool has_rigid_master() const { return rigid_ != nullptr; }
+  bool has_deformable_master() const { return master_ != nullptr; }
+  const RigidPolyline* rigid_master() const { return rigid_.get(); }
+  const SurfaceMesh* deformable_master() const { return master_.get(); }
+  const FrictionLaw* friction() const { return friction_.get(); }
+  const ThermalParameters& thermal() const { return thermal_; }
+  DofIndex max_dof() const { return max_dof_; }
+
+ private:
+  struct MasterRef {
+    long image = 0;
+    int seg = -1;
+  };
+  struct PairRecord {
+    int slave = -1;  ///< slave segment (mortar) or slave node (node-to-segment)
+    MasterRef master;
+    Breakpoint lo, hi;
+  };
+
+  void positions(const double* u, std::size_t n, std::vector<V2<double>>& xs, std::vector<V2<double>>& xm) const;
+  MasterSegment master_segment(const MasterRef& m) const;
+  std::array<int, 2> master_nodes(const MasterRef& m) const;
+  void candidates(const V2<double>& lo, const V2<double>& hi, std::vector<MasterRef>& out) const;
+  void search_mortar(std::vector<PairRecord>& pairs) const;
+  void search_nts(std::vector<PairRecord>& pairs) const;
+  SlaveSegment slave_segment(int e) const;
+  void check_ready(std::size_t n, double dt) const;
+
+  SurfaceMesh slave_;
+  Method method_;
+  std::unique_ptr<RigidPolyline> rigid_;
+  std::unique_ptr<SurfaceMesh> master_;
+  PenaltyChoice penalty_;
+  std::shared_ptr<const FrictionLaw> friction_;
+  ThermalParameters thermal_;
+  std::vector<DofIndex> fixed_;  // sorted
+  double search_radius_ = -1.0;
+  int n_gauss_ = 4;
+  bool allow_new_nonzeros_ = false;
+  DofIndex max_dof_ = -1;
+
+  // state of the current evaluation
+  std::vector<V2<double>> xs_, xm_;
+  V2<double> offset_{0.0, 0.0};
+  SegmentGrid master_grid_;  // deformable master, current configuration
+  std::vector<LocalBlock> blocks_;
+  NodeOutput out_;
+  InterfaceTotals totals_;
+  bool evaluated_ = false;
+
+  // committed history
+  std::vector<V2<double>> xs_n_, xm_n_;
+  V2<double> offset_n_{0.0, 0.0};
+  std::vector<double> ge_;
+  double cumulative_dissipation_ = 0.0;
+  int steps_ = 0;
+};
+
+}  // namespace rf

@@ -1,0 +1,251 @@
+#include "mortar_segment.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace rf {
+
+namespace {
+
+template <class T>
+void normals_t(const std::array<V2<T>, 4>& x, bool has_prev, bool has_next, V2<T>& na, V2<T>& nb) {
+  const V2<T>& prev = has_prev ? x[0] : x[1];
+  const V2<T>& next = has_next ? x[3] : x[2];
+  na = normalized(right_normal(x[2] - prev));
+  nb = normalized(right_normal(next - x[1]));
+}
+
+std::array<V2<D12>, 6> seed(const SlaveSegment& s, const MasterSegment& m) {
+  std::array<V2<D12>, 6> X;
+  for (int k = 0; k < 4; ++k)
+    X[static_cast<std::size_t>(k)] = {variable12(s.x[static_cast<std::size_t>(k)].x, 2 * k),
+                                      variable12(s.x[static_cast<std::size_t>(k)].y, 2 * k + 1)};
+  X[4] = {variable12(m.q0.x, 8), variable12(m.q0.y, 9)};
+  X[5] = {variable12(m.q1.x, 10), variable12(m.q1.y, 11)};
+  return X;
+}
+
+/// Root of a + b xi + c xi^2 = 0 closest to 1/2; false if no real root.
+bool quadratic_root(double c0, double c1, double c2, double& xi) {
+  const double scale = std::max({std::abs(c0), std::abs(c1), std::abs(c2)});
+  if (scale == 0.0) return false;
+  if (std::abs(c2) <= 1e-12 * std::max(std::abs(c1), std::abs(c0))) {
+    if (c1 == 0.0) return false;
+    xi = -c0 / c1;
+    return std::isfinite(xi);
+  }
+  const double disc = c1 * c1 - 4.0 * c2 * c0;
+  if (disc < 0.0) return false;
+  const double sq = std::sqrt(disc);
+  const double q = -0.5 * (c1 + std::copysign(sq, c1));
+  double r1 = q / c2;
+  double r2 = q != 0.0 ? c0 / q : r1;
+  xi = std::abs(r1 - 0.5) < std::abs(r2 - 0.5) ? r1 : r2;
+  return std::isfinite(xi);
+}
+
+/// F(xi) = (q - x(xi)) x n(xi) and dF/dxi for the projection of q onto the slave segment.
+template <class T>
+T projection_residual(const std::array<V2<T>, 4>& x, const V2<T>& na, const V2<T>& nb, const V2<T>& q, double xi) {
+  const V2<T> xs = x[1] + xi * (x[2] - x[1]);
+  const V2<T> n = na + xi * (nb - na);
+  return cross(q - xs, n);
+}
+
+}  // namespace
+
+void PairIntegrals::set_zero() {
+  for (auto& a : gap)
+    for (auto& b : a) b = constant12(0.0);
+  for (auto& a : area) a = constant12(0.0);
+  for (auto& a : D)
+    for (auto& b : a) b = constant12(0.0);
+  for (auto& a : M)
+    for (auto& b : a) b = constant12(0.0);
+}
+
+void nodal_normals(const SlaveSegment& s, V2<double>& na, V2<double>& nb) {
+  normals_t(s.x, s.has_prev, s.has_next, na, nb);
+}
+
+bool project_onto_slave(const SlaveSegment& s, const V2<double>& na, const V2<double>& nb, const V2<double>& q,
+                        double& xi) {
+  // (d - xi e) x (na + xi m) = 0 with d = q - x_a, e = x_b - x_a, m = nb - na
+  const V2<double> d = q - s.x[1], e = s.x[2] - s.x[1], m = nb - na;
+  const double c0 = cross(d, na);
+  const double c1 = cross(d, m) - cross(e, na);
+  const double c2 = -cross(e, m);
+  return quadratic_root(c0, c1, c2, xi);
+}
+
+Overlap overlap(const SlaveSegment& s, const V2<double>& na, const V2<double>& nb, const MasterSegment& m) {
+  Overlap o;
+  double xc = 0.0, xd = 0.0;
+  if (!project_onto_slave(s, na, nb, m.q0, xc) || !project_onto_slave(s, na, nb, m.q1, xd)) return o;
+  Breakpoint::Kind kc = Breakpoint::master_q0, kd = Breakpoint::master_q1;
+  if (xc > xd) {
+    std::swap(xc, xd);
+    std::swap(kc, kd);
+  }
+  o.lo = xc;
+  o.lo_kind = kc;
+  o.hi = xd;
+  o.hi_kind = kd;
+  if (o.lo <= 0.0) {
+    o.lo = 0.0;
+    o.lo_kind = Breakpoint::slave_start;
+  }
+  if (o.hi >= 1.0) {
+    o.hi = 1.0;
+    o.hi_kind = Breakpoint::slave_end;
+  }
+  if (!(o.hi - o.lo > 1e-12)) return o;
+  // the master segment must face the slave segment
+  const double mid = 0.5 * (o.lo + o.hi);
+  const V2<double> n = na + mid * (nb - na);
+  if (!(dot(n, m.outward_normal()) < 0.0)) return o;
+  o.valid = true;
+  return o;
+}
+
+double normal_gap_at(const SlaveSegment& s, const V2<double>& na, const V2<double>& nb, const MasterSegment& m,
+                     double xi) {
+  const V2<double> x1 = s.x[1] + xi * (s.x[2] - s.x[1]);
+  const V2<double> n = na + xi * (nb - na);
+  const double den = cross(m.q1 - m.q0, n);
+  if (den == 0.0) return INFINITY;
+  const double eta = cross(x1 - m.q0, n) / den;
+  const V2<double> x2 = m.q0 + eta * (m.q1 - m.q0);
+  return dot(x2 - x1, n) / norm(n);
+}
+
+void integrate_piece(const SlaveSegment& s, const MasterSegment& m, const Breakpoint& lo, const Breakpoint& hi,
+                     int n_gauss, PairIntegrals& out) {
+  const std::array<V2<D12>, 6> X = seed(s, m);
+  const std::array<V2<D12>, 4> xs{X[0], X[1], X[2], X[3]};
+  V2<D12> na, nb;
+  normals_t(xs, s.has_prev, s.has_next, na, nb);
+  V2<double> na_v = values(na), nb_v = values(nb);
+
+  // End points of the piece: exact values, derivatives by the implicit function theorem
+  // (one Newton correction in dual numbers around the converged value).
+  auto end_point = [&](const Breakpoint& bp) -> D12 {
+    switch (bp.kind) {
+      case Breakpoint::slave_start:
+        return constant12(0.0);
+      case Breakpoint::slave_end:
+        return constant12(1.0);
+      default:
+        break;
+    }
+    const V2<D12> q = bp.kind == Breakpoint::master_q0   ? X[4]
+                      : bp.kind == Breakpoint::master_q1 ? X[5]
+                                                         : lift(bp.q, X[4].x);
+    const D12 F = projection_residual(xs, na, nb, q, bp.xi);
+    const V2<double> qv = values(q);
+    const V2<double> xv = s.x[1] + bp.xi * (s.x[2] - s.x[1]);
+    const V2<double> nv = na_v + bp.xi * (nb_v - na_v);
+    const double dF = cross(-1.0 * (s.x[2] - s.x[1]), nv) + cross(qv - xv, nb_v - na_v);
+    D12 r = constant12(bp.xi);
+    r -= F / dF;
+    r.v = bp.xi;  // keep the converged value; F(xi) ~ 0 up to round-off
+    return r;
+  };
+  const D12 xlo = end_point(lo), xhi = end_point(hi);
+  const D12 len = norm(X[2] - X[1]);
+  const D12 half = (xhi - xlo) * 0.5;
+
+  std::vector<double> gp, gw;
+  gauss_legendre(n_gauss, gp, gw);
+  for (std::size_t g = 0; g < gp.size(); ++g) {
+    const D12 xi = xlo + half * (1.0 + gp[g]);
+    const D12 w = half * len * gw[g];
+    const V2<D12> x1 = X[1] + xi * (X[2] - X[1]);
+    const V2<D12> n = na + xi * (nb - na);
+    const V2<D12> t = X[5] - X[4];
+    const D12 eta = cross(x1 - X[4], n) / cross(t, n);
+    const V2<D12> x2 = X[4] + eta * t;
+    const V2<D12> dx = x2 - x1;
+    const std::array<D12, 2> N{1.0 - xi, xi};
+    const std::array<D12, 2> Nm{1.0 - eta, eta};
+    for (std::size_t A = 0; A < 2; ++A) {
+      const D12 MAw = N[A] * w;
+      out.gap[A][0] += MAw * dx.x;
+      out.gap[A][1] += MAw * dx.y;
+      out.area[A] += MAw;
+      for (std::size_t B = 0; B < 2; ++B) out.D[A][B] += MAw * N[B];
+      for (std::size_t C = 0; C < 2; ++C) out.M[A][C] += MAw * Nm[C];
+    }
+  }
+}
+
+bool node_to_segment(const std::array<V2<double>, 3>& x, bool has_prev, bool has_next, const MasterSegment& m,
+                     PairIntegrals& out, double& eta_value, double& gap_value) {
+  // values first (decision), then duals
+  const V2<double> prev = has_prev ? x[0] : x[1];
+  const V2<double> next = has_next ? x[2] : x[1];
+  const V2<double> nv = normalized(right_normal(next - prev));
+  const V2<double> tv = m.q1 - m.q0;
+  const double den = cross(tv, nv);
+  if (den == 0.0) return false;
+  const double eta = cross(x[1] - m.q0, nv) / den;
+  if (eta < -1e-12 || eta > 1.0 + 1e-12) return false;
+  if (!(dot(nv, m.outward_normal()) < 0.0)) return false;
+  eta_value = eta;
+  gap_value = dot(m.q0 + eta * tv - x[1], nv);
+
+  SlaveSegment s;
+  s.x = {x[0], x[1], x[2], x[2]};
+  const std::array<V2<D12>, 6> X = seed(s, m);
+  const V2<D12>& xa = X[1];
+  const V2<D12>& xp = has_prev ? X[0] : X[1];
+  const V2<D12>& xn = has_next ? X[2] : X[1];
+  const V2<D12> n = normalized(right_normal(xn - xp));
+  D12 w = constant12(0.0);
+  if (has_prev) w += 0.5 * norm(X[1] - X[0]);
+  if (has_next) w += 0.5 * norm(X[2] - X[1]);
+  const V2<D12> t = X[5] - X[4];
+  const D12 e = cross(xa - X[4], n) / cross(t, n);
+  const V2<D12> x2 = X[4] + e * t;
+  out.set_zero();
+  out.gap[0][0] = w * (x2.x - xa.x);
+  out.gap[0][1] = w * (x2.y - xa.y);
+  out.area[0] = w;
+  out.D[0][0] = w;
+  out.M[0][0] = w * (1.0 - e);
+  out.M[0][1] = w * e;
+  return true;
+}
+
+void gauss_legendre(int n, std::vector<double>& pts, std::vector<double>& wts) {
+  if (n < 1 || n > 8) throw std::invalid_argument("Gauss points per segment must be between 1 and 8");
+  pts.assign(static_cast<std::size_t>(n), 0.0);
+  wts.assign(static_cast<std::size_t>(n), 0.0);
+  // Newton on the Legendre polynomial P_n (Golub-Welsch not needed for n <= 8)
+  const double pi = 3.14159265358979323846;
+  for (int i = 0; i < n; ++i) {
+    double x = std::cos(pi * (i + 0.75) / (n + 0.5));
+    double dp = 1.0;
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1.0, p1 = x;
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      if (n == 1) {
+        p1 = x;
+        p0 = 1.0;
+      }
+      dp = n * (x * p1 - p0) / (x * x - 1.0);
+      const double dx = p1 / dp;
+      x -= dx;
+      if (std::abs(dx) < 1e-16) break;
+    }
+    pts[static_cast<std::size_t>(i)] = x;
+    wts[static_cast<std::size_t>(i)] = 2.0 / ((1.0 - x * x) * dp * dp);
+  }
+}
+
+}  // namespace rf

@@ -1,0 +1,96 @@
+// Mortar segment-to-segment integration for linear 2D segments (thesis eqs. 5.33-5.38), and the
+// node-to-segment collocation variant, computed with dual numbers over the 12 coordinates
+//   slot 0: prev(a)   slot 1: a   slot 2: b   slot 3: next(b)   (slave segment and its stencil)
+//   slot 4: master node c   slot 5: master node d             (master segment c -> d)
+// so that every integral carries its exact derivative with respect to those coordinates.
+//
+// Kinematics (5.36): the nodal slave normal n_A is the normal of the averaged base vector,
+// n_A = right_normal(x_next - x_prev)/|.| (x_A replaces a missing neighbour at a chain end). Inside
+// a slave segment the normal field is n(xi) = (1 - xi) n_a + xi n_b. Master nodes are projected
+// onto the slave segment along n(xi); a slave point x1(xi) is projected onto the master segment
+// along n(xi). The overlap of the two projections is the integration segment; Gauss points live
+// on the slave segment (da = |x_b - x_a| dxi). Integrals per segment piece:
+//   gap[A]  = Int M_A (x2 - x1) da          (vector weighted gap, 5.38)
+//   area[A] = Int M_A da                    (nodal mortar weight)
+//   D[A][B] = Int M_A N_B da,  M[A][C] = Int M_A N_C(eta) da
+// with M_A = N_A the standard linear Lagrange-multiplier shape functions (5.35).
+#pragma once
+
+#include "dual.hpp"
+#include "vec2.hpp"
+
+#include <array>
+#include <vector>
+
+namespace rf {
+
+/// Current positions of one slave segment (a, b) and its neighbours.
+struct SlaveSegment {
+  std::array<V2<double>, 4> x;  ///< prev(a), a, b, next(b); prev/next equal a/b when absent
+  bool has_prev = false, has_next = false;
+};
+
+/// Current positions of a master segment c -> d and the sign of its outward normal
+/// (+1: right normal = deformable body rule, -1: left normal = rigid polyline rule).
+struct MasterSegment {
+  V2<double> q0, q1;
+  double normal_sign = 1.0;
+  V2<double> outward_normal() const {
+    const V2<double> n = normalized(right_normal(q1 - q0));
+    return normal_sign * n;
+  }
+};
+
+/// Where an end point of an integration piece comes from.
+struct Breakpoint {
+  enum Kind { slave_start, slave_end, master_q0, master_q1, foreign };
+  Kind kind = slave_start;
+  double xi = 0.0;          ///< value
+  V2<double> q{0.0, 0.0};   ///< master node for `foreign` (constant coordinates)
+};
+
+/// Integrals of one slave segment against one master segment piece (or, for node-to-segment,
+/// of one slave node: index 0 only).
+struct PairIntegrals {
+  std::array<std::array<D12, 2>, 2> gap;  ///< [A][component]
+  std::array<D12, 2> area;
+  std::array<std::array<D12, 2>, 2> D;    ///< [A][B]
+  std::array<std::array<D12, 2>, 2> M;    ///< [A][C]
+  void set_zero();
+};
+
+/// Nodal normals n_a, n_b of a slave segment (values only).
+void nodal_normals(const SlaveSegment& s, V2<double>& na, V2<double>& nb);
+
+/// Projection of master point q onto the slave segment along n(xi): returns false if none.
+bool project_onto_slave(const SlaveSegment& s, const V2<double>& na, const V2<double>& nb, const V2<double>& q,
+                        double& xi);
+
+/// Overlap of master segment m with slave segment s in slave coordinates.
+struct Overlap {
+  bool valid = false;
+  double lo = 0.0, hi = 0.0;
+  Breakpoint::Kind lo_kind = Breakpoint::slave_start, hi_kind = Breakpoint::slave_end;
+};
+Overlap overlap(const SlaveSegment& s, const V2<double>& na, const V2<double>& nb, const MasterSegment& m);
+
+/// Normal gap (x2 - x1) . n(xi)/|n(xi)| at slave coordinate xi (the master segment line is used).
+double normal_gap_at(const SlaveSegment& s, const V2<double>& na, const V2<double>& nb, const MasterSegment& m,
+                     double xi);
+
+/// Gauss integration of the mortar integrals over the piece [lo, hi] of slave segment s paired
+/// with master segment m. Adds into `out`.
+void integrate_piece(const SlaveSegment& s, const MasterSegment& m, const Breakpoint& lo, const Breakpoint& hi,
+                     int n_gauss, PairIntegrals& out);
+
+/// Node-to-segment collocation at slave node A (slots: 0 prev, 1 A, 2 next, 4/5 master):
+/// the node is projected along its averaged normal onto the master segment; weight = half the
+/// adjacent slave segment lengths. Fills index A = 0 of `out` (D[0][0] is the lumped weight).
+/// Returns false if the projection does not fall on the segment.
+bool node_to_segment(const std::array<V2<double>, 3>& x, bool has_prev, bool has_next, const MasterSegment& m,
+                     PairIntegrals& out, double& eta, double& gap);
+
+/// Gauss-Legendre points/weights on [-1, 1] (n = 1..8).
+void gauss_legendre(int n, std::vector<double>& pts, std::vector<double>& wts);
+
+}  // namespace rf
