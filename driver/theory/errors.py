@@ -1,0 +1,12 @@
+"""Exceptions of the analytical-theory package.
+
+Every failure a user can trigger with bad input raises :class:`TheoryInputError`, a
+``ValueError``, with a message that names the quantity, the offending value and what is expected
+(DESIGN.md: "bad input fails early with a message that names the field").
+"""
+
+from __future__ import annotations
+
+
+class TheoryInputError(ValueError):
+    """Bad input to an analytical friction theory (PSD, material, conditions, options)."""
