@@ -10,7 +10,7 @@ down to 0.075 mm only.  So:
 * macro and meso come from the **measured** CAPTIF profile (cleaned: reference-plate outliers
   and dropouts handled by :func:`~rubberfriction.driver.surfaces.defects.clean_profile`);
 * micro 1 and micro 2 come from a **generated** fine "measurement" (:func:`fine_extension`): a
-  Gaussian random profile, 32.768 mm long at 0.001 mm spacing, whose PSD is the measured PSD
+  Gaussian random profile, 32.768 mm long at 0.0005 mm spacing, whose PSD is the measured PSD
   for wavelengths above 3 mm and, below, the power law C1D = K q^-(1+2H) fitted to the measured
   PSD over 3-0.3 mm (the meso band, sampled with >= 8 points per wavelength; below ~0.2 mm the
   laser's own smoothing and noise flatten the measured spectrum), continued down to the cut-off
@@ -48,8 +48,8 @@ DEFAULT_SEED = 20211011
 STATION0 = "captif_chipseal_station0.dat"
 DATA_DIR = Path(__file__).resolve().parent / "data"
 EMBEDDED_STATION0 = DATA_DIR / (STATION0 + ".gz")
-#: Generated fine measurement: spacing and length (2^15 points).
-FINE_DX = 0.001
+#: Generated fine measurement: spacing (6 points per 0.003 mm wavelength) and length (2^16 points).
+FINE_DX = 0.0005
 FINE_LENGTH = 32.768
 #: Wavelength range (mm) of the measured PSD that the fine extension's power law is fitted to.
 EXTENSION_FIT_RANGE = (3.0, 0.3)

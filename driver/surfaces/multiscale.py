@@ -162,6 +162,7 @@ def multiscale_from_measurements(
     filter: str = "ideal",  # noqa: A002
     transition: float = 0.1,
     min_periods: float = 1.0,
+    points_per_wavelength: float = 4.0,
     nyquist_factor: float = 2.0,
     name: str = "",
     provenance: dict[str, Any] | None = None,
@@ -169,9 +170,15 @@ def multiscale_from_measurements(
     """Decompose one surface measured at several resolutions into the scales between ``edges``.
 
     Each band [lambda_i, lambda_i+1] is taken from the coarsest measurement (largest dx; the
-    longest of equals) that :func:`~rubberfriction.driver.surfaces.bands.resolves` it; a band no
-    measurement resolves raises :class:`BandError` naming what is missing.  ``block_lengths``
-    default to the long edge of each band (thesis ch. 6.5.1: 20, 3, 0.3, 0.04 mm blocks).
+    longest of equals) that :func:`~rubberfriction.driver.surfaces.bands.resolves` it with at
+    least ``points_per_wavelength`` samples per shortest wavelength (default 4: the last octave
+    below that is spoilt by the instrument's spot size and noise, e.g. the CAPTIF spectrum
+    flattens below ~5 dx).  If no measurement does, the finest one that still samples the band
+    at Nyquist (``nyquist_factor`` = 2) is used and ``provenance["near_resolution_limit"]``
+    lists the band.  A band no measurement resolves raises :class:`BandError` naming what is
+    missing.  ``block_lengths`` default to the long edge of each band (thesis ch. 6.5.1: 20, 3,
+    0.3, 0.04 mm blocks).  With the thesis's coarse 0.019 mm scan this assigns macro and meso
+    to it and both micro scales to the fine scan, as in ch. 6.5.1.
     """
     e = check_edges(edges_mm)
     nb = e.size - 1
@@ -185,12 +192,17 @@ def multiscale_from_measurements(
         raise BandError(f"{nb} bands but {len(blocks)} block lengths")
     order = sorted(range(len(measurements)), key=lambda k: (-measurements[k].dx, -measurements[k].length))
     assign: list[int] = []
+    near_limit: list[str] = []
     for i in range(nb):
-        for k in order:
-            if resolves(measurements[k], e[i], e[i + 1], min_periods=min_periods,
-                        nyquist_factor=nyquist_factor):
-                assign.append(k)
-                break
+        good = [k for k in order if resolves(measurements[k], e[i], e[i + 1], min_periods=min_periods,
+                                             nyquist_factor=points_per_wavelength)]
+        fair = [k for k in order[::-1] if resolves(measurements[k], e[i], e[i + 1],
+                                                   min_periods=min_periods, nyquist_factor=nyquist_factor)]
+        if good:
+            assign.append(good[0])  # coarsest with enough samples per wavelength
+        elif fair:
+            assign.append(fair[0])  # finest at Nyquist
+            near_limit.append(names[i])
         else:
             have = "; ".join(f"{p.source or 'profile'}: dx {p.dx:.4g} mm, length {p.length:.4g} mm"
                              for p in measurements)
@@ -228,4 +240,9 @@ def multiscale_from_measurements(
             scales[i] = Scale(names[i], band, bp, cp, kind, prof.source, blocks[i])
     prov = dict(provenance or {})
     prov.setdefault("assignment", {names[i]: measurements[assign[i]].source for i in range(nb)})
+    if near_limit:
+        prov["near_resolution_limit"] = (
+            f"{', '.join(near_limit)}: fewer than {points_per_wavelength:g} samples per shortest "
+            "wavelength in every measurement; taken from the finest one"
+        )
     return MultiScaleSurface(tuple(float(v) for v in e), [s for s in scales if s is not None], prov, name)

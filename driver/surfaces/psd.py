@@ -229,7 +229,7 @@ def psd_iso_from_1d(
             # Int_T^inf dC1D(qi cosh t) dt, with the map t = T + u/(1-u) on u in [0, 1)
             T = tb[-1]
             u = xg
-            t = T + u / (1.0 - u)
+            t = np.minimum(T + u / (1.0 - u), 600.0)  # beyond, the integrand is below 1e-250
             jac = 1.0 / (1.0 - u) ** 2
             qp = qi * np.cosh(t)
             vals = s * np.exp(lc[-1] + s * (np.log(qp) - lq[-1])) / qp
