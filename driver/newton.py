@@ -36,6 +36,8 @@ class NewtonSettings:
     max_iterations: int = 25
     rtol: float = 1e-9  # on the reduced residual norm, relative to the reference force
     atol: float = 1e-10  # absolute floor on the reduced residual norm (N/mm)
+    line_search: bool = True  # backtrack on ||R|| when a full step increases it (active-set jumps)
+    max_backtracks: int = 5
     stol: float = 1e-12  # converged when ||du|| <= stol ||u|| (residual stalled at round-off)
     divergence_factor: float = 1e6  # stop if the residual grows by this factor
     linear_solver: str = "mumps"
@@ -49,6 +51,7 @@ class NewtonResult:
     reason: str = ""
     time_assemble: float = 0.0
     time_solve: float = 0.0
+    backtracks: int = 0
 
 
 class ConstrainedNonlinearProblem:
@@ -60,7 +63,7 @@ class ConstrainedNonlinearProblem:
     w: the unknown dolfinx Function (full space, serial).
     constraints: ConstraintMap (Dirichlet, periodic, ties).
     hooks: extra contributions (contact), called as hook(x, A, b).
-    extra_couplings: list of (rows, cols) dof arrays every hook may write into (dense blocks).
+    extra_couplings: list of (rows, cols) arrays of dof pairs every hook may write into.
     external_force: optional full-space array F_ext subtracted from the residual.
     """
 
@@ -81,15 +84,38 @@ class ConstrainedNonlinearProblem:
         self.du = self.P.createVecLeft()
 
     def _create_matrix(self, couplings) -> PETSc.Mat:
+        """Bulk sparsity plus every (row, col) pair in `couplings` (list of (rows, cols) arrays)."""
         sp = fem.create_sparsity_pattern(self.J_form)
         bs = self.w.function_space.dofmap.index_map_bs
         for rows, cols in couplings:
-            r = np.unique(np.asarray(rows) // bs).astype(np.int32)
-            c = np.unique(np.asarray(cols) // bs).astype(np.int32)
-            sp.insert(r, c)
+            r = np.asarray(rows, dtype=np.int64) // bs
+            c = np.asarray(cols, dtype=np.int64) // bs
+            if r.size == 0:
+                continue
+            order = np.lexsort((c, r))
+            r, c = r[order], c[order]
+            starts = np.nonzero(np.diff(np.concatenate([[-1], r])))[0]
+            for row, cs in zip(r[starts], np.split(c, starts[1:])):
+                sp.insert(np.array([row], dtype=np.int32), np.unique(cs).astype(np.int32))
         sp.assemble()
         A = _cpp.la.petsc.create_matrix(self.w.function_space.mesh.comm, sp)
         A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
+        # PETSc squeezes never-written preallocated slots out at the first final assembly (and
+        # dolfinx does not check MatSetValuesLocal errors): write the bulk pattern and explicit
+        # zeros for every declared coupling before it, so no entry is ever dropped later
+        fem_petsc.assemble_matrix(A, self.J_form)
+        for rows, cols in couplings:
+            r = np.asarray(rows, dtype=PETSc.IntType)
+            c = np.asarray(cols, dtype=PETSc.IntType)
+            if r.size == 0:
+                continue
+            order = np.lexsort((c, r))
+            r, c = r[order], c[order]
+            counts = np.bincount(r, minlength=A.getSize()[0]).astype(PETSc.IntType)
+            indptr = np.concatenate([[0], np.cumsum(counts)]).astype(PETSc.IntType)
+            A.setValuesCSR(indptr, c, np.zeros(c.size), addv=PETSc.InsertMode.ADD_VALUES)
+        A.assemble()
+        A.zeroEntries()
         return A
 
     def assemble(self, need_matrix: bool = True) -> None:
@@ -129,6 +155,10 @@ class NewtonSolver:
         self.settings = settings or NewtonSettings()
         self.force_scale = float(force_scale)
         self.on_iteration = on_iteration
+        self.reset()
+
+    def reset(self) -> None:
+        """New linear solver (after the constraints, hence the reduced size, changed)."""
         self.ksp = PETSc.KSP().create(PETSc.COMM_SELF)
         self.ksp.setType("preonly")
         pc = self.ksp.getPC()
@@ -159,17 +189,28 @@ class NewtonSolver:
             try:
                 self.ksp.solve(pb.br, pb.dur)
             except PETSc.Error as err:
-                res.reason = f"linear solve failed: {err}"
+                self.reset()  # a failed factorisation leaves the PC unusable
+                res.reason = f"linear solve failed: {str(err).splitlines()[0]}"
                 return res
             if self.ksp.getConvergedReason() < 0:
                 res.reason = f"linear solve failed (PETSc reason {self.ksp.getConvergedReason()})"
                 return res
             pb.P.mult(pb.dur, pb.du)
-            x += pb.du.array
-            small_step = pb.du.norm() <= s.stol * max(np.linalg.norm(x), 1e-300)
+            du = pb.du.array.copy()
+            x += du
+            small_step = np.linalg.norm(du) <= s.stol * max(np.linalg.norm(x), 1e-300)
             res.time_solve += time.perf_counter() - t0
             t0 = time.perf_counter()
             pb.assemble()
+            r_prev, alpha = res.residuals[-1], 1.0
+            for _ in range(s.max_backtracks if s.line_search else 0):
+                r_try = pb.br.norm()
+                if np.isfinite(r_try) and r_try <= (1.0 - 1e-4 * alpha) * r_prev:
+                    break
+                x -= 0.5 * alpha * du  # halve the step
+                alpha *= 0.5
+                res.backtracks += 1
+                pb.assemble()
             res.time_assemble += time.perf_counter() - t0
             r = pb.br.norm()
             res.residuals.append(r)

@@ -94,9 +94,13 @@ def default_h_contact(spec: SlidingSpec) -> float:
     """
     x, h = np.asarray(spec.surface_x), np.asarray(spec.surface_h)
     dx = np.diff(x).mean()
-    slope = np.diff(h) / np.diff(x)
-    changes = np.count_nonzero(np.diff(np.sign(slope)) != 0)
     L = spec.period if spec.period > 0 else x[-1] - x[0]
+    if spec.period > 0:  # close the period so the wrap-around slope change counts
+        x, h = np.append(x, x[0] + L), np.append(h, h[0])
+    slope = np.sign(np.diff(h) / np.diff(x))
+    slope = slope[slope != 0]
+    turns = slope[1:] != slope[:-1]
+    changes = np.count_nonzero(turns) + (spec.period > 0 and slope.size > 0 and slope[0] != slope[-1])
     lam = 2.0 * L / max(changes, 1)
     lam = max(lam, 4.0 * dx)
     return lam / spec.elements_per_wavelength
@@ -188,6 +192,7 @@ class SlidingRun:
         self.problem.br = self.cmap.P.createVecRight()
         self.problem.dur = self.cmap.P.createVecRight()
         self.sp.w.x.array[:] = x
+        self.newton.reset()
 
     # --- one step with cut-backs ---------------------------------------------------------------
     def _solve_step(self, t: float, dt: float, apply_load) -> tuple[bool, str, int]:
@@ -349,3 +354,77 @@ class SlidingRun:
             res.mean_pressure = float(np.mean(series["mean_pressure"][win]))
             res.contact_fraction = float(np.mean(series["contact_length"][win]) / self.L)
         return res
+
+
+class SlidingContact:
+    """The C++ contact interface set up for a sliding run: the block's contact face (tag 1) as the
+    slave, the surface sample as a rigid (periodic) master moved by a rigid offset."""
+
+    def __init__(self, sp: SolidProblem, spec: SlidingSpec, formulation: str):
+        from rubberfriction import _contact
+
+        bnd = sp.boundary(1)
+        self.ci = _contact.ContactInterface(bnd.X, bnd.dofs.astype(np.int64), bnd.segments,
+                                            method=formulation)
+        verts = np.column_stack([np.asarray(spec.surface_x, float), np.asarray(spec.surface_h, float)])
+        self.ci.set_rigid_master(verts, spec.period)
+        if spec.penalty > 0:
+            self.ci.set_penalty(spec.penalty, 0.1 * spec.penalty)
+        else:
+            # penalty from the instantaneous plane-strain modulus: stiff enough at every velocity
+            self.ci.set_auto_penalty(sp.plane_strain_modulus(instantaneous=True), PENALTY_ALPHA, 0.1)
+        if spec.friction is not None:
+            law = spec.friction
+            if isinstance(law, (int, float)):
+                law = _contact.ConstantFriction(float(law))
+            self.ci.set_friction(law)
+        self.offset = (0.0, 0.0)
+        self.dt = 0.0
+        self.ci.reset_history(sp.w.x.array, self.offset)
+
+    def hook(self, x, A, b) -> None:
+        self.ci.assemble(x, A, b, offset=self.offset, dt=self.dt)
+
+    def set_master_offset(self, dx: float, dz: float) -> None:
+        self.offset = (float(dx), float(dz))
+
+    def set_time_step(self, dt: float) -> None:
+        self.dt = float(dt)
+
+    def commit(self) -> None:
+        self.ci.commit()
+
+    def state(self) -> dict:
+        st = self.ci.state()
+        p = np.asarray(st["pressure"])
+        active = p > 0.0
+        return {"Fx": st["force_x"], "Fz": st["force_z"], "contact_length": st["contact_length"],
+                "dissipation": st["dissipation"],
+                "mean_pressure": float(p[active].mean()) if active.any() else 0.0}
+
+    def couplings(self) -> list:
+        return [self.ci.sparsity_pairs()]
+
+    def report(self) -> dict:
+        return self.ci.report()
+
+
+#: automatic normal penalty c_N = alpha E*_inst / h (see cpp_contact ContactInterface::set_auto_penalty)
+PENALTY_ALPHA = 10.0
+
+
+def block_mesh(L: float, H: float, hc: float, grading: float, z0: float):
+    """Graded rubber block with its contact face at z = z0 (``meshes.block.rubber_block``)."""
+    from rubberfriction.meshes.block import rubber_block
+
+    body = rubber_block(L, H, h_contact=hc, grading=grading)
+    body.mesh.geometry.x[:, 1] += z0
+    return body
+
+
+def run_sliding(spec: SlidingSpec, progress=None) -> SlidingResult:
+    """Run one sliding run with the default mesh and contact; never raises for a failed run."""
+    try:
+        return SlidingRun(spec, block_mesh, SlidingContact, progress=progress).run()
+    except Exception as err:  # a campaign never dies of one run; the reason is recorded
+        return SlidingResult("failed", reason=f"{type(err).__name__}: {err}")

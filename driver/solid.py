@@ -243,7 +243,7 @@ class SolidProblem:
         f2v = mesh.topology.connectivity(tdim - 1, 0)
         f2c = mesh.topology.connectivity(tdim - 1, tdim)
         verts = np.array([f2v.links(f) for f in facets])
-        gnodes = _cpp.mesh.entities_to_geometry(mesh, 0, verts.ravel().astype(np.int32), False).ravel()
+        gnodes = _cpp.mesh.entities_to_geometry(getattr(mesh, "_mesh", mesh), 0, verts.ravel().astype(np.int32), False).ravel()
         vx = mesh.geometry.x[gnodes, :2]
         dist, node = cKDTree(self.node_X).query(vx)
         if dist.max() > 1e-10 * max(1.0, np.abs(self.node_X).max()):
