@@ -536,6 +536,21 @@ def test_bad_inputs_raise_clear_errors(call, match: str) -> None:
         call()
 
 
+def test_rubber_from_compound_matches_compound() -> None:
+    """The theories' modulus of a compound is the compound's own E*(omega, T) (eq. 3.34, WLF)."""
+    materials = pytest.importorskip("rubberfriction.forms.materials")
+    from rubberfriction.driver.theory import rubber_from_compound
+
+    comp = materials.load_compound("tread_default")
+    rub = rubber_from_compound(comp)
+    w = np.logspace(-4, 12, 300)
+    for T in (None, 273.15, 333.15):
+        ref = comp.complex_modulus(w, T)
+        assert np.max(np.abs(rub.E(w, T) / ref - 1)) < 1e-12
+    assert rub.nu == pytest.approx(comp.hyperelastic.nu)
+    assert rub.diffusivity == pytest.approx(comp.thermal.diffusivity)
+
+
 # ---------------------------------------------------------------------------------------------
 # command line
 # ---------------------------------------------------------------------------------------------

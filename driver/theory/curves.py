@@ -80,13 +80,23 @@ def iso_psd_from_profile_psd(q: np.ndarray, C1D: np.ndarray, bins_per_decade: in
     C1D = np.asarray(C1D, dtype=float)
     ok = (q > 0) & (C1D > 0)
     qb, cb, _ = log_bin(q[ok], C1D[ok], bins_per_decade=bins_per_decade)
-    C2 = psd_iso_from_1d(qb, cb, None)
+    with np.errstate(over="ignore"):          # cosh overflow in the far power-law tail -> 0
+        C2 = psd_iso_from_1d(qb, cb, None)
     notes = []
     neg = C2 < 0
     if np.any(neg):
         notes.append(f"2D PSD: {int(neg.sum())} of {neg.size} log bins came out negative from the "
                      "Abel transform of noisy C1D and were set to 0")
         C2 = np.where(neg, 0.0, C2)
+    # the bin centres lie inside the data range: extend to its ends along the end slopes
+    q_lo, q_hi = float(q[ok][0]), float(q[ok][-1])
+    if qb.size >= 2 and np.all(C2[:2] > 0) and np.all(C2[-2:] > 0):
+        s_lo = math.log(C2[1] / C2[0]) / math.log(qb[1] / qb[0])
+        s_hi = math.log(C2[-1] / C2[-2]) / math.log(qb[-1] / qb[-2])
+        if q_lo < qb[0]:
+            qb, C2 = np.insert(qb, 0, q_lo), np.insert(C2, 0, C2[0] * (q_lo / qb[0]) ** s_lo)
+        if q_hi > qb[-1]:
+            qb, C2 = np.append(qb, q_hi), np.append(C2, C2[-1] * (q_hi / qb[-1]) ** s_hi)
     return qb, C2, notes
 
 

@@ -353,6 +353,9 @@ def persson_friction(
         converged = np.zeros(nv, dtype=bool)
         kappa = fopts.heat_fraction
         power = kappa * float(pressure) * v          # mW/mm^2 per unit mu
+        relax = np.full(nv, fopts.relax)
+        prev_change = np.full(nv, np.inf)
+        prev_step = np.zeros((nv, nq))
         for iterations in range(1, fopts.max_iter + 1):
             mu_q, P_bin, P_end, _ = ev(T)
             w = power[:, None] * mu_q                # heat per node, mW/mm^2 (nominal)
@@ -367,7 +370,13 @@ def persson_friction(
             if np.all(converged):
                 T = T_new
                 break
-            T = T + fopts.relax * (T_new - T)
+            # per-speed under-relaxation, halved when the update flips sign and shrinks by less than
+            # 20 % (an oscillating, hardly contracting iteration)
+            step = T_new - T
+            osc = (np.sum(step * prev_step, axis=1) < 0) & (change > 0.8 * prev_change)
+            relax = np.maximum(np.where(osc, 0.5 * relax, relax), 1e-3)
+            prev_change, prev_step = change, step
+            T = T + relax[:, None] * step
 
     mu_q, _, P_end, G_end = ev(T)
     area = P_end[:, -1].copy()

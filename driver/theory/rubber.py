@@ -165,8 +165,16 @@ def rubber_from_compound(compound: Any, T_ref: float | None = None) -> Rubber:
     c = getattr(thermal, "c", None) if thermal is not None else None
     k = getattr(thermal, "k", None) if thermal is not None else None
 
-    def modulus(omega: np.ndarray) -> np.ndarray:
-        return np.asarray(compound.complex_modulus(np.asarray(omega, dtype=float)), dtype=complex)
+    prony = getattr(compound, "prony", None)
+    if prony is not None and hasattr(prony, "moduli") and hasattr(compound, "E_inf"):
+        # the compound's eq. (3.34) with its own E_inf, E_k, tau_k, in real arithmetic (faster
+        # than the complex evaluation; equality is tested)
+        E_inf = float(compound.E_inf)
+        modulus = prony_modulus(E_inf, np.asarray(prony.moduli(E_inf), dtype=float),
+                                np.asarray(prony.tau, dtype=float))
+    else:
+        def modulus(omega: np.ndarray) -> np.ndarray:
+            return np.asarray(compound.complex_modulus(np.asarray(omega, dtype=float)), dtype=complex)
 
     return Rubber(
         modulus=modulus,
