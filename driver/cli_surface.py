@@ -48,15 +48,18 @@ def _write_json(path: str | Path, data: dict[str, Any]) -> None:
 
 def _add_reader_args(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("reading")
-    g.add_argument("--delimiter", help="column delimiter (default: detected); 'tab', ',', ';', 'whitespace'")
+    g.add_argument("--delimiter",
+                   help="column delimiter (default: detected); 'tab', ',', ';', 'whitespace'")
     g.add_argument("--skiprows", type=int, help="header lines (default: detected)")
     g.add_argument("--x-col", help="position column, index or header name (default: detected)")
     g.add_argument("--h-col", help="height column, index or header name (default: detected)")
-    g.add_argument("--units", default="mm", help="units in the file, or 'auto' from the header (default mm)")
+    g.add_argument("--units", default="mm",
+                   help="units in the file, or 'auto' from the header (default mm)")
     g.add_argument("--dx", type=float, help="spacing for files without a position column")
     g.add_argument("--dataset", help="HDF5 dataset of heights")
     g.add_argument("--invert", action="store_true", help="heights increase downwards in the file")
-    g.add_argument("--max-gap", type=float, help="longest gap (mm) to interpolate (default 0.5 %% of the scan)")
+    g.add_argument("--max-gap", type=float,
+                   help="longest gap (mm) to interpolate (default 0.5 %% of the scan)")
     g.add_argument("--long-gaps", choices=("longest", "error"), default="longest",
                    help="longer gaps: keep the longest stretch between them, or fail")
     g.add_argument("--no-outliers", action="store_true", help="do not detect outliers")
@@ -104,10 +107,12 @@ def _cmd_analyse(args: argparse.Namespace) -> int:
         print(str(prof.meta["defects"]))
     print(f"points {prof.n}, dx {prof.dx:.6g} mm, length {prof.length:.6g} mm")
     print(f"rms height {prof.rms_height():.5g} mm, rms slope {prof.rms_slope():.4g}")
-    print(f"PSD ({args.window} window, {args.detrend} detrend): rms from PSD {rms_from_psd(q, c):.5g} mm")
+    print(f"PSD ({args.window} window, {args.detrend} detrend): "
+          f"rms from PSD {rms_from_psd(q, c):.5g} mm")
     print(f"PSD power law over {lam_long:.4g}-{lam_short:.4g} mm: H = {pfit.H:.4f}, "
           f"K = {pfit.K:.4g} mm^(2-2H) (C1D = K q^-(1+2H))")
-    print(f"HDC fit eq. (2.5) over {hfit.fit_range[0]:.4g}-{hfit.fit_range[1]:.4g} mm: H = {hfit.H:.4f}, "
+    print(f"HDC fit eq. (2.5) over {hfit.fit_range[0]:.4g}-{hfit.fit_range[1]:.4g} mm: "
+          f"H = {hfit.H:.4f}, "
           f"xi_par = {hfit.xi_par:.4g} mm, xi_perp = {hfit.xi_perp:.4g} mm"
           + ("" if hfit.plateau_found else " (no plateau in range: xi_par is a lower bound)"))
     bands_out = []
@@ -129,7 +134,8 @@ def _cmd_analyse(args: argparse.Namespace) -> int:
             "defects": prof.meta.get("defects"),
             "psd": {"convention": "Persson 1D, two-sided, h_rms^2 = 2 Int_0^inf C1D dq",
                     "window": args.window, "detrend": args.detrend,
-                    "power_law_fit": {"H": pfit.H, "K": pfit.K, "lambda_range_mm": [lam_long, lam_short]}},
+                    "power_law_fit": {"H": pfit.H, "K": pfit.K,
+                                      "lambda_range_mm": [lam_long, lam_short]}},
             "hdc_fit": hfit.to_dict(),
             "bands": bands_out,
         })
@@ -180,7 +186,11 @@ def _cmd_default(args: argparse.Namespace) -> int:
 
 
 def _cmd_generate(args: argparse.Namespace) -> int:
-    from rubberfriction.driver.surfaces import sawtooth_profile, self_affine_profile, two_sine_profile
+    from rubberfriction.driver.surfaces import (
+        sawtooth_profile,
+        self_affine_profile,
+        two_sine_profile,
+    )
 
     if args.kind == "self-affine":
         qr = 2 * np.pi / args.rolloff if args.rolloff else None
@@ -204,7 +214,8 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     prof = _load(args.file, args)
     res = compare_decompositions(prof, args.edges, seed=args.seed)
     for key, bands in res.items():
-        rms = ", ".join(f"{b.meta['band'][0]:g}-{b.meta['band'][1]:g}: {b.rms_height():.4g}" for b in bands)
+        rms = ", ".join(f"{b.meta['band'][0]:g}-{b.meta['band'][1]:g}: {b.rms_height():.4g}"
+                        for b in bands)
         print(f"{key:<20} rms height per scale (mm): {rms}")
     if args.plot:
         plot_decompositions(res, args.plot)
@@ -215,7 +226,8 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add ``surface`` with its subcommands to the ``rubberfriction`` command."""
     p = subparsers.add_parser("surface", help="rough surfaces: analyse, split into scales, samples",
-                              description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+                              description=__doc__,
+                              formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = p.add_subparsers(dest="surface_command", metavar="SUBCOMMAND")
     p.set_defaults(func=lambda a: (p.print_help(), 2)[1])
 
@@ -236,7 +248,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     s = sub.add_parser("split", help="band-pass scales and periodic samples")
     s.add_argument("files", nargs="+", help="one or several measurements of the same surface")
     _add_reader_args(s)
-    s.add_argument("--edges", nargs="+", type=float, required=True, help="descending band edges (mm)")
+    s.add_argument("--edges", nargs="+", type=float, required=True,
+                   help="descending band edges (mm)")
     s.add_argument("--samples", type=int, default=10, help="samples per scale (default 10)")
     s.add_argument("--seed", type=int, default=1)
     s.add_argument("--top-fraction", type=float, default=0.2,

@@ -1,4 +1,5 @@
-"""Generators (self-affine, sinusoids, sawtooth) and the fig. 6.5 alternatives (eq. 6.9, HDC sines)."""
+"""Generators (self-affine, sinusoids, sawtooth) and the fig. 6.5 alternatives (eq. 6.9,
+HDC-based sines)."""
 
 import numpy as np
 import pytest
@@ -27,7 +28,8 @@ def test_self_affine_profile_recovers_hurst_exponent_and_rms(H, seed):
     rms height within 5 % of the requested value, PSD level within 10 % of the model."""
     dx, rms = 0.001, 0.05
     qr, qs = 2 * np.pi / 1.0, 2 * np.pi / 0.01
-    p = self_affine_profile(2**20 * dx, dx, H=H, rms_height=rms, q_rolloff=qr, q_cutoff=qs, seed=seed)
+    p = self_affine_profile(2**20 * dx, dx, H=H, rms_height=rms, q_rolloff=qr, q_cutoff=qs,
+                            seed=seed)
     assert p.periodic and p.meta["provenance"]["kind"] == "generated"
     q, c = psd_1d(p, window=None, detrend="mean")
     fit = fit_psd_power_law(q, c, (2 * qr, qs / 2))
@@ -65,8 +67,8 @@ def test_generator_is_reproducible_from_its_seed():
 def test_two_sine_profile_is_eq_6_8():
     p = two_sine_profile(10.0, 0.005)
     x = p.x
-    np.testing.assert_allclose(p.h, 0.075 * np.sin(2 * np.pi / 5 * x) + 0.01 * np.sin(2 * np.pi / 0.5 * x),
-                               atol=1e-15)
+    z = 0.075 * np.sin(2 * np.pi / 5 * x) + 0.01 * np.sin(2 * np.pi / 0.5 * x)
+    np.testing.assert_allclose(p.h, z, atol=1e-15)
     assert p.periodic
     q, c = psd_1d(p, window=None, detrend=None)
     dq = q[0]

@@ -1,4 +1,4 @@
-"""Reading profiles (CAPTIF text, CSV, HDF5), defects (dropouts, outliers, spacing) and bad inputs."""
+"""Reading profiles (CAPTIF text, CSV, HDF5), defects (dropouts, outliers, spacing), bad inputs."""
 
 import gzip
 

@@ -16,7 +16,13 @@ Modules: :mod:`.profile` (container, units, detrending), :mod:`.readers` (text/C
 :mod:`.plots`.
 """
 
-from rubberfriction.driver.surfaces.bands import band_split, band_weights, bandlimit, lowpass, resolves
+from rubberfriction.driver.surfaces.bands import (
+    band_split,
+    band_weights,
+    bandlimit,
+    lowpass,
+    resolves,
+)
 from rubberfriction.driver.surfaces.closure import Closure, close_periodic
 from rubberfriction.driver.surfaces.default_road import (
     DEFAULT_EDGES,
@@ -32,7 +38,12 @@ from rubberfriction.driver.surfaces.defects import (
     find_outliers,
     resample_uniform,
 )
-from rubberfriction.driver.surfaces.errors import BandError, DefectError, ProfileFormatError, SurfaceError
+from rubberfriction.driver.surfaces.errors import (
+    BandError,
+    DefectError,
+    ProfileFormatError,
+    SurfaceError,
+)
 from rubberfriction.driver.surfaces.generators import (
     profile_from_psd,
     sawtooth_profile,

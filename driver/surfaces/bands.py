@@ -162,7 +162,8 @@ def band_split(
             f"to {nyq:.4g} mm only; the band edge {e[-1]:g} mm needs a finer measurement (or "
             "allow_unresolved=True)"
         )
-    parts = _filtered(profile, lambda q: band_weights(q, e, filter, transition), extension=extension)
+    parts = _filtered(profile, lambda q: band_weights(q, e, filter, transition),
+                      extension=extension)
     out = []
     for i, hb in enumerate(parts):
         band = (float(e[i]), float(e[i + 1]))
@@ -194,7 +195,8 @@ def bandlimit(
 ) -> Profile:
     """The profile restricted to lambda_min..lambda_max with the same filter as band_split."""
     e = check_edges([lam_max, lam_min])
-    (hb,) = _filtered(profile, lambda q: band_weights(q, e, filter, transition), extension=extension)
+    (hb,) = _filtered(profile, lambda q: band_weights(q, e, filter, transition),
+                      extension=extension)
     meta = {"band": (float(e[0]), float(e[1])), "filter": filter, "parent": profile.source,
             "periodic": profile.periodic}
     return Profile(profile.x, hb, profile.units,

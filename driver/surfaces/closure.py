@@ -39,7 +39,8 @@ def hermite(t: np.ndarray, p0: float, p1: float, m0: float, m1: float, d: float)
             + (-2 * t3 + 3 * t2) * p1 + (t3 - t2) * d * m1)
 
 
-def hermite_slope(t: np.ndarray, p0: float, p1: float, m0: float, m1: float, d: float) -> np.ndarray:
+def hermite_slope(t: np.ndarray, p0: float, p1: float, m0: float, m1: float,
+                  d: float) -> np.ndarray:
     """dh/dx of :func:`hermite` at t."""
     t = np.asarray(t, dtype=float)
     a = 6 * (p0 - p1) + 3 * d * (m0 + m1)
@@ -53,7 +54,9 @@ def hermite_max_slope(p0: np.ndarray, p1: np.ndarray, m0: np.ndarray, m1: np.nda
 
     dh/dt = a t^2 + b t + c is a parabola: its extreme on [0, 1] is at an end or at the vertex.
     """
-    p0, p1, m0, m1, d = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (p0, p1, m0, m1, d)))
+    p0, p1, m0, m1, d = np.broadcast_arrays(
+        *(np.asarray(v, dtype=float) for v in (p0, p1, m0, m1, d))
+    )
     a = 6 * (p0 - p1) + 3 * d * (m0 + m1)
     b = -6 * (p0 - p1) - d * (4 * m0 + 2 * m1)
     c = d * m0
@@ -93,7 +96,8 @@ class Closure:
         if self.length == 0:
             return np.full_like(np.asarray(x, dtype=float), self.slope_end)
         t = (np.asarray(x, dtype=float) - self.x_start) / self.length
-        return hermite_slope(t, self.h_start, self.h_end, self.slope_start, self.slope_end, self.length)
+        return hermite_slope(t, self.h_start, self.h_end, self.slope_start, self.slope_end,
+                             self.length)
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -132,7 +136,8 @@ def close_periodic(
     if closure_length is None and mis_h <= 1e-9 * rms and mis_s * m * dx <= 1e-9 * rms:
         out = h.copy()
         out[m] = out[0]
-        return out, Closure(m * dx, 0.0, 0, h[0], h[0], s[0], s[0], abs(s[0]), cap, True, mis_h, mis_s)
+        return out, Closure(m * dx, 0.0, 0, h[0], h[0], s[0], s[0], abs(s[0]), cap, True,
+                            mis_h, mis_s)
     if closure_length is not None:
         k = int(np.clip(round(closure_length / dx), 1, m - 1))
     else:

@@ -34,14 +34,18 @@ import numpy as np
 
 from rubberfriction.driver.surfaces.errors import SurfaceError
 from rubberfriction.driver.surfaces.generators import profile_from_psd
-from rubberfriction.driver.surfaces.multiscale import MultiScaleSurface, multiscale_from_measurements
+from rubberfriction.driver.surfaces.multiscale import (
+    MultiScaleSurface,
+    multiscale_from_measurements,
+)
 from rubberfriction.driver.surfaces.profile import Profile
 from rubberfriction.driver.surfaces.psd import PowerLawFit, fit_psd_power_law, log_bin, psd_1d
 from rubberfriction.driver.surfaces.readers import load_profile
 
 __all__ = ["DEFAULT_EDGES", "DEFAULT_SEED", "default_road", "find_station0", "fine_extension"]
 
-#: Scale edges of thesis ch. 6.5.1 (mm): macro 20-3, meso 3-0.3, micro 1 0.3-0.04, micro 2 0.04-0.003.
+#: Scale edges of thesis ch. 6.5.1 (mm): macro 20-3, meso 3-0.3, micro 1 0.3-0.04,
+#: micro 2 0.04-0.003.
 DEFAULT_EDGES: tuple[float, ...] = (20.0, 3.0, 0.3, 0.04, 0.003)
 #: Seed of the generated fine extension (the CAPTIF measurement date, 11/10/2021).
 DEFAULT_SEED = 20211011
@@ -134,7 +138,8 @@ def fine_extension(
         "based_on": measured.source,
     }
     p = profile_from_psd(c1d, length, dx, seed=seed, amplitudes="gaussian",
-                         source=f"generated: self-affine extension (H={fit.H:.3f}) of {Path(measured.source).name}",
+                         source=f"generated: self-affine extension (H={fit.H:.3f}) of "
+                                f"{Path(measured.source).name}",
                          provenance=prov)
     return p, fit
 
@@ -169,15 +174,21 @@ def default_road(
         "outliers": report.n_outliers,
         "interpolated_fraction": report.interpolated_fraction,
     }
-    fine, fit = fine_extension(measured, lam_min=min(edges), length=fine_length, dx=fine_dx, seed=seed)
+    fine, fit = fine_extension(measured, lam_min=min(edges), length=fine_length, dx=fine_dx,
+                               seed=seed)
     prov = {
         "measured": dict(measured.meta["provenance"]),
         "generated": dict(fine.meta["provenance"]),
         "defects": str(report),
     }
-    road = multiscale_from_measurements([measured, fine], edges, name="default road (CAPTIF chipseal "
-                                        "+ self-affine fine extension)", provenance=prov)
+    road = multiscale_from_measurements(
+        [measured, fine], edges, provenance=prov,
+        name="default road (CAPTIF chipseal + self-affine fine extension)",
+    )
     road.provenance["fine_extension_fit"] = {
-        "H": fit.H, "K_mm": fit.K, "fit_range_mm": list(EXTENSION_FIT_RANGE), "n_bins": fit.n_points,
+        "H": fit.H,
+        "K_mm": fit.K,
+        "fit_range_mm": list(EXTENSION_FIT_RANGE),
+        "n_bins": fit.n_points,
     }
     return road

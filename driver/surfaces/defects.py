@@ -126,7 +126,10 @@ def find_dropouts(
     """Masks of non-finite heights (NaN, +-inf) and of sentinel ("no data") values."""
     h = np.asarray(h, dtype=float)
     nonfinite = ~np.isfinite(h)
-    sentinel = np.isin(h, np.asarray(sentinels, dtype=float)) if sentinels else np.zeros_like(nonfinite)
+    if sentinels:
+        sentinel = np.isin(h, np.asarray(sentinels, dtype=float))
+    else:
+        sentinel = np.zeros_like(nonfinite)
     return nonfinite, sentinel & ~nonfinite
 
 
@@ -205,7 +208,9 @@ def resample_uniform(
     d = np.diff(x)
     if np.any(d <= 0):
         k = int(np.flatnonzero(d <= 0)[0])
-        raise DefectError(f"x must be strictly increasing (x[{k}]={x[k]:.6g}, x[{k + 1}]={x[k + 1]:.6g})")
+        raise DefectError(
+            f"x must be strictly increasing (x[{k}]={x[k]:.6g}, x[{k + 1}]={x[k + 1]:.6g})"
+        )
     med = float(np.median(d))
     dx0 = med if dx is None else float(dx)
     if dx0 <= 0:

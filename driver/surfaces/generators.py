@@ -102,7 +102,8 @@ def profile_from_psd(
         raise SurfaceError("the PSD must be finite and non-negative")
     rng = np.random.default_rng(seed)
     if amplitudes == "gaussian":
-        coef = n * np.sqrt(c * dq / 2.0) * (rng.standard_normal(k.size) + 1j * rng.standard_normal(k.size))
+        gauss = rng.standard_normal(k.size) + 1j * rng.standard_normal(k.size)
+        coef = n * np.sqrt(c * dq / 2.0) * gauss
     elif amplitudes == "fixed":
         coef = n * np.sqrt(c * dq) * np.exp(2j * np.pi * rng.random(k.size))
     else:

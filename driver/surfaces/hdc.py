@@ -90,7 +90,8 @@ def hdc_power_law(lam: np.ndarray, K: float, H: float) -> np.ndarray:
     0 < H < 1 (background notes 3.7)."""
     if not 0.0 < H < 1.0:
         raise SurfaceError(f"the power-law HDC needs 0 < H < 1, got {H}")
-    return 2.0 * np.pi * K * np.asarray(lam, dtype=float) ** (2 * H) / (gamma(1 + 2 * H) * np.sin(np.pi * H))
+    lam = np.asarray(lam, dtype=float)
+    return 2.0 * np.pi * K * lam ** (2 * H) / (gamma(1 + 2 * H) * np.sin(np.pi * H))
 
 
 @dataclass

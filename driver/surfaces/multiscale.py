@@ -82,7 +82,9 @@ class MultiScaleSurface:
     def names(self) -> list[str]:
         return [s.name for s in self.scales]
 
-    def extract_samples(self, n: int = 10, seed: int | None = 0, **kwargs: Any) -> list[list[SurfaceSample]]:
+    def extract_samples(
+        self, n: int = 10, seed: int | None = 0, **kwargs: Any
+    ) -> list[list[SurfaceSample]]:
         """``n`` periodic samples per scale (thesis: ten), from the top-asperity regions.
 
         The seed of scale i is derived from ``seed`` and i, so every scale is reproducible on
@@ -90,7 +92,9 @@ class MultiScaleSurface:
         """
         out = []
         for i, sc in enumerate(self.scales):
-            sub = None if seed is None else int(np.random.SeedSequence([seed, i]).generate_state(1)[0])
+            sub = None
+            if seed is not None:
+                sub = int(np.random.SeedSequence([seed, i]).generate_state(1)[0])
             samples = extract_samples(sc.profile, sc.block_length, n, sub, carrier=sc.carrier,
                                       scale=i, **kwargs)
             for s in samples:
@@ -101,10 +105,12 @@ class MultiScaleSurface:
 
     def describe(self) -> str:
         """Human-readable provenance: which scale is measured and which is generated."""
-        lines = [f"multiscale surface {self.name!r}: edges {', '.join(f'{e:g}' for e in self.edges)} mm"]
+        edges = ", ".join(f"{e:g}" for e in self.edges)
+        lines = [f"multiscale surface {self.name!r}: edges {edges} mm"]
         for sc in self.scales:
             lines.append(
-                f"  {sc.name:<7} {sc.band[0]:>7g} - {sc.band[1]:<7g} mm  block {sc.block_length:g} mm  "
+                f"  {sc.name:<7} {sc.band[0]:>7g} - {sc.band[1]:<7g} mm  "
+                f"block {sc.block_length:g} mm  "
                 f"rms h {sc.rms_height:.4g} mm  rms slope {sc.rms_slope:.3g}  "
                 f"{sc.kind.upper()}: {sc.measurement}"
             )
@@ -187,17 +193,20 @@ def multiscale_from_measurements(
     names = list(names) if names is not None else scale_names(nb)
     if len(names) != nb:
         raise BandError(f"{nb} bands but {len(names)} names")
-    blocks = [float(b) for b in block_lengths] if block_lengths is not None else [float(v) for v in e[:-1]]
+    blocks = [float(b) for b in (block_lengths if block_lengths is not None else e[:-1])]
     if len(blocks) != nb:
         raise BandError(f"{nb} bands but {len(blocks)} block lengths")
-    order = sorted(range(len(measurements)), key=lambda k: (-measurements[k].dx, -measurements[k].length))
+    order = sorted(range(len(measurements)),
+                   key=lambda k: (-measurements[k].dx, -measurements[k].length))
     assign: list[int] = []
     near_limit: list[str] = []
     for i in range(nb):
-        good = [k for k in order if resolves(measurements[k], e[i], e[i + 1], min_periods=min_periods,
-                                             nyquist_factor=points_per_wavelength)]
-        fair = [k for k in order[::-1] if resolves(measurements[k], e[i], e[i + 1],
-                                                   min_periods=min_periods, nyquist_factor=nyquist_factor)]
+        def ok(k: int, factor: float, i: int = i) -> bool:
+            return resolves(measurements[k], e[i], e[i + 1], min_periods=min_periods,
+                            nyquist_factor=factor)
+
+        good = [k for k in order if ok(k, points_per_wavelength)]
+        fair = [k for k in order[::-1] if ok(k, nyquist_factor)]
         if good:
             assign.append(good[0])  # coarsest with enough samples per wavelength
         elif fair:
@@ -208,7 +217,8 @@ def multiscale_from_measurements(
                              for p in measurements)
             raise BandError(
                 f"no measurement resolves the band {e[i]:g}-{e[i + 1]:g} mm (needs dx <= "
-                f"{e[i + 1] / nyquist_factor:.4g} mm and length >= {min_periods * e[i]:.4g} mm); have {have}"
+                f"{e[i + 1] / nyquist_factor:.4g} mm and length >= {min_periods * e[i]:.4g} mm); "
+                f"have {have}"
             )
     scales: list[Scale | None] = [None] * nb
     for k in sorted(set(assign)):
@@ -220,7 +230,10 @@ def multiscale_from_measurements(
             out = [all_w[i] for i in mine]
             for i in mine:  # carriers: everything longer than the band, zero mean
                 qc = 2.0 * np.pi / e[i]
-                w = (q < qc).astype(float) if filter == "ideal" else 1.0 - _smooth_step(q, qc, transition)
+                if filter == "ideal":
+                    w = (q < qc).astype(float)
+                else:
+                    w = 1.0 - _smooth_step(q, qc, transition)
                 w[0] = 0.0
                 out.append(w)
             return out
@@ -230,7 +243,8 @@ def multiscale_from_measurements(
         for j, i in enumerate(mine):
             band = (float(e[i]), float(e[i + 1]))
             meta = {"band": band, "band_index": i, "filter": filter, "parent": prof.source,
-                    "periodic": prof.periodic, "extension": "periodic" if prof.periodic else "mirror",
+                    "periodic": prof.periodic,
+                    "extension": "periodic" if prof.periodic else "mirror",
                     "provenance": prof.meta.get("provenance", {})}
             bp = Profile(prof.x, parts[j], "mm", f"{prof.source} [band {band[0]:g}-{band[1]:g} mm]",
                          meta, prof.repaired)
@@ -245,4 +259,5 @@ def multiscale_from_measurements(
             f"{', '.join(near_limit)}: fewer than {points_per_wavelength:g} samples per shortest "
             "wavelength in every measurement; taken from the finest one"
         )
-    return MultiScaleSurface(tuple(float(v) for v in e), [s for s in scales if s is not None], prov, name)
+    done = [s for s in scales if s is not None]
+    return MultiScaleSurface(tuple(float(v) for v in e), done, prov, name)

@@ -85,7 +85,9 @@ class Profile:
         x = np.ascontiguousarray(self.x, dtype=float)
         h = np.ascontiguousarray(self.h, dtype=float)
         if x.ndim != 1 or h.ndim != 1:
-            raise SurfaceError(f"profile x and h must be 1D arrays, got shapes {x.shape}, {h.shape}")
+            raise SurfaceError(
+                f"profile x and h must be 1D arrays, got shapes {x.shape}, {h.shape}"
+            )
         if x.size != h.size:
             raise SurfaceError(f"profile x and h differ in length: {x.size} vs {h.size}")
         if x.size == 0:

@@ -140,7 +140,8 @@ def _guess_columns(names: list[str], ncol: int, first_rows: np.ndarray) -> tuple
         return 0, 1
     if ncol == 3:
         idx = first_rows[:, 0]
-        if np.all(np.isfinite(idx)) and np.allclose(idx, np.round(idx)) and np.all(np.diff(idx) > 0):
+        integer = np.all(np.isfinite(idx)) and np.allclose(idx, np.round(idx))
+        if integer and np.all(np.diff(idx) > 0):
             return 1, 2  # point number, x, h (CAPTIF layout)
     raise ProfileFormatError(
         f"cannot tell which of the {ncol} columns are x and h; pass x_col= and h_col="
@@ -152,7 +153,9 @@ def _unit_from_name(name: str) -> str | None:
     return m.group(1) if m else None
 
 
-def _resolve_units(units: Units, header_units: tuple[str | None, str | None]) -> tuple[str, str, str]:
+def _resolve_units(
+    units: Units, header_units: tuple[str | None, str | None]
+) -> tuple[str, str, str]:
     """(x unit, h unit, note) from the declared units and the header's units."""
     if units is None or units == "auto":
         xu = header_units[0] or header_units[1] or "mm"
@@ -218,7 +221,9 @@ def read_text(
         xi = None if x_col is None else _column_index(x_col, names, "x")
     for c, what in ((xi, "x"), (hi, "h")):
         if c is not None and not 0 <= c < data.shape[1]:
-            raise ProfileFormatError(f"{path}: {what} column {c} does not exist ({data.shape[1]} columns)")
+            raise ProfileFormatError(
+                f"{path}: {what} column {c} does not exist ({data.shape[1]} columns)"
+            )
     hunit = _unit_from_name(names[hi]) if names else None
     xunit = _unit_from_name(names[xi]) if (names and xi is not None) else None
     info = {
@@ -274,7 +279,8 @@ def read_hdf5(
         arr = np.asarray(dset[()], dtype=float)
         attrs = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in dset.attrs.items()}
         info["dataset"] = dataset
-        info["attrs"] = {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in attrs.items()}
+        info["attrs"] = {k: (v.tolist() if isinstance(v, np.ndarray) else v)
+                         for k, v in attrs.items()}
         x = None
         if arr.ndim == 2 and arr.shape[1] in (2, 3):
             x, h = arr[:, -2], arr[:, -1]
@@ -287,7 +293,9 @@ def read_hdf5(
                     raise ProfileFormatError(f"{path}: no dataset {x_dataset!r}")
                 x = np.asarray(f[x_dataset][()], dtype=float)
                 if x.shape != h.shape:
-                    raise ProfileFormatError(f"{path}: {x_dataset!r} and {dataset!r} differ in shape")
+                    raise ProfileFormatError(
+                        f"{path}: {x_dataset!r} and {dataset!r} differ in shape"
+                    )
                 info["x_dataset"] = x_dataset
                 xattrs = f[x_dataset].attrs
                 if "units" in xattrs:
@@ -360,7 +368,8 @@ def load_profile(
         if dx is None:
             dx = info.get("dx_attr")
     else:
-        x, h, info = read_text(path, delimiter=delimiter, skiprows=skiprows, x_col=x_col, h_col=h_col)
+        x, h, info = read_text(path, delimiter=delimiter, skiprows=skiprows, x_col=x_col,
+                               h_col=h_col)
     xu, hu, unit_note = _resolve_units(units, info.get("header_units", (None, None)))
     info["units_in_file"] = (xu, hu)
     info["units_note"] = unit_note

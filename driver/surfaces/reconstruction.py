@@ -16,7 +16,8 @@
    exactly the power 2 C(q_i) dq of its +-q bins (a sine of amplitude a has mean square a^2/2),
    so the reconstruction has the rms of the PSD.  Splitting the sum at the split wavenumbers
    gives the scales.
-3. Direct filtering of the measurement, eq. (6.10): :func:`~rubberfriction.driver.surfaces.bands.band_split`.
+3. Direct filtering of the measurement, eq. (6.10):
+   :func:`~rubberfriction.driver.surfaces.bands.band_split`.
 
 :func:`compare_decompositions` runs all three on one profile so that fig. 6.5 can be redrawn
 (:func:`~rubberfriction.driver.surfaces.plots.plot_decompositions`).
@@ -70,7 +71,9 @@ def psd_reconstruction(
     X = n * dx
     k = np.arange(n // 2 + 1)
     qi = 2.0 * np.pi * k / X
-    lo, hi = (q[0], q[-1]) if q_range is None else (max(q[0], min(q_range)), min(q[-1], max(q_range)))
+    lo, hi = q[0], q[-1]
+    if q_range is not None:
+        lo, hi = max(q[0], min(q_range)), min(q[-1], max(q_range))
     inside = (qi >= lo * (1 - 1e-12)) & (qi <= hi * (1 + 1e-12)) & (k > 0)
     if n % 2 == 0:
         inside[-1] = False
@@ -86,7 +89,8 @@ def psd_reconstruction(
             "length_mm": X, "dx_mm": dx, "q_range": [float(lo), float(hi)]}
     meta = {"periodic": True, "provenance": prov, "phases": phi[inside], "q_modes": qi[inside],
             "amplitudes": amp[inside]}
-    return Profile(dx * np.arange(n), h, "mm", f"generated: PSD reconstruction eq. (6.9), seed={seed}", meta)
+    return Profile(dx * np.arange(n), h, "mm",
+                   f"generated: PSD reconstruction eq. (6.9), seed={seed}", meta)
 
 
 def psd_reconstruction_bands(

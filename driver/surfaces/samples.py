@@ -7,7 +7,8 @@ taken where the rubber actually touches: "the contact of the rubber block with t
 surface is assumed on the top asperities ... therefore the upper parts of the rough surface
 measurement are evaluated for the choice of surface samples" (ch. 6.5.1).  Here that means the
 centre of every cutout lies where the *carrier* of the scale, the surface the block rides on
-(all wavelengths longer than the scale's band, :func:`~rubberfriction.driver.surfaces.bands.lowpass`),
+(all wavelengths longer than the scale's band,
+:func:`~rubberfriction.driver.surfaces.bands.lowpass`),
 is within its top ``top_fraction`` of heights.  Windows with many interpolated (repaired) points
 are avoided.  Positions are drawn at random from a seeded generator, without overlap when the
 record allows it, so a seed reproduces the same samples.
@@ -100,7 +101,8 @@ class SurfaceSample:
             "height_ratio": self.height_ratio,
             "slope_ratio": self.slope_ratio,
             "closure_length_mm": self.closure_length,
-            "closure_within_slope_cap": None if self.closure is None else self.closure.within_slope_cap,
+            "closure_within_slope_cap": (None if self.closure is None
+                                         else self.closure.within_slope_cap),
             "seed": self.seed,
             **{k: v for k, v in self.meta.items() if isinstance(v, (int, float, str, bool))},
         }
@@ -270,7 +272,8 @@ def samples_table(samples: list[SurfaceSample]) -> str:
             f"{'rms slope':>9} {'/band':>6} {'closure (mm)':>12} source"]
     for s in samples:
         rows.append(
-            f"{s.scale:>5} {s.band[0]:>6.3g}-{s.band[1]:<7.3g} {s.start:>11.4g} {s.rms_height:>11.4g} "
+            f"{s.scale:>5} {s.band[0]:>6.3g}-{s.band[1]:<7.3g} {s.start:>11.4g} "
+            f"{s.rms_height:>11.4g} "
             f"{s.height_ratio:>6.2f} {s.rms_slope:>9.4g} {s.slope_ratio:>6.2f} "
             f"{s.closure_length:>12.4g} {s.source}"
         )
