@@ -10,8 +10,9 @@ centre of every cutout lies where the *carrier* of the scale, the surface the bl
 (all wavelengths longer than the scale's band,
 :func:`~rubberfriction.driver.surfaces.bands.lowpass`),
 is within its top ``top_fraction`` of heights.  Windows with many interpolated (repaired) points
-are avoided.  Positions are drawn at random from a seeded generator, without overlap when the
-record allows it, so a seed reproduces the same samples.
+are avoided, and so are the first and last block length of a non-periodic record, where the
+band filter rings slightly.  Positions are drawn at random from a seeded generator, without
+overlap when the record allows it, so a seed reproduces the same samples.
 
 Each cutout is closed into a periodic sample by the connecting spline of
 :mod:`~rubberfriction.driver.surfaces.closure` and stretched onto an exact grid of the block
@@ -185,7 +186,10 @@ def extract_samples(
         c = carrier.h if isinstance(carrier, Profile) else np.asarray(carrier, dtype=float)
         if c.shape != h.shape:
             raise BandError("carrier must be on the grid of the band profile")
-    starts = np.arange(1, N - m - 1)  # one point of margin each side for central differences
+    # margin: one point for central differences; for non-periodic records also one block length
+    # at each end, where the mirrored filter leaves a little ringing (bands module), if possible
+    edge = m if (not band_profile.periodic and N - 2 * m - m - 2 >= m) else 1
+    starts = np.arange(edge, N - m - edge)
     thr = np.quantile(c, 1.0 - top_fraction) if top_fraction < 1 else -np.inf
     valid = c[starts + m // 2] >= thr
     rep = band_profile.repaired_mask()
