@@ -10,30 +10,40 @@ compound as the FE.  Examples::
 
 Units: speeds mm/s, pressure MPa, temperature K, wavelengths mm.
 
-Scene file (TOML): only these keys are read, every other key or table is ignored, so the
-multiscale driver's scene files can be passed as they are::
+Scene file (TOML): only the keys below are read, every other key or table is ignored.  Two
+spellings are understood: the multiscale driver's scene (``driver/scenes/*.toml``, see
+``rubberfriction run --schema``) and a minimal one::
 
     [surface]
-    profile = "road.dat"     # or file/path; "default" = the embedded default road; relative to the scene
-    lambda_max = 20.0        # optional analysis range, mm
-    lambda_min = 0.003
+    source = "default_road"  # multiscale scene: default_road | files (files = [...]) | sines
+    edges = [20.0, 3.0, 0.3, 0.04, 0.003]   # mm: analysis range edges[0] .. edges[-1]
+    # minimal form instead: profile = "road.dat" (or file/path; "default" = default road),
+    # optional lambda_max, lambda_min (mm).  Relative paths are relative to the scene file.
+    amplitudes = [0.075, 0.01]              # source = "sines": one sine per entry (mm) ...
+    wavelengths = [5.0, 0.5]                # ... with these wavelengths (mm): line spectrum
     [compound]
-    name = "tread_default"   # or file/path: a compound TOML (forms/data format)
+    name = "tread_default"   # minimal form (or file/path); multiscale scene: [conditions] compounds
     [conditions]
-    p = 0.3                  # nominal pressure, MPa (also: pressure)
-    v = [1.0, 10.0, 100.0]   # sliding speeds, mm/s (also: velocities, velocity)
-    T0 = 293.15              # background temperature, K (also: T; T0_C in degC)
-    [adhesion]               # optional bell law, eq. (7.6)
-    tau0 = 3.0               # MPa
-    c = 0.18
-    v0 = 20.0                # mm/s
-    alpha = 1.0              # share of eq. (7.3)
+    compounds = ["tread_default"]  # the first is used (--compound picks another)
+    pressures = [0.3]        # MPa, the first is used (also: p, pressure; --pressure)
+    velocities = [1.0, 10.0] # mm/s (also: v, velocity)
+    T0 = 20.0                # with T0_unit = "degC" or "K" (default K); also T0_C in degC
+    [physics]
+    adhesion = true          # multiscale scene: use the [adhesion] table only when true
+    [adhesion]               # bell law eq. (7.6): tau0 (MPa), c, v0 (mm/s), alpha (eq. 7.3)
+    tau0 = 3.0
+    c = 0.15
+    v0 = 20.0
+    alpha = 1.0
 
 Command-line options override the scene.  Surface: a profile file is read with
 ``driver.surfaces.load_profile`` (cleaned), its PSD is ``psd_1d`` (Hann window); the default
 range is wavelengths from a quarter of the record length down to the Nyquist wavelength.
-``default`` is the four-scale default road (CAPTIF + generated fine extension): the PSD of each
-band profile within its band, 20 mm down to 0.003 mm.
+``default``/``default_road`` is the four-scale default road (CAPTIF + generated fine extension),
+several ``files`` are combined like the multiscale driver does
+(``driver.surfaces.multiscale_from_measurements``): the PSD of each band profile within its
+band.  ``sines`` give a line spectrum: only the line-roughness Persson model applies (in full
+contact it is the exact viscoelastic result).
 """
 
 from __future__ import annotations
@@ -50,10 +60,17 @@ from typing import Any
 import numpy as np
 
 from rubberfriction.driver.theory.adhesion import BellLaw
-from rubberfriction.driver.theory.curves import MODELS, TheoryCurve, plot_curves, theory_curves
+from rubberfriction.driver.theory.curves import (
+    MODELS,
+    TheoryCurve,
+    persson_curve,
+    plot_curves,
+    theory_curves,
+)
 from rubberfriction.driver.theory.errors import TheoryInputError
 from rubberfriction.driver.theory.persson import PerssonOptions
 from rubberfriction.driver.theory.rubber import Rubber, rubber_from_compound
+from rubberfriction.driver.theory.spectrum import line_spectrum
 
 DEFAULT_COMPOUND = "tread_default"
 DEFAULT_N = 50
@@ -64,7 +81,10 @@ DEFAULT_VRANGE = (1e-3, 1e4)   # mm/s
 class SceneInputs:
     """The keys of a scene file that the theories need (see module docstring)."""
 
-    surface: str | None = None
+    surface: str | None = None                 #: "default" or a profile path
+    files: list[str] = field(default_factory=list)
+    sines: list[tuple[float, float]] = field(default_factory=list)   #: (amplitude, wavelength) mm
+    edges: tuple[float, ...] | None = None
     lambda_max: float | None = None
     lambda_min: float | None = None
     compound: str | None = None
@@ -72,6 +92,7 @@ class SceneInputs:
     velocities: list[float] | None = None
     T0: float | None = None
     adhesion: dict[str, float] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
 
 
 def _pick(table: dict[str, Any], keys: tuple[str, ...], where: str) -> Any:
@@ -87,8 +108,21 @@ def _number(value: Any, where: str) -> float:
     return float(value)
 
 
+def _numbers(value: Any, where: str) -> list[float]:
+    vals = value if isinstance(value, list) else [value]
+    if not vals:
+        raise TheoryInputError(f"{where} is empty: expected at least one number")
+    return [_number(x, where) for x in vals]
+
+
+def _path(base: Path, text: Any, where: str) -> str:
+    if not isinstance(text, str) or not text:
+        raise TheoryInputError(f"{where} = {text!r}: expected a file name")
+    return text if Path(text).is_absolute() else str(base / text)
+
+
 def read_scene(path: str | Path) -> SceneInputs:
-    """Read the minimal theory schema from a scene TOML (other keys are tolerated)."""
+    """Read the theory keys from a scene TOML (see module docstring; other keys are ignored)."""
     path = Path(path)
     if not path.is_file():
         raise TheoryInputError(f"scene file not found: {path}")
@@ -101,14 +135,36 @@ def read_scene(path: str | Path) -> SceneInputs:
     surf = doc.get("surface", {})
     if isinstance(surf, str):
         surf = {"profile": surf}
-    if isinstance(surf, dict):
-        src = _pick(surf, ("profile", "file", "path"), f"{path} [surface]")
-        if src is not None:
-            src = str(src)
-            out.surface = src if src == "default" else str((base / src) if not Path(src).is_absolute() else src)
-        for key in ("lambda_max", "lambda_min"):
-            if key in surf:
-                setattr(out, key, _number(surf[key], f"{path} [surface].{key}"))
+    if not isinstance(surf, dict):
+        raise TheoryInputError(f"{path} [surface]: expected a table")
+    src = _pick(surf, ("profile", "file", "path"), f"{path} [surface]")
+    source = surf.get("source")
+    if src is not None and source is not None:
+        raise TheoryInputError(f"{path} [surface]: give either profile or source, not both")
+    if src is not None:
+        out.surface = "default" if src in ("default", "default_road") else _path(base, src, f"{path} [surface].profile")
+    elif source is not None:
+        if source == "default_road":
+            out.surface = "default"
+        elif source == "files":
+            files = surf.get("files", [])
+            if not isinstance(files, list) or not files:
+                raise TheoryInputError(f"{path} [surface].files: expected a non-empty list of profile files")
+            out.files = [_path(base, f, f"{path} [surface].files") for f in files]
+        elif source == "sines":
+            amps = _numbers(surf.get("amplitudes", []), f"{path} [surface].amplitudes")
+            lams = _numbers(surf.get("wavelengths", []), f"{path} [surface].wavelengths")
+            if len(amps) != len(lams):
+                raise TheoryInputError(f"{path} [surface]: {len(amps)} amplitudes but {len(lams)} wavelengths")
+            out.sines = list(zip(amps, lams))
+        else:
+            raise TheoryInputError(f"{path} [surface].source = {source!r}: expected default_road, files or sines")
+    if "edges" in surf:
+        out.edges = tuple(_numbers(surf["edges"], f"{path} [surface].edges"))
+        out.lambda_max, out.lambda_min = out.edges[0], out.edges[-1]
+    for key in ("lambda_max", "lambda_min"):
+        if key in surf:
+            setattr(out, key, _number(surf[key], f"{path} [surface].{key}"))
     comp = doc.get("compound", {})
     if isinstance(comp, str):
         comp = {"name": comp}
@@ -116,26 +172,40 @@ def read_scene(path: str | Path) -> SceneInputs:
         name = _pick(comp, ("name", "file", "path"), f"{path} [compound]")
         if name is not None:
             name = str(name)
-            cand = base / name
-            out.compound = str(cand) if (name.endswith(".toml") and not Path(name).is_absolute()) else name
+            out.compound = _path(base, name, f"{path} [compound]") if name.endswith(".toml") else name
     cond = doc.get("conditions", {})
-    if isinstance(cond, dict):
-        p = _pick(cond, ("p", "pressure"), f"{path} [conditions]")
-        if p is not None:
-            out.pressure = _number(p, f"{path} [conditions].p")
-        v = _pick(cond, ("v", "velocities", "velocity"), f"{path} [conditions]")
-        if v is not None:
-            vals = v if isinstance(v, list) else [v]
-            out.velocities = [_number(x, f"{path} [conditions].v") for x in vals]
-        T = _pick(cond, ("T0", "T", "temperature"), f"{path} [conditions]")
-        if T is not None:
-            out.T0 = _number(T, f"{path} [conditions].T0")
-        if "T0_C" in cond:
-            if out.T0 is not None:
-                raise TheoryInputError(f"{path} [conditions]: give T0 (K) or T0_C (degC), not both")
-            out.T0 = _number(cond["T0_C"], f"{path} [conditions].T0_C") + 273.15
+    if not isinstance(cond, dict):
+        raise TheoryInputError(f"{path} [conditions]: expected a table")
+    comps = cond.get("compounds")
+    if comps is not None:
+        if not isinstance(comps, list) or not comps or not all(isinstance(c, str) for c in comps):
+            raise TheoryInputError(f"{path} [conditions].compounds: expected a non-empty list of names")
+        if out.compound is None:
+            c0 = comps[0]
+            out.compound = _path(base, c0, f"{path} [conditions].compounds") if c0.endswith(".toml") else c0
+        if len(comps) > 1:
+            out.notes.append(f"scene lists {len(comps)} compounds; using {comps[0]!r} (--compound picks another)")
+    p = _pick(cond, ("p", "pressure", "pressures"), f"{path} [conditions]")
+    if p is not None:
+        ps = _numbers(p, f"{path} [conditions].pressures")
+        out.pressure = ps[0]
+        if len(ps) > 1:
+            out.notes.append(f"scene lists {len(ps)} pressures; using {ps[0]:g} MPa (--pressure picks another)")
+    v = _pick(cond, ("v", "velocities", "velocity"), f"{path} [conditions]")
+    if v is not None:
+        out.velocities = _numbers(v, f"{path} [conditions].velocities")
+    T = _pick(cond, ("T0", "T", "temperature", "T0_C"), f"{path} [conditions]")
+    if T is not None:
+        unit = "degC" if "T0_C" in cond else cond.get("T0_unit", "K")
+        if unit not in ("K", "degC"):
+            raise TheoryInputError(f"{path} [conditions].T0_unit = {unit!r}: expected 'K' or 'degC'")
+        out.T0 = _number(T, f"{path} [conditions].T0") + (273.15 if unit == "degC" else 0.0)
     adh = doc.get("adhesion", {})
-    if isinstance(adh, dict):
+    phys = doc.get("physics", {})
+    # multiscale scene: [adhesion] counts only with [physics] adhesion = true (its default is
+    # false); minimal form (no [physics] table): an [adhesion] table switches it on
+    use_adhesion = bool(phys.get("adhesion", False)) if ("physics" in doc and isinstance(phys, dict)) else True
+    if isinstance(adh, dict) and use_adhesion:
         for key in ("tau0", "c", "v0", "alpha"):
             if key in adh:
                 out.adhesion[key] = _number(adh[key], f"{path} [adhesion].{key}")
@@ -153,25 +223,52 @@ class SurfacePSD:
     source: str
 
 
-def surface_psd(surface: str, lambda_max: float | None = None, lambda_min: float | None = None) -> SurfacePSD:
-    """Profile PSD (Persson convention) of a profile file or of the default road."""
-    from rubberfriction.driver.surfaces import default_road, load_profile, psd_1d
+def _band_psd(road: Any) -> tuple[np.ndarray, np.ndarray]:
+    """PSD of a multiscale surface: each band profile's psd_1d within its band, concatenated."""
+    from rubberfriction.driver.surfaces import psd_1d
 
-    if surface == "default":
-        road = default_road()
-        qs, cs = [], []
-        for sc in road.scales:
-            q, C = psd_1d(sc.profile)
-            lo, hi = 2 * math.pi / sc.band[0], 2 * math.pi / sc.band[1]
-            m = (q >= lo) & (q <= hi)
-            qs.append(q[m])
-            cs.append(C[m])
-        q = np.concatenate(qs)
-        C = np.concatenate(cs)
-        order = np.argsort(q)
-        q, C = q[order], C[order]
-        keep = np.concatenate(([True], np.diff(q) > 0))
-        q, C = q[keep], C[keep]
+    qs, cs = [], []
+    for sc in road.scales:
+        q, C = psd_1d(sc.profile)
+        lo, hi = 2 * math.pi / sc.band[0], 2 * math.pi / sc.band[1]
+        m = (q >= lo) & (q <= hi)
+        qs.append(q[m])
+        cs.append(C[m])
+    q = np.concatenate(qs)
+    C = np.concatenate(cs)
+    order = np.argsort(q)
+    q, C = q[order], C[order]
+    keep = np.concatenate(([True], np.diff(q) > 0))
+    return q[keep], C[keep]
+
+
+def surface_psd(surface: str | None = "default", lambda_max: float | None = None,
+                lambda_min: float | None = None, *, files: list[str] | None = None,
+                edges: tuple[float, ...] | None = None) -> SurfacePSD:
+    """Profile PSD (Persson convention) of a profile file, several files or the default road.
+
+    ``surface="default"``: the default road (with ``edges`` if given); ``files``: profiles of one
+    road at several resolutions, decomposed at ``edges`` like the multiscale driver; otherwise
+    ``surface`` is one profile file.
+    """
+    from rubberfriction.driver.surfaces import (
+        default_road,
+        load_profile,
+        multiscale_from_measurements,
+        psd_1d,
+    )
+
+    if files:
+        profiles = [load_profile(f) for f in files]
+        if edges is None:
+            raise TheoryInputError("several profile files need the scale edges ([surface] edges)")
+        road = multiscale_from_measurements(profiles, edges, name="scene profiles")
+        q, C = _band_psd(road)
+        lam_hi, lam_lo = road.edges[0], road.edges[-1]
+        source = ", ".join(Path(f).name for f in files)
+    elif surface in (None, "default", "default_road"):
+        road = default_road() if edges is None else default_road(edges=edges)
+        q, C = _band_psd(road)
         lam_hi, lam_lo = road.edges[0], road.edges[-1]
         source = road.name or "default road"
     else:
@@ -224,7 +321,6 @@ def _velocities(args: argparse.Namespace, scene: SceneInputs) -> np.ndarray:
 def run_theory(args: argparse.Namespace) -> dict[str, Any]:
     """Evaluate the theories for parsed arguments; returns the JSON-ready result."""
     scene = read_scene(args.scene) if args.scene else SceneInputs()
-    surface = args.surface or scene.surface or "default"
     compound = args.compound or scene.compound or DEFAULT_COMPOUND
     pressure = args.pressure if args.pressure is not None else scene.pressure
     if pressure is None:
@@ -251,21 +347,64 @@ def run_theory(args: argparse.Namespace) -> dict[str, Any]:
     elif adh.keys() - {"alpha"}:
         raise TheoryInputError(f"adhesion needs tau0, c and v0; got {sorted(adh)}")
     rubber, comp_name = load_rubber(compound, args.nu)
-    psd = surface_psd(surface, lam_max, lam_min)
-    curves = theory_curves(psd.q, psd.C1D, rubber, float(pressure), v, T0=T0, models=args.models,
-                           qmin=psd.qmin, qmax=psd.qmax, flash=args.flash, adhesion=adhesion,
-                           alpha=alpha, options=PerssonOptions(gamma=args.gamma))
+    options = PerssonOptions(gamma=args.gamma)
+    notes = list(scene.notes)
+    if not args.surface and scene.sines:
+        k = np.array([2 * math.pi / lam for _, lam in scene.sines])
+        amp = np.array([abs(a) for a, _ in scene.sines])
+        spec = line_spectrum(k, amp / math.sqrt(2.0), dim=1)
+        skipped = [m for m in args.models if m != "persson-1d"]
+        if skipped:
+            notes.append(f"sine surface: line spectrum, only persson-1d applies (skipped {skipped})")
+        curves = [persson_curve(spec, rubber, float(pressure), v, T0=T0, options=options,
+                                flash=args.flash, adhesion=adhesion, alpha=alpha)]
+        surf_info = {"source": "sines " + ", ".join(f"{a:g} mm x {lam:g} mm" for a, lam in scene.sines),
+                     "lambda_max_mm": max(lam for _, lam in scene.sines),
+                     "lambda_min_mm": min(lam for _, lam in scene.sines)}
+    else:
+        if args.surface:
+            psd = surface_psd(args.surface, lam_max, lam_min, edges=scene.edges if args.surface == "default" else None)
+        else:
+            psd = surface_psd(scene.surface, lam_max, lam_min, files=scene.files, edges=scene.edges)
+        curves = theory_curves(psd.q, psd.C1D, rubber, float(pressure), v, T0=T0, models=args.models,
+                               qmin=psd.qmin, qmax=psd.qmax, flash=args.flash, adhesion=adhesion,
+                               alpha=alpha, options=options)
+        surf_info = {"source": psd.source, "lambda_max_mm": 2 * math.pi / psd.qmin,
+                     "lambda_min_mm": 2 * math.pi / psd.qmax}
     return {
         "conditions": {"pressure_MPa": float(pressure), "T0_K": T0, "v_mm_s": [float(x) for x in v],
                        "flash_temperature": bool(args.flash)},
-        "surface": {"source": psd.source, "lambda_max_mm": 2 * math.pi / psd.qmin,
-                    "lambda_min_mm": 2 * math.pi / psd.qmax},
+        "surface": surf_info,
+        "notes": notes,
         "compound": {"name": comp_name, "nu": rubber.nu, "T_ref_K": rubber.T_ref},
         "adhesion": None if adhesion is None else {"tau0_MPa": adhesion.tau0, "c": adhesion.c,
                                                    "v0_mm_s": adhesion.v0, "alpha": alpha},
         "curves": [c.to_dict() for c in curves],
         "_curves": curves,
     }
+
+
+def theory_args(scene: str | Path | None = None, **options: Any) -> argparse.Namespace:
+    """Arguments of ``rubberfriction theory`` as a namespace, for calling :func:`run_theory`
+    from Python (e.g. the multiscale report): keyword names are the option names with ``_``."""
+    parser = argparse.ArgumentParser()
+    sub = parser.add_subparsers()
+    register(sub)
+    args = parser.parse_args(["theory"] + ([str(scene)] if scene is not None else []))
+    for key, val in options.items():
+        if not hasattr(args, key):
+            raise TheoryInputError(f"unknown theory option {key!r}")
+        setattr(args, key, val)
+    return args
+
+
+def scene_theory_curves(scene: str | Path | None = None, **options: Any) -> tuple[list[TheoryCurve], dict]:
+    """Theory curves for a scene (the multiscale report draws them beside the FE curve with
+    :func:`rubberfriction.driver.theory.curves.add_to_axes`).  Returns the curves and the
+    JSON-ready description (conditions, surface, compound, notes)."""
+    result = run_theory(theory_args(scene, **options))
+    curves = result.pop("_curves")
+    return curves, result
 
 
 def _print_table(result: dict[str, Any]) -> None:
@@ -276,6 +415,8 @@ def _print_table(result: dict[str, Any]) -> None:
           f"compound {comp['name']} (nu = {comp['nu']:.4g}), flash temperature "
           f"{'on' if cond['flash_temperature'] else 'off'}")
     print(f"surface: {surf['source']}, wavelengths {surf['lambda_max_mm']:.4g} .. {surf['lambda_min_mm']:.4g} mm")
+    for note in result.get("notes", []):
+        print(f"note: {note}")
     for c in curves:
         info = ", ".join(f"{k} = {v:.4g}" for k, v in c.extra.items() if isinstance(v, float))
         print(f"  {c.model}: {c.label}" + (f" ({info})" if info else ""))

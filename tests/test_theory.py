@@ -389,6 +389,36 @@ def test_flash_heats_and_lowers_friction_on_rubbery_side() -> None:
     assert iso.area.min() > 0.999                 # the second pressure is full contact
 
 
+def test_flash_single_line_is_self_consistent() -> None:
+    """One wavelength in full contact: the converged T solves T - T0 = kappa p v mu(T) K_kk with
+    the kernel of the module docstring (mu(T) recomputed isothermally at that T)."""
+    k, h0, p0 = 2 * math.pi / 0.5, 0.002, 30.0     # p_full < 5 MPa: P = 1
+    v = np.array([200.0, 2000.0])
+    spec = sinusoid_spectrum(k, h0)
+    fl = persson_friction(spec, BROAD_THERMAL, p0, v, T0=293.15, flash=FlashOptions(tol=1e-9))
+    assert np.all(fl.converged)
+    assert np.all(fl.area > 1 - 1e-9)
+    for i, vi in enumerate(v):
+        T = float(fl.temperature_q[i, 0])
+        mu_T = persson_friction(spec, BROAD_THERMAL, p0, [vi], T0=T).mu[0]
+        assert fl.mu[i] == pytest.approx(mu_T, rel=1e-9)
+        kern = float(layer_response(2 * k, 2 * k, math.pi / (k * vi), BROAD_THERMAL.diffusivity,
+                                    BROAD_THERMAL.k))
+        assert T - 293.15 == pytest.approx(p0 * vi * mu_T * kern, rel=1e-6)
+
+
+def test_flash_includes_adhesive_heat() -> None:
+    q, C = power_law_psd(0.8, 0.3, 300.0, 2000)
+    spec = spectrum_from_psd(q, C, 1)
+    v = np.array([10.0, 100.0])
+    law = BellLaw(tau0=3.0, c=0.15, v0=20.0)
+    base = persson_friction(spec, BROAD_THERMAL, 0.3, v, T0=293.15, flash=True)
+    off = persson_friction(spec, BROAD_THERMAL, 0.3, v, T0=293.15, flash=True, adhesion=law, alpha=0.0)
+    on = persson_friction(spec, BROAD_THERMAL, 0.3, v, T0=293.15, flash=True, adhesion=law, alpha=1.0)
+    assert np.allclose(off.temperature_q, base.temperature_q, rtol=0, atol=1e-12)
+    assert np.all(on.flash_temperature > base.flash_temperature)
+
+
 # ---------------------------------------------------------------------------------------------
 # Klüppel-Heinrich
 # ---------------------------------------------------------------------------------------------
@@ -596,6 +626,49 @@ def test_cli_theory_scene_csv_json(tmp_path, capsys) -> None:
     header = csv.read_text().splitlines()[0]
     assert header.startswith("v_mm_s,") and "persson-1d_mu" in header
     assert png.stat().st_size > 1000
+
+
+def test_read_scene_multiscale_schema(tmp_path) -> None:
+    """The multiscale driver's scene keys (sources, lists, T0_unit, physics switch) are read;
+    unknown tables are ignored."""
+    from rubberfriction.driver.cli_theory import read_scene
+
+    scene = tmp_path / "ms.toml"
+    scene.write_text(
+        'name = "x"\nvariant = "rough"\n[surface]\nsource = "sines"\namplitudes = [0.075, 0.01]\n'
+        'wavelengths = [5.0, 0.5]\nedges = [10.0, 1.0, 0.1]\n[conditions]\ncompounds = ["m1", "m2"]\n'
+        'pressures = [0.2, 0.3]\nvelocities = [10.0, 100.0]\nT0 = 20.0\nT0_unit = "degC"\n'
+        '[physics]\nadhesion = false\n[adhesion]\ntau0 = 3.0\nc = 0.15\nv0 = 20.0\n[numerics]\ngrading = 1.3\n'
+    )
+    sc = read_scene(scene)
+    assert sc.sines == [(0.075, 5.0), (0.01, 0.5)]
+    assert (sc.lambda_max, sc.lambda_min) == (10.0, 0.1)
+    assert sc.compound == "m1" and sc.pressure == 0.2 and sc.velocities == [10.0, 100.0]
+    assert sc.T0 == pytest.approx(293.15)
+    assert sc.adhesion == {}                      # physics.adhesion = false
+    assert len(sc.notes) == 2                     # extra compound and pressure are reported
+    scene.write_text(scene.read_text().replace("adhesion = false", "adhesion = true"))
+    assert read_scene(scene).adhesion == {"tau0": 3.0, "c": 0.15, "v0": 20.0}
+
+
+def test_cli_theory_sines_scene_full_contact_exact(tmp_path, capsys) -> None:
+    """A sine scene gives the line-spectrum theory; in full contact it is the exact result."""
+    pytest.importorskip("rubberfriction.forms.materials")
+    from rubberfriction.driver.cli import main
+    from rubberfriction.driver.theory import rubber_from_compound
+    from rubberfriction.forms.materials import load_compound
+
+    scene = tmp_path / "sines.toml"
+    scene.write_text('[surface]\nsource = "sines"\namplitudes = [0.01]\nwavelengths = [5.0]\n'
+                     '[conditions]\ncompounds = ["tread_default"]\npressures = [2.0]\nvelocities = [1.0, 50.0]\n')
+    assert main(["theory", str(scene), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    (curve,) = out["curves"]
+    rub = rubber_from_compound(load_compound("tread_default"))
+    k = 2 * math.pi / 5.0
+    for v, mu in zip(curve["v_mm_s"], curve["mu"]):
+        E = complex(rub.E(k * v))
+        assert mu == pytest.approx(mu_full_contact_sinusoid(k, 0.01, E, 2.0, nu=rub.nu), rel=1e-9)
 
 
 def test_cli_theory_bad_scene(tmp_path, capsys) -> None:

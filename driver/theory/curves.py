@@ -32,7 +32,7 @@ from rubberfriction.driver.theory.flash import FlashOptions
 from rubberfriction.driver.theory.kluppel import descriptors_from_psd, kluppel_heinrich_friction
 from rubberfriction.driver.theory.persson import PerssonOptions, persson_friction
 from rubberfriction.driver.theory.rubber import Rubber
-from rubberfriction.driver.theory.spectrum import DEFAULT_NODES, spectrum_from_psd
+from rubberfriction.driver.theory.spectrum import DEFAULT_NODES, Spectrum, spectrum_from_psd
 
 MODELS: tuple[str, ...] = ("persson-1d", "persson-2d", "kluppel-heinrich")
 LABELS = {
@@ -146,17 +146,8 @@ def theory_curves(
                                  f"narrower than the requested {lo:.4g}..{hi:.4g} 1/mm")
                 spec = spectrum_from_psd(q2, C2, 2, lo2, hi2, n_nodes=n_nodes,
                                          source="Abel transform of the profile PSD")
-            res = persson_friction(spec, rubber, pressure, v, T0=T0, options=options, flash=flash,
-                                   adhesion=adhesion, alpha=alpha)
-            if res.converged is not None and not np.all(res.converged):
-                notes.append("flash-temperature iteration did not converge at v = "
-                             + ", ".join(f"{x:g}" for x in res.v[~res.converged]) + " mm/s")
-            curves.append(TheoryCurve(
-                model=model, label=LABELS[model], v=res.v, mu=res.mu_total, mu_hysteresis=res.mu,
-                mu_adhesion=res.mu_adhesion, area=res.area, flash_dT=res.flash_temperature,
-                extra={"q_range_1_mm": [spec.q_min, spec.q_max], "h_rms_mm": spec.h_rms,
-                       "slope_rms": spec.slope_rms, "gamma": res.options.gamma},
-                notes=notes))
+            curves.append(persson_curve(spec, rubber, pressure, v, T0=T0, options=options,
+                                        flash=flash, adhesion=adhesion, alpha=alpha, notes=notes))
         else:
             desc = descriptors_from_psd(q, C1D, lo, hi)
             kh = kluppel_heinrich_friction(desc, 2 * math.pi / hi, rubber, pressure, v, T0=T0)
@@ -172,6 +163,36 @@ def theory_curves(
                        "lambda_min_mm": kh.lambda_min, "z_p_mm": kh.z_p},
                 notes=notes))
     return curves
+
+
+def persson_curve(
+    spec: Spectrum,
+    rubber: Rubber,
+    pressure: float,
+    velocities: Sequence[float] | np.ndarray,
+    *,
+    T0: float | None = None,
+    options: PerssonOptions | None = None,
+    flash: bool | FlashOptions = False,
+    adhesion: BellLaw | None = None,
+    alpha: float = 1.0,
+    notes: list[str] | None = None,
+) -> TheoryCurve:
+    """Persson's mu(v) (variant by ``spec.dim``) as a :class:`TheoryCurve`; works for line
+    spectra too (e.g. the sine-wave scenes, where the 1D theory in full contact is exact)."""
+    model = "persson-1d" if spec.dim == 1 else "persson-2d"
+    notes = list(notes or [])
+    res = persson_friction(spec, rubber, pressure, np.asarray(velocities, dtype=float), T0=T0,
+                           options=options, flash=flash, adhesion=adhesion, alpha=alpha)
+    if res.converged is not None and not np.all(res.converged):
+        notes.append("flash-temperature iteration did not converge at v = "
+                     + ", ".join(f"{x:g}" for x in res.v[~res.converged]) + " mm/s")
+    return TheoryCurve(
+        model=model, label=LABELS[model], v=res.v, mu=res.mu_total, mu_hysteresis=res.mu,
+        mu_adhesion=res.mu_adhesion, area=res.area, flash_dT=res.flash_temperature,
+        extra={"q_range_1_mm": [spec.q_min, spec.q_max], "h_rms_mm": spec.h_rms,
+               "slope_rms": spec.slope_rms, "gamma": res.options.gamma},
+        notes=notes)
 
 
 def plot_curves(curves: Sequence[TheoryCurve], path: str | Path, *, title: str = "",
