@@ -46,13 +46,13 @@ ELEMENTS = ("Q1P0", "Q1")
 class SolidSettings:
     element: str = "Q1P0"
     quadrature_degree: int = 2
-    moduli: str = "long_term"  # Mooney-Rivlin constants are the long-term (equilibrium) moduli
+    viscous_scheme: str = "linear"  # history update: "linear" (exact for ramps) or "midpoint" (3.76)
 
     def __post_init__(self) -> None:
         if self.element not in ELEMENTS:
             raise ValueError(f"element: got {self.element!r}, expected one of {ELEMENTS}")
-        if self.moduli not in ("long_term", "instantaneous"):
-            raise ValueError(f"moduli: got {self.moduli!r}, expected 'long_term' or 'instantaneous'")
+        if self.viscous_scheme not in ("linear", "midpoint"):
+            raise ValueError(f"viscous_scheme: got {self.viscous_scheme!r}, expected 'linear' or 'midpoint'")
         if self.quadrature_degree < 1:
             raise ValueError(f"quadrature_degree must be >= 1, got {self.quadrature_degree}")
 
@@ -117,12 +117,12 @@ class SolidProblem:
     # --- forms -------------------------------------------------------------------------------
     def _make_history(self, prony) -> ViscoelasticHistory:
         gamma = np.asarray(prony.gamma, dtype=float)
-        g_inf = 1.0 - gamma.sum()
-        scale = 1.0 / g_inf if self.settings.moduli == "long_term" else 1.0
-        G_ref = self.shear_modulus_long_term * (1.0 if self.settings.moduli == "long_term" else 1.0)
+        scale = 1.0 / (1.0 - gamma.sum())  # Mooney-Rivlin constants are the long-term moduli
+        G_ref = self.shear_modulus_long_term
         wlf = getattr(self.material, "wlf", None)
         shift = wlf.aT if wlf is not None else None
-        return ViscoelasticHistory(self.mesh, self.rule, gamma, prony.tau, scale, G_ref, shift)
+        return ViscoelasticHistory(self.mesh, self.rule, gamma, prony.tau, scale, G_ref, shift,
+                                   scheme=self.settings.viscous_scheme)
 
     def split(self):
         """(u, p) UFL parts of the state (p is None for Q1)."""
