@@ -18,7 +18,8 @@ Heat sources (per nominal area, mW/mm^2, units mm, s, MPa)
 
 Where and how long the heat acts
     Scale j's heat is released in the contact regions seen at magnification q_j, which cover the
-    area fraction ``P(q_j)`` (eq. 2.10), so the flux density there is ``w_j / P(q_j)``.  A contact
+    area fraction ``P(q_j)`` (eq. 2.10; the bin average of P over node j), so the flux density
+    there is ``w_j / P(q_j)``.  A contact
     region of scale q has the length ``d(q) = pi/q`` (half a wavelength: the largest patch one
     roughness wave forms), so it heats a passing rubber element for ``tau(q) = pi/(q v)``.
     The rubber deformed by scale i feels the heat of a coarser scale j (q_j <= q_i) at that

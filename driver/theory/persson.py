@@ -27,6 +27,9 @@ Isotropic (2D) roughness: eq. (2.10) (Persson 2001, 2006, 2014)
   the upper end of the 0.42-0.5 range fitted to the elastic energy of GFMD contacts; gamma
   scales mu linearly in the small-contact regime, so 0.45 would give ~10 % less.  Set
   ``gamma = 1`` for Persson's 2001 theory without correction.
+* The thesis prints ``E*`` in the angle integral; the real part drops out
+  (``E'(-omega) = E'(omega)`` while ``cos(phi)`` changes sign under ``phi -> pi - phi``), so
+  this is Persson's ``Im E``.
 * The angle integral: ``E*(-omega) = conj(E*(omega))`` makes ``cos(phi) Im E(q v cos phi)`` and
   ``|E|^2`` symmetric under ``phi -> pi - phi`` and ``phi -> -phi``, so
   ``Int_0^{2 pi} = 4 Int_0^{pi/2}``, computed with ``n_phi``-point Gauss-Legendre (default
@@ -46,6 +49,15 @@ integral (all wavevectors point along the sliding direction, cos phi = 1)::
 
     mu   = 1/((1 - nu^2) sigma0) Int_{q0}^{q1} dq q^2 C1D(q) P(q) S(q) E''(q v, T_q)
     G(q) = 1/4 Int_{q0}^{q} dq' q'^2 C1D(q') |E(q' v, T_q') / ((1 - nu^2) sigma0)|^2
+
+Both follow from the 2D formulas for a surface that is rough in x only, ``C(q) = C1D(q_x)
+delta(q_y)``, or directly: the full-contact pressure variance of the profile is
+``<p^2> = Int_{-inf}^{inf} dq C1D q^2 |E(q v)|^2 / (4 (1 - nu^2)^2)`` (same half-plane
+stiffness), ``G = <p^2>/(2 sigma0^2)``, and the friction stress is the sum over modes of the
+single-mode result below (two-sided C1D: the modes +q and -q together give the factor 2 that
+turns ``1/2 Int_{-inf}^{inf}`` into ``Int_0^inf``).  S(q) was calibrated for 2D contacts; we keep
+the same form and gamma for line roughness (no 1D calibration exists); S = 1 in full contact,
+so the exact limit is unaffected (``gamma = 1`` removes it).
 
 Derivation of the full-contact limit (P = S = 1), exact in linear viscoelasticity: a rigid
 profile ``h(x') = h0 cos(k x')`` slides at speed v over the rubber half-plane; in the rubber
@@ -222,7 +234,7 @@ class _Evaluator:
             self.w_mu = 2.0 * q**3 * m * self.fac
 
     def __call__(self, T: np.ndarray | None) -> tuple[np.ndarray, ...]:
-        """Per-node mu contributions, P at node midpoints, P and G at node ends."""
+        """Per-node mu contributions, bin-averaged P, and P and G at the bin upper edges."""
         if self.spec.dim == 1:
             E = self.rubber.E(self.omega, T)
             E2 = np.abs(E) ** 2
