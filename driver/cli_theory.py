@@ -484,12 +484,15 @@ def _run(args: argparse.Namespace) -> int:
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add ``theory`` to the ``rubberfriction`` command."""
+    doc = __doc__ or ""
     p = subparsers.add_parser(
         "theory", help="mu(v) and contact area from the Persson / Klüppel-Heinrich theories",
-        description=__doc__.split("\n\n")[0] + " Speeds mm/s, pressure MPa, temperature K.",
+        description=doc.split("\n\n")[0] + " Speeds mm/s, pressure MPa, temperature K.",
+        epilog=doc[doc.find("Scene file (TOML)"):] if "Scene file (TOML)" in doc else None,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("scene", nargs="?", help="scene TOML; keys read: [surface], [compound], "
-                   "[conditions] p, v, T0, optional [adhesion] (see module docstring)")
+                   "[conditions], [physics] adhesion, [adhesion] (schema below)")
     p.add_argument("--surface", help="profile file or 'default' (embedded default road)")
     p.add_argument("--compound", help=f"compound name or TOML file (default {DEFAULT_COMPOUND})")
     p.add_argument("--pressure", type=float, help="nominal pressure, MPa (default 0.3)")

@@ -197,7 +197,7 @@ def persson_curve(
 
 def plot_curves(curves: Sequence[TheoryCurve], path: str | Path, *, title: str = "",
                 fe: dict[str, Any] | None = None) -> Path:
-    """Plot mu(v) and A/A0(v) of the curves (log speed axis) to ``path`` (matplotlib Agg).
+    """Plot mu(v), A/A0(v) (and the flash temperature if computed) to ``path`` (matplotlib Agg).
 
     ``fe`` (optional): FE results to show beside the theories, a dict with ``v`` (mm/s), ``mu``
     and optionally ``mu_err`` (standard error over samples) and ``area`` (A/A0, eq. 7.5).
@@ -207,8 +207,16 @@ def plot_curves(curves: Sequence[TheoryCurve], path: str | Path, *, title: str =
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
-    add_to_axes(curves, ax1, ax2, fe=fe)
+    hot = [c for c in curves if c.flash_dT is not None]
+    fig, axes = plt.subplots(1, 3 if hot else 2, figsize=(16 if hot else 11, 4.2))
+    add_to_axes(curves, axes[0], axes[1], fe=fe)
+    if hot:
+        for c in hot:
+            axes[2].semilogx(c.v, c.flash_dT, label=c.label)
+        axes[2].set_xlabel("sliding speed v (mm/s)")
+        axes[2].set_ylabel("flash temperature T(q1) - T0 (K)")
+        axes[2].grid(True, which="both", alpha=0.3)
+        axes[2].legend(fontsize=7)
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
