@@ -38,15 +38,18 @@ def _best(fn, repeat: int) -> tuple[float, object]:
 def main(argv: list[str] | None = None) -> int:
     from rubberfriction.driver.cli_theory import load_rubber, surface_psd
 
-    ap = argparse.ArgumentParser(prog="rubberfriction bench theory", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(prog="rubberfriction bench theory",
+                                 description=(__doc__ or "").split("\n\n")[0])
     ap.add_argument("--n", type=int, default=50, help="number of speeds (default 50)")
     ap.add_argument("--repeat", type=int, default=3, help="timing repeats, best is reported")
     ap.add_argument("--surface", default="default", help="profile file or 'default'")
     ap.add_argument("--compound", default="tread_default")
     ap.add_argument("--pressure", type=float, default=0.3, help="MPa")
     ap.add_argument("--temperature", type=float, default=293.15, help="K")
-    ap.add_argument("--fe-seconds", type=float, help="measured wall time of one FE multiscale point (s)")
-    ap.add_argument("--fe-command", help="shell command computing one FE multiscale point, timed once")
+    ap.add_argument("--fe-seconds", type=float,
+                    help="measured wall time of one FE multiscale point (s)")
+    ap.add_argument("--fe-command",
+                    help="shell command computing one FE multiscale point, timed once")
     args = ap.parse_args(argv)
 
     t0 = time.perf_counter()
@@ -62,14 +65,19 @@ def main(argv: list[str] | None = None) -> int:
     v = np.geomspace(1e-3, 1e4, args.n)
     p, T0 = args.pressure, args.temperature
     cases = [
-        ("Persson line roughness (1D), isothermal", lambda: persson_friction(spec1, rubber, p, v, T0=T0)),
-        ("Persson isotropic (2D), isothermal", lambda: persson_friction(spec2, rubber, p, v, T0=T0)),
-        ("Kluppel-Heinrich, isothermal", lambda: kluppel_heinrich_friction(desc, 2 * np.pi / psd.qmax,
-                                                                           rubber, p, v, T0=T0)),
-        ("Persson 1D + flash temperature", lambda: persson_friction(spec1, rubber, p, v, T0=T0, flash=True)),
-        ("Persson 2D + flash temperature", lambda: persson_friction(spec2, rubber, p, v, T0=T0, flash=True)),
+        ("Persson line roughness (1D), isothermal",
+         lambda: persson_friction(spec1, rubber, p, v, T0=T0)),
+        ("Persson isotropic (2D), isothermal",
+         lambda: persson_friction(spec2, rubber, p, v, T0=T0)),
+        ("Kluppel-Heinrich, isothermal",
+         lambda: kluppel_heinrich_friction(desc, 2 * np.pi / psd.qmax, rubber, p, v, T0=T0)),
+        ("Persson 1D + flash temperature",
+         lambda: persson_friction(spec1, rubber, p, v, T0=T0, flash=True)),
+        ("Persson 2D + flash temperature",
+         lambda: persson_friction(spec2, rubber, p, v, T0=T0, flash=True)),
     ]
-    print(f"theory benchmark: {args.n} speeds 1e-3..1e4 mm/s, surface {psd.source}, compound {name}, "
+    print(f"theory benchmark: {args.n} speeds 1e-3..1e4 mm/s, surface {psd.source}, "
+          f"compound {name}, "
           f"p = {p:g} MPa, T0 = {T0:g} K; {spec1.q.size} / {spec2.q.size} spectrum nodes (1D / 2D)")
     print(f"  set-up (profile/road, PSD, compound): {t_surface:8.3f} s (once per surface)")
     print(f"  spectra (nodes, Abel 2D PSD, KH fit): {t_spectra:8.3f} s (once per surface)")

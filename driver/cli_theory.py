@@ -142,23 +142,27 @@ def read_scene(path: str | Path) -> SceneInputs:
     if src is not None and source is not None:
         raise TheoryInputError(f"{path} [surface]: give either profile or source, not both")
     if src is not None:
-        out.surface = "default" if src in ("default", "default_road") else _path(base, src, f"{path} [surface].profile")
+        out.surface = ("default" if src in ("default", "default_road")
+                       else _path(base, src, f"{path} [surface].profile"))
     elif source is not None:
         if source == "default_road":
             out.surface = "default"
         elif source == "files":
             files = surf.get("files", [])
             if not isinstance(files, list) or not files:
-                raise TheoryInputError(f"{path} [surface].files: expected a non-empty list of profile files")
+                raise TheoryInputError(f"{path} [surface].files: expected a non-empty list of "
+                                       "profile files")
             out.files = [_path(base, f, f"{path} [surface].files") for f in files]
         elif source == "sines":
             amps = _numbers(surf.get("amplitudes", []), f"{path} [surface].amplitudes")
             lams = _numbers(surf.get("wavelengths", []), f"{path} [surface].wavelengths")
             if len(amps) != len(lams):
-                raise TheoryInputError(f"{path} [surface]: {len(amps)} amplitudes but {len(lams)} wavelengths")
+                raise TheoryInputError(f"{path} [surface]: {len(amps)} amplitudes but {len(lams)} "
+                                       "wavelengths")
             out.sines = list(zip(amps, lams))
         else:
-            raise TheoryInputError(f"{path} [surface].source = {source!r}: expected default_road, files or sines")
+            raise TheoryInputError(f"{path} [surface].source = {source!r}: expected default_road, "
+                                   "files or sines")
     if "edges" in surf:
         out.edges = tuple(_numbers(surf["edges"], f"{path} [surface].edges"))
         out.lambda_max, out.lambda_min = out.edges[0], out.edges[-1]
@@ -172,25 +176,30 @@ def read_scene(path: str | Path) -> SceneInputs:
         name = _pick(comp, ("name", "file", "path"), f"{path} [compound]")
         if name is not None:
             name = str(name)
-            out.compound = _path(base, name, f"{path} [compound]") if name.endswith(".toml") else name
+            out.compound = (_path(base, name, f"{path} [compound]") if name.endswith(".toml")
+                            else name)
     cond = doc.get("conditions", {})
     if not isinstance(cond, dict):
         raise TheoryInputError(f"{path} [conditions]: expected a table")
     comps = cond.get("compounds")
     if comps is not None:
         if not isinstance(comps, list) or not comps or not all(isinstance(c, str) for c in comps):
-            raise TheoryInputError(f"{path} [conditions].compounds: expected a non-empty list of names")
+            raise TheoryInputError(f"{path} [conditions].compounds: expected a non-empty list of "
+                                   "names")
         if out.compound is None:
             c0 = comps[0]
-            out.compound = _path(base, c0, f"{path} [conditions].compounds") if c0.endswith(".toml") else c0
+            out.compound = (_path(base, c0, f"{path} [conditions].compounds")
+                            if c0.endswith(".toml") else c0)
         if len(comps) > 1:
-            out.notes.append(f"scene lists {len(comps)} compounds; using {comps[0]!r} (--compound picks another)")
+            out.notes.append(f"scene lists {len(comps)} compounds; using {comps[0]!r} (--compound "
+                             "picks another)")
     p = _pick(cond, ("p", "pressure", "pressures"), f"{path} [conditions]")
     if p is not None:
         ps = _numbers(p, f"{path} [conditions].pressures")
         out.pressure = ps[0]
         if len(ps) > 1:
-            out.notes.append(f"scene lists {len(ps)} pressures; using {ps[0]:g} MPa (--pressure picks another)")
+            out.notes.append(f"scene lists {len(ps)} pressures; using {ps[0]:g} MPa (--pressure "
+                             "picks another)")
     v = _pick(cond, ("v", "velocities", "velocity"), f"{path} [conditions]")
     if v is not None:
         out.velocities = _numbers(v, f"{path} [conditions].velocities")
@@ -198,13 +207,17 @@ def read_scene(path: str | Path) -> SceneInputs:
     if T is not None:
         unit = "degC" if "T0_C" in cond else cond.get("T0_unit", "K")
         if unit not in ("K", "degC"):
-            raise TheoryInputError(f"{path} [conditions].T0_unit = {unit!r}: expected 'K' or 'degC'")
+            raise TheoryInputError(f"{path} [conditions].T0_unit = {unit!r}: expected 'K' or "
+                                   "'degC'")
         out.T0 = _number(T, f"{path} [conditions].T0") + (273.15 if unit == "degC" else 0.0)
     adh = doc.get("adhesion", {})
     phys = doc.get("physics", {})
     # multiscale scene: [adhesion] counts only with [physics] adhesion = true (its default is
     # false); minimal form (no [physics] table): an [adhesion] table switches it on
-    use_adhesion = bool(phys.get("adhesion", False)) if ("physics" in doc and isinstance(phys, dict)) else True
+    if "physics" in doc and isinstance(phys, dict):
+        use_adhesion = bool(phys.get("adhesion", False))
+    else:
+        use_adhesion = True
     if isinstance(adh, dict) and use_adhesion:
         for key in ("tau0", "c", "v0", "alpha"):
             if key in adh:
@@ -280,7 +293,8 @@ def surface_psd(surface: str | None = "default", lambda_max: float | None = None
     lam_hi = lam_hi if lambda_max is None else float(lambda_max)
     lam_lo = lam_lo if lambda_min is None else float(lambda_min)
     if not (lam_hi > lam_lo > 0):
-        raise TheoryInputError(f"wavelength range {lam_hi:g}..{lam_lo:g} mm: expected lambda_max > lambda_min > 0")
+        raise TheoryInputError(f"wavelength range {lam_hi:g}..{lam_lo:g} mm: expected lambda_max > "
+                               "lambda_min > 0")
     qmin = max(2 * math.pi / lam_hi, float(q[0]))
     qmax = min(2 * math.pi / lam_lo, float(q[-1]))
     if not qmin < qmax:
@@ -311,7 +325,8 @@ def _velocities(args: argparse.Namespace, scene: SceneInputs) -> np.ndarray:
         hi = args.vmax if args.vmax is not None else DEFAULT_VRANGE[1]
         n = args.n if args.n is not None else DEFAULT_N
         if not (lo > 0 and hi > lo and n >= 1):
-            raise TheoryInputError(f"speed range --vmin {lo} --vmax {hi} --n {n}: expected 0 < vmin < vmax, n >= 1")
+            raise TheoryInputError(f"speed range --vmin {lo} --vmax {hi} --n {n}: expected 0 < "
+                                   "vmin < vmax, n >= 1")
         return np.geomspace(lo, hi, int(n))
     if scene.velocities:
         return np.asarray(scene.velocities, dtype=float)
@@ -355,18 +370,22 @@ def run_theory(args: argparse.Namespace) -> dict[str, Any]:
         spec = line_spectrum(k, amp / math.sqrt(2.0), dim=1)
         skipped = [m for m in args.models if m != "persson-1d"]
         if skipped:
-            notes.append(f"sine surface: line spectrum, only persson-1d applies (skipped {skipped})")
+            notes.append("sine surface: line spectrum, only persson-1d applies (skipped "
+                         f"{skipped})")
         curves = [persson_curve(spec, rubber, float(pressure), v, T0=T0, options=options,
                                 flash=args.flash, adhesion=adhesion, alpha=alpha)]
-        surf_info = {"source": "sines " + ", ".join(f"{a:g} mm x {lam:g} mm" for a, lam in scene.sines),
+        waves = ", ".join(f"{a:g} mm x {lam:g} mm" for a, lam in scene.sines)
+        surf_info = {"source": "sines " + waves,
                      "lambda_max_mm": max(lam for _, lam in scene.sines),
                      "lambda_min_mm": min(lam for _, lam in scene.sines)}
     else:
         if args.surface:
-            psd = surface_psd(args.surface, lam_max, lam_min, edges=scene.edges if args.surface == "default" else None)
+            edges = scene.edges if args.surface == "default" else None
+            psd = surface_psd(args.surface, lam_max, lam_min, edges=edges)
         else:
             psd = surface_psd(scene.surface, lam_max, lam_min, files=scene.files, edges=scene.edges)
-        curves = theory_curves(psd.q, psd.C1D, rubber, float(pressure), v, T0=T0, models=args.models,
+        curves = theory_curves(psd.q, psd.C1D, rubber, float(pressure), v, T0=T0,
+                               models=args.models,
                                qmin=psd.qmin, qmax=psd.qmax, flash=args.flash, adhesion=adhesion,
                                alpha=alpha, options=options)
         surf_info = {"source": psd.source, "lambda_max_mm": 2 * math.pi / psd.qmin,
@@ -398,7 +417,8 @@ def theory_args(scene: str | Path | None = None, **options: Any) -> argparse.Nam
     return args
 
 
-def scene_theory_curves(scene: str | Path | None = None, **options: Any) -> tuple[list[TheoryCurve], dict]:
+def scene_theory_curves(scene: str | Path | None = None,
+                        **options: Any) -> tuple[list[TheoryCurve], dict]:
     """Theory curves for a scene (the multiscale report draws them beside the FE curve with
     :func:`rubberfriction.driver.theory.curves.add_to_axes`).  Returns the curves and the
     JSON-ready description (conditions, surface, compound, notes)."""
@@ -414,7 +434,8 @@ def _print_table(result: dict[str, Any]) -> None:
     print(f"analytical friction theories: p = {cond['pressure_MPa']:g} MPa, T0 = {T}, "
           f"compound {comp['name']} (nu = {comp['nu']:.4g}), flash temperature "
           f"{'on' if cond['flash_temperature'] else 'off'}")
-    print(f"surface: {surf['source']}, wavelengths {surf['lambda_max_mm']:.4g} .. {surf['lambda_min_mm']:.4g} mm")
+    print(f"surface: {surf['source']}, wavelengths {surf['lambda_max_mm']:.4g} .. "
+          f"{surf['lambda_min_mm']:.4g} mm")
     for note in result.get("notes", []):
         print(f"note: {note}")
     for c in curves:
@@ -497,15 +518,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--compound", help=f"compound name or TOML file (default {DEFAULT_COMPOUND})")
     p.add_argument("--pressure", type=float, help="nominal pressure, MPa (default 0.3)")
     p.add_argument("--velocities", type=float, nargs="+", metavar="V", help="sliding speeds, mm/s")
-    p.add_argument("--vmin", type=float, help=f"log-spaced speeds from (mm/s, default {DEFAULT_VRANGE[0]:g})")
+    p.add_argument("--vmin", type=float,
+                   help=f"log-spaced speeds from (mm/s, default {DEFAULT_VRANGE[0]:g})")
     p.add_argument("--vmax", type=float, help=f"... to (mm/s, default {DEFAULT_VRANGE[1]:g})")
     p.add_argument("--n", type=int, help=f"... number of speeds (default {DEFAULT_N})")
-    p.add_argument("--temperature", type=float, help="background temperature T0, K (default: WLF reference)")
-    p.add_argument("--models", nargs="+", choices=MODELS, default=list(MODELS), help="models to evaluate")
+    p.add_argument("--temperature", type=float,
+                   help="background temperature T0, K (default: WLF reference)")
+    p.add_argument("--models", nargs="+", choices=MODELS, default=list(MODELS),
+                   help="models to evaluate")
     p.add_argument("--lambda-max", type=float, help="longest wavelength included, mm")
-    p.add_argument("--lambda-min", type=float, help="shortest wavelength included (q1 = 2 pi/lambda_min), mm")
-    p.add_argument("--gamma", type=float, default=0.5, help="S(q) = gamma + (1-gamma) P^2 (default 0.5)")
-    p.add_argument("--nu", type=float, help="Poisson ratio (default: the compound's long-term value)")
+    p.add_argument("--lambda-min", type=float,
+                   help="shortest wavelength included (q1 = 2 pi/lambda_min), mm")
+    p.add_argument("--gamma", type=float, default=0.5,
+                   help="S(q) = gamma + (1-gamma) P^2 (default 0.5)")
+    p.add_argument("--nu", type=float,
+                   help="Poisson ratio (default: the compound's long-term value)")
     p.add_argument("--flash", action="store_true", help="flash temperature (Persson 2006)")
     p.add_argument("--adhesion", type=float, nargs=3, metavar=("TAU0", "C", "V0"),
                    help="bell law eq. (7.6): tau0 MPa, c, v0 mm/s")

@@ -35,7 +35,12 @@ from rubberfriction.driver.theory import (
     spectrum_from_psd,
 )
 from rubberfriction.driver.theory.flash import layer_response, surface_response
-from rubberfriction.driver.theory.kluppel import _F, excitation_spectrum, gw_summits, penetration_depth
+from rubberfriction.driver.theory.kluppel import (
+    _F,
+    excitation_spectrum,
+    gw_summits,
+    penetration_depth,
+)
 
 # ---------------------------------------------------------------------------------------------
 # synthetic materials and surfaces
@@ -59,7 +64,8 @@ BROAD_THERMAL = Rubber(prony_modulus(2.0, np.full(25, 20.0), TAUS), nu=0.5, log1
                        rho=1.208e-9, c=1.67e9, k=0.2553, T_ref=293.15)
 
 
-def power_law_psd(H: float = 0.8, q0: float = 0.5, q1: float = 500.0, n: int = 4000, K: float = 1e-4):
+def power_law_psd(H: float = 0.8, q0: float = 0.5, q1: float = 500.0, n: int = 4000,
+                  K: float = 1e-4) -> tuple[np.ndarray, np.ndarray]:
     q = np.geomspace(q0, q1, n)
     return q, K * q ** (-(1 + 2 * H))
 
@@ -188,8 +194,8 @@ def test_contact_area_limits(dim: int) -> None:
         res = persson_friction(spec, ELASTIC, ratio * p_scale, v)
         areas.append(float(res.area[0]))
         # erf(sqrt(2) p/(E* h')) with the same spectrum: the area depends on G(q1) only
-        assert res.area[0] == pytest.approx(float(contact_area_elastic(ratio * p_scale, E_eff, slope)),
-                                            rel=1e-12)
+        closed = float(contact_area_elastic(ratio * p_scale, E_eff, slope))
+        assert res.area[0] == pytest.approx(closed, rel=1e-12)
         assert res.mu[0] == 0.0                   # no loss modulus, no hysteresis
     assert np.all(np.diff(areas) > 0)
     assert areas[-1] > 1 - 1e-15                  # p = 6 E* h': erfc(8.5) ~ 1e-33
@@ -204,8 +210,9 @@ def test_contact_area_viscoelastic_limits() -> None:
     spec = spectrum_from_psd(q, C, 1)
     p0 = 0.05
     res = persson_friction(spec, SLS, p0, np.array([1e-9, 1e12]))
-    assert res.area[0] == pytest.approx(float(contact_area_elastic(p0, 1.0 / 0.75, spec.slope_rms)), rel=1e-5)
-    assert res.area[1] == pytest.approx(float(contact_area_elastic(p0, 3.0 / 0.75, spec.slope_rms)), rel=1e-5)
+    for i, E in enumerate((1.0, 3.0)):
+        closed = float(contact_area_elastic(p0, E / 0.75, spec.slope_rms))
+        assert res.area[i] == pytest.approx(closed, rel=1e-5)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -273,7 +280,8 @@ def test_angle_integral_kelvin_voigt() -> None:
     # G(q1) = 1/2 q^3 m Int_0^{pi/2} |E|^2 / ((1 - nu^2) p0)^2 at any pressure
     p1 = 0.01
     res = persson_friction(spec, kv, p1, v)
-    G = 0.5 * k**3 * m * ((math.pi / 2) * E0**2 + (math.pi / 4) * (eta * k * v) ** 2) / (0.75 * p1) ** 2
+    I2 = (math.pi / 2) * E0**2 + (math.pi / 4) * (eta * k * v) ** 2
+    G = 0.5 * k**3 * m * I2 / (0.75 * p1) ** 2
     assert np.max(np.abs(res.G[:, 0] / G - 1)) < 1e-12
     assert np.max(np.abs(res.area / erf(0.5 / np.sqrt(G)) - 1)) < 1e-12
 
@@ -289,7 +297,8 @@ def test_angle_integral_against_quadrature() -> None:
             ref = quad(lambda ph: math.cos(ph) * rubber.E(k * v * math.cos(ph)).imag,
                        0.0, math.pi / 2, epsabs=0, epsrel=1e-12, limit=200)[0]
             mu_ref = 2 * k**3 * m * ref / (0.75 * p0)
-            res = persson_friction(spec, rubber, p0, np.array([v]), options=PerssonOptions(n_phi=32))
+            res = persson_friction(spec, rubber, p0, np.array([v]),
+                                   options=PerssonOptions(n_phi=32))
             assert res.mu[0] == pytest.approx(mu_ref, rel=1e-6)
 
 
@@ -298,9 +307,11 @@ def test_gamma_correction() -> None:
     k, h = 2 * math.pi / 5, 0.05
     v = np.array([10.0, 100.0])
     spec = line_spectrum(k, h, 1)
-    lo = [persson_friction(spec, SLS, 1e-6, v, options=PerssonOptions(gamma=g)).mu for g in (0.5, 1.0)]
+    lo = [persson_friction(spec, SLS, 1e-6, v, options=PerssonOptions(gamma=g)).mu
+          for g in (0.5, 1.0)]
     assert np.allclose(lo[0] / lo[1], 0.5, rtol=1e-8)
-    hi = [persson_friction(spec, SLS, 10.0, v, options=PerssonOptions(gamma=g)).mu for g in (0.5, 1.0)]
+    hi = [persson_friction(spec, SLS, 10.0, v, options=PerssonOptions(gamma=g)).mu
+          for g in (0.5, 1.0)]
     assert np.allclose(hi[0] / hi[1], 1.0, rtol=1e-12)
 
 
@@ -321,7 +332,8 @@ def test_node_convergence() -> None:
 
 
 def _kernel_by_quadrature(a: float, b: float, tau: float, D: float, k: float) -> float:
-    """(1/k)(2/pi) Int dw [1 - (1 - exp(-D w^2 tau))/(D w^2 tau)]/w^2 a^2 b^2/((a^2+w^2)(b^2+w^2))."""
+    """(1/k)(2/pi) Int dw [1 - (1 - exp(-D w^2 tau))/(D w^2 tau)]/w^2
+    * a^2 b^2/((a^2+w^2)(b^2+w^2))."""
     def f(w: float) -> float:
         s = D * w * w * tau
         phi = 1 - (-math.expm1(-s)) / s if s > 1e-6 else s / 2 - s * s / 6
@@ -339,7 +351,8 @@ def _kernel_by_quadrature(a: float, b: float, tau: float, D: float, k: float) ->
                                      (0.01, 0.02, 1e-3)])
 def test_flash_kernel_against_quadrature(a: float, b: float, tau: float) -> None:
     D, k = 0.1266, 0.2553
-    assert layer_response(a, b, tau, D, k) == pytest.approx(_kernel_by_quadrature(a, b, tau, D, k), rel=1e-8)
+    ref = _kernel_by_quadrature(a, b, tau, D, k)
+    assert layer_response(a, b, tau, D, k) == pytest.approx(ref, rel=1e-8)
 
 
 def test_flash_kernel_limits() -> None:
@@ -350,7 +363,8 @@ def test_flash_kernel_limits() -> None:
     assert float(layer_response(1e8, 2e8, tau, D, k)) == pytest.approx(surf, rel=1e-5)
     # no diffusion (D tau << 1/a^2): heat stays put, J tau a b / (2 (a + b) rho c)
     a, b, t = 0.2, 0.5, 1e-6
-    assert float(layer_response(a, b, t, D, k)) == pytest.approx(t * a * b / (2 * (a + b) * rho_c), rel=1e-6)
+    no_diffusion = t * a * b / (2 * (a + b) * rho_c)
+    assert float(layer_response(a, b, t, D, k)) == pytest.approx(no_diffusion, rel=1e-6)
 
 
 def test_flash_vanishes_for_good_conduction() -> None:
@@ -358,7 +372,7 @@ def test_flash_vanishes_for_good_conduction() -> None:
     spec = spectrum_from_psd(q, C, 1)
     v = np.logspace(0, 4, 5)
     cool = Rubber(BROAD_THERMAL.modulus, nu=0.5, log10_aT=wlf, rho=1.208e-9, c=1.67e9, k=0.2553e12,
-                  T_ref=293.15)      # Delta T ~ 1/sqrt(k rho c): 1e12 x k gives ~1e-6 of the heating
+                  T_ref=293.15)  # Delta T ~ 1/sqrt(k rho c): 1e12 x k, ~1e-6 of the heating
     iso = persson_friction(spec, cool, 0.3, v, T0=293.15)
     fl = persson_friction(spec, cool, 0.3, v, T0=293.15, flash=True)
     assert np.all(fl.converged)
@@ -413,8 +427,8 @@ def test_flash_includes_adhesive_heat() -> None:
     v = np.array([10.0, 100.0])
     law = BellLaw(tau0=3.0, c=0.15, v0=20.0)
     base = persson_friction(spec, BROAD_THERMAL, 0.3, v, T0=293.15, flash=True)
-    off = persson_friction(spec, BROAD_THERMAL, 0.3, v, T0=293.15, flash=True, adhesion=law, alpha=0.0)
-    on = persson_friction(spec, BROAD_THERMAL, 0.3, v, T0=293.15, flash=True, adhesion=law, alpha=1.0)
+    off, on = (persson_friction(spec, BROAD_THERMAL, 0.3, v, T0=293.15, flash=True, adhesion=law,
+                                alpha=a) for a in (0.0, 1.0))
     assert np.allclose(off.temperature_q, base.temperature_q, rtol=0, atol=1e-12)
     assert np.all(on.flash_temperature > base.flash_temperature)
 
@@ -453,8 +467,10 @@ def test_kh_eq29_normalisation() -> None:
         lit = zp / (2 * (2 * math.pi) ** 2 * p0 * vi) * quad(integrand, math.log(w0), math.log(w1),
                                                                limit=400, epsrel=1e-10)[0]
         layer = 2 * zp / (p0 * DESC.xi_perp**2) * quad(
-            lambda lq: math.exp(2 * lq) * BROAD.E(math.exp(lq) * vi).imag * float(DESC.psd(math.exp(lq))),
-            math.log(2 * math.pi / DESC.xi_par), math.log(2 * math.pi / lam_min), limit=400, epsrel=1e-10)[0]
+            lambda lq: math.exp(2 * lq) * BROAD.E(math.exp(lq) * vi).imag
+            * float(DESC.psd(math.exp(lq))),
+            math.log(2 * math.pi / DESC.xi_par), math.log(2 * math.pi / lam_min), limit=400,
+            epsrel=1e-10)[0]
         assert lit == pytest.approx(layer, rel=1e-8)
         assert res.mu[i] == pytest.approx(lit, rel=1e-5)
 
@@ -468,7 +484,8 @@ def test_kh_gw_penetration_depth() -> None:
     # load balance with an independent quadrature of F_3/2 at the recovered separation
     for Ei, z in zip(E_eff, zp):
         h = float(_solve_h_from_zp(z / gw.sigma_s))
-        F32 = quad(lambda s: (s - h) ** 1.5 * math.exp(-s * s / 2) / math.sqrt(2 * math.pi), h, math.inf)[0]
+        F32 = quad(lambda s: (s - h) ** 1.5 * math.exp(-s * s / 2) / math.sqrt(2 * math.pi),
+                   h, math.inf)[0]
         load = gw.eta * (4 / 3) * Ei * math.sqrt(gw.R) * gw.sigma_s**1.5 * F32
         assert load == pytest.approx(p0, rel=2e-3)
     z_lo, z_hi = (float(penetration_depth(gw, p, np.array([20.0]))[0]) for p in (0.05, 0.8))
@@ -636,9 +653,11 @@ def test_read_scene_multiscale_schema(tmp_path) -> None:
     scene = tmp_path / "ms.toml"
     scene.write_text(
         'name = "x"\nvariant = "rough"\n[surface]\nsource = "sines"\namplitudes = [0.075, 0.01]\n'
-        'wavelengths = [5.0, 0.5]\nedges = [10.0, 1.0, 0.1]\n[conditions]\ncompounds = ["m1", "m2"]\n'
+        'wavelengths = [5.0, 0.5]\nedges = [10.0, 1.0, 0.1]\n[conditions]\n'
+        'compounds = ["m1", "m2"]\n'
         'pressures = [0.2, 0.3]\nvelocities = [10.0, 100.0]\nT0 = 20.0\nT0_unit = "degC"\n'
-        '[physics]\nadhesion = false\n[adhesion]\ntau0 = 3.0\nc = 0.15\nv0 = 20.0\n[numerics]\ngrading = 1.3\n'
+        '[physics]\nadhesion = false\n[adhesion]\ntau0 = 3.0\nc = 0.15\nv0 = 20.0\n'
+        '[numerics]\ngrading = 1.3\n'
     )
     sc = read_scene(scene)
     assert sc.sines == [(0.075, 5.0), (0.01, 0.5)]
@@ -660,7 +679,8 @@ def test_cli_theory_sines_scene_full_contact_exact(tmp_path, capsys) -> None:
 
     scene = tmp_path / "sines.toml"
     scene.write_text('[surface]\nsource = "sines"\namplitudes = [0.01]\nwavelengths = [5.0]\n'
-                     '[conditions]\ncompounds = ["tread_default"]\npressures = [2.0]\nvelocities = [1.0, 50.0]\n')
+                     '[conditions]\ncompounds = ["tread_default"]\npressures = [2.0]\n'
+                     'velocities = [1.0, 50.0]\n')
     assert main(["theory", str(scene), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     (curve,) = out["curves"]

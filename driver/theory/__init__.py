@@ -1,4 +1,4 @@
-"""Analytical baselines beside the FE: Persson, Klüppel-Heinrich and adhesion (thesis ch. 2.3.2, 7).
+"""Analytical baselines beside the FE: Persson, Klüppel-Heinrich, adhesion (thesis ch. 2.3.2, 7).
 
 The same surface PSD and the same Prony/WLF compound the FE uses give, in well under a second
 for a 50-speed curve:
@@ -35,7 +35,12 @@ from rubberfriction.driver.theory.persson import (
     persson_friction,
 )
 from rubberfriction.driver.theory.rubber import Rubber, prony_modulus, rubber_from_compound
-from rubberfriction.driver.theory.spectrum import Spectrum, line_spectrum, sinusoid_spectrum, spectrum_from_psd
+from rubberfriction.driver.theory.spectrum import (
+    Spectrum,
+    line_spectrum,
+    sinusoid_spectrum,
+    spectrum_from_psd,
+)
 
 __all__ = [
     "AREA_CONSTANT",

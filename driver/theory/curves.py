@@ -66,7 +66,8 @@ class TheoryCurve:
             "model": self.model, "label": self.label, "v_mm_s": arr(self.v), "mu": arr(self.mu),
             "mu_hysteresis": arr(self.mu_hysteresis), "mu_adhesion": arr(self.mu_adhesion),
             "area_ratio": arr(self.area), "flash_dT_K": arr(self.flash_dT),
-            "extra": {k: (arr(v) if isinstance(v, np.ndarray) else v) for k, v in self.extra.items()},
+            "extra": {k: (arr(v) if isinstance(v, np.ndarray) else v)
+                      for k, v in self.extra.items()},
             "notes": list(self.notes),
         }
 

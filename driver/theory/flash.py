@@ -114,7 +114,8 @@ def _N(x: np.ndarray) -> np.ndarray:
     out[small] = (xs**2 / 2 - 8 * xs**3 / (15 * _SQRT_PI) + xs**4 / 6
                   - 16 * xs**5 / (105 * _SQRT_PI) + xs**6 / 24)
     xl = x[~small]
-    out[~small] = 4.0 * xl / (3.0 * _SQRT_PI) - 1.0 + (erfcx(xl) - 1.0 + 2.0 * xl / _SQRT_PI) / xl**2
+    out[~small] = (4.0 * xl / (3.0 * _SQRT_PI) - 1.0
+                   + (erfcx(xl) - 1.0 + 2.0 * xl / _SQRT_PI) / xl**2)
     return out
 
 

@@ -2,7 +2,7 @@ r"""Klüppel-Heinrich hysteresis friction, thesis eq. (2.9) (Klüppel & Heinrich
 
 ::
 
-    mu_H = 1/(2 (2 pi)^2) <z_p>/(sigma0 v) Int_{omega_min}^{omega_max} omega E''(omega) S(omega) domega
+    mu_H = 1/(2 (2 pi)^2) <z_p>/(sigma0 v) Int_{w_min}^{w_max} w E''(w) S(w) dw    (w = omega)
 
 Assumptions, as we implement them (the original paper's prefactors were not available to us;
 every choice below is derived here and pinned by a test):
@@ -91,7 +91,8 @@ class HDCDescriptors:
     def psd_prefactor(self) -> float:
         """K of ``C1D = K q^-(1+2H)`` (unit mm^(2-2H)), see module docstring."""
         H = self.H
-        return self.xi_perp**2 * self.xi_par ** (-2 * H) * gamma_fn(1 + 2 * H) * math.sin(math.pi * H) / (2 * math.pi)
+        return (self.xi_perp**2 * self.xi_par ** (-2 * H) * gamma_fn(1 + 2 * H)
+                * math.sin(math.pi * H) / (2 * math.pi))
 
     def psd(self, q: np.ndarray) -> np.ndarray:
         """The power-law profile PSD C1D(q) (mm^3) implied by the descriptors."""
@@ -123,7 +124,8 @@ def descriptors_from_psd(q: np.ndarray, C1D: np.ndarray, qmin: float | None = No
     lo = q[0] if qmin is None else float(qmin)
     hi = q[-1] if qmax is None else float(qmax)
     if not (q[0] * (1 - 1e-12) <= lo < hi <= q[-1] * (1 + 1e-12)):
-        raise TheoryInputError(f"fit range {lo:g}..{hi:g} 1/mm outside the PSD range {q[0]:g}..{q[-1]:g}")
+        raise TheoryInputError(f"fit range {lo:g}..{hi:g} 1/mm outside the PSD range "
+                               f"{q[0]:g}..{q[-1]:g}")
     edges = np.geomspace(max(lo, q[0]), min(hi, q[-1]), 41)
     mass = np.diff(cumulative_integral(q, C1D, edges, 0, "linear"))
     ok = mass > 0
@@ -181,7 +183,7 @@ class GWContact:
 
 
 def gw_summits(desc: HDCDescriptors, lambda_min: float) -> GWContact:
-    """McCool/Nayak summit statistics of the power-law PSD from ``2 pi/xi_par`` to ``2 pi/lambda_min``."""
+    """McCool/Nayak summit statistics of the power-law PSD, 2 pi/xi_par to 2 pi/lambda_min."""
     if not (0 < lambda_min < desc.xi_par):
         raise TheoryInputError(
             f"lambda_min = {lambda_min!r} mm must be > 0 and below xi_par = {desc.xi_par:g} mm"
@@ -267,13 +269,15 @@ def kluppel_heinrich_friction(
     ``z_p`` overrides the Greenwood-Williamson penetration depth (mm, scalar or per speed).
     ``n_omega`` log-spaced points integrate eq. (2.9) (trapezoid in log omega).
     """
-    if not (isinstance(pressure, (int, float, np.floating)) and math.isfinite(pressure) and pressure > 0):
+    if not (isinstance(pressure, (int, float, np.floating)) and math.isfinite(pressure)
+            and pressure > 0):
         raise TheoryInputError(f"nominal pressure = {pressure!r} MPa; expected > 0")
     v = np.atleast_1d(np.asarray(velocities, dtype=float))
     if v.ndim != 1 or v.size == 0 or np.any(~np.isfinite(v)) or np.any(v <= 0):
         raise TheoryInputError(f"sliding velocities must be finite and > 0 mm/s; got {v}")
     if not (0 < lambda_min < desc.xi_par):
-        raise TheoryInputError(f"lambda_min = {lambda_min!r} mm; expected 0 < lambda_min < xi_par = {desc.xi_par:g}")
+        raise TheoryInputError(f"lambda_min = {lambda_min!r} mm; expected 0 < lambda_min < "
+                               f"xi_par = {desc.xi_par:g}")
     if T0 is not None and rubber.log10_aT is None:
         raise TheoryInputError(f"T0 = {T0} K given but the rubber has no WLF shift")
     w_min = 2 * math.pi * v / desc.xi_par

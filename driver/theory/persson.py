@@ -10,7 +10,8 @@ Isotropic (2D) roughness: eq. (2.10) (Persson 2001, 2006, 2014)
     mu = 1/2 Int_{q0}^{q1} dq q^3 C(q) P(q) S(q) Int_0^{2 pi} dphi cos(phi)
              Im E(q v cos phi, T_q) / ((1 - nu^2) sigma0)
     P(q) = erf( 1 / (2 sqrt(G(q))) )
-    G(q) = 1/8 Int_{q0}^{q} dq' q'^3 C(q') Int_0^{2 pi} dphi |E(q' v cos phi, T_q') / ((1 - nu^2) sigma0)|^2
+    G(q) = 1/8 Int_{q0}^{q} dq' q'^3 C(q') Int_0^{2 pi} dphi
+             |E(q' v cos phi, T_q') / ((1 - nu^2) sigma0)|^2
     S(q) = gamma + (1 - gamma) P(q)^2
 
 * ``E/(1 - nu^2)`` is the contact modulus of the half-space: a height mode ``h_q`` pressed fully
@@ -167,7 +168,7 @@ class PerssonResult:
 
 
 def full_contact_pressure_sinusoid(k: float, h0: float, E: complex, nu: float = 0.5) -> float:
-    """Smallest nominal pressure (MPa) that keeps ``h0 cos(kx)`` in full contact: ``k h0 |E|/(2(1-nu^2))``."""
+    """Smallest pressure (MPa) keeping ``h0 cos(kx)`` in full contact: ``k h0 |E|/(2(1-nu^2))``."""
     return abs(k * h0) * abs(E) / (2.0 * (1.0 - nu**2))
 
 
@@ -187,7 +188,8 @@ def mu_full_contact_sinusoid(k: float, h0: float, E: complex, p0: float, nu: flo
     return (k * h0) ** 2 * complex(E).imag / (4.0 * (1.0 - nu**2) * p0)
 
 
-def contact_area_elastic(pressure: np.ndarray | float, E_eff: float, slope_rms: float) -> np.ndarray:
+def contact_area_elastic(pressure: np.ndarray | float, E_eff: float,
+                         slope_rms: float) -> np.ndarray:
     """Persson's elastic contact area ``A/A0 = erf(sqrt(2) p/(E_eff h'_rms))`` (both variants).
 
     ``E_eff = E/(1 - nu^2)`` (MPa), ``slope_rms`` = rms slope (1D) or rms gradient (2D).  It is
@@ -198,7 +200,8 @@ def contact_area_elastic(pressure: np.ndarray | float, E_eff: float, slope_rms: 
 
 
 def _check_conditions(pressure: float, v: np.ndarray) -> np.ndarray:
-    if not (isinstance(pressure, (int, float, np.floating)) and math.isfinite(pressure) and pressure > 0):
+    if not (isinstance(pressure, (int, float, np.floating)) and math.isfinite(pressure)
+            and pressure > 0):
         raise TheoryInputError(f"nominal pressure = {pressure!r} MPa; expected a number > 0")
     v = np.atleast_1d(np.asarray(v, dtype=float))
     if v.ndim != 1 or v.size == 0:
@@ -314,15 +317,19 @@ def persson_friction(
     v = _check_conditions(pressure, velocities)
     opts = options if options is not None else PerssonOptions()
     if not isinstance(spectrum, Spectrum):
-        raise TheoryInputError("spectrum must be a Spectrum (use spectrum_from_psd or line_spectrum)")
+        raise TheoryInputError("spectrum must be a Spectrum (use spectrum_from_psd or "
+                               "line_spectrum)")
     if not isinstance(rubber, Rubber):
-        raise TheoryInputError("rubber must be a Rubber (use Rubber(modulus, nu) or rubber_from_compound)")
+        raise TheoryInputError("rubber must be a Rubber (use Rubber(modulus, nu) or "
+                               "rubber_from_compound)")
     if not (0.0 <= alpha <= 1.0):
-        raise TheoryInputError(f"adhesion share alpha = {alpha}; expected 0 <= alpha <= 1 (eq. 7.3)")
+        raise TheoryInputError(f"adhesion share alpha = {alpha}; expected 0 <= alpha <= 1 "
+                               "(eq. 7.3)")
     if T0 is not None:
         if not (math.isfinite(T0) and T0 > 0):
             raise TheoryInputError(f"temperature T0 = {T0!r} K; expected > 0 K")
-        if rubber.log10_aT is None and not (rubber.T_ref is not None and abs(T0 - rubber.T_ref) < 1e-9):
+        at_ref = rubber.T_ref is not None and abs(T0 - rubber.T_ref) < 1e-9
+        if rubber.log10_aT is None and not at_ref:
             raise TheoryInputError(
                 f"T0 = {T0} K given but the rubber has no WLF shift: the modulus is only known at "
                 "its reference temperature"
@@ -371,7 +378,8 @@ def persson_friction(
         for iterations in range(1, fopts.max_iter + 1):
             mu_q, P_bin, P_end, _ = ev(T)
             w = power[:, None] * mu_q                # heat per node, mW/mm^2 (nominal)
-            dT = np.einsum("vij,vj->vi", K_low, w / P_bin) + np.einsum("vij,vj->vi", K_up, w) / P_bin
+            dT = (np.einsum("vij,vj->vi", K_low, w / P_bin)
+                  + np.einsum("vij,vj->vi", K_up, w) / P_bin)
             if tau_A is not None and alpha > 0:
                 # adhesive heat kappa alpha tau_A v on the real area P(q1), spread over patch i
                 flux = kappa * alpha * tau_A * v * P_end[:, -1]

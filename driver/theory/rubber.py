@@ -118,7 +118,8 @@ class Rubber:
         return out.reshape(shape)
 
 
-def prony_modulus(E_inf: float, E_i: np.ndarray, tau_i: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+def prony_modulus(E_inf: float, E_i: np.ndarray,
+                  tau_i: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
     """Generalised Maxwell (Prony) modulus ``E_inf + sum_i E_i i omega tau_i/(1 + i omega tau_i)``.
 
     Thesis eq. (3.33)-(3.36) in the frequency domain: ``E' = E_inf + sum E_i w^2 t^2/(1+w^2 t^2)``
@@ -174,7 +175,8 @@ def rubber_from_compound(compound: Any, T_ref: float | None = None) -> Rubber:
                                 np.asarray(prony.tau, dtype=float))
     else:
         def modulus(omega: np.ndarray) -> np.ndarray:
-            return np.asarray(compound.complex_modulus(np.asarray(omega, dtype=float)), dtype=complex)
+            w = np.asarray(omega, dtype=float)
+            return np.asarray(compound.complex_modulus(w), dtype=complex)
 
     return Rubber(
         modulus=modulus,

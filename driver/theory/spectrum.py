@@ -72,7 +72,8 @@ class Spectrum:
         q = np.asarray(self.q, dtype=float)
         m = np.asarray(self.mass, dtype=float)
         if self.dim not in (1, 2):
-            raise TheoryInputError(f"Spectrum.dim = {self.dim!r}; expected 1 (profile) or 2 (areal)")
+            raise TheoryInputError(f"Spectrum.dim = {self.dim!r}; expected 1 (profile) or 2 "
+                                   "(areal)")
         if q.ndim != 1 or q.shape != m.shape or q.size == 0:
             raise TheoryInputError(
                 f"Spectrum q and mass must be 1D arrays of equal, non-zero length; got shapes "
@@ -161,7 +162,8 @@ def cumulative_integral(q: np.ndarray, f: np.ndarray, x: np.ndarray, moment: int
     ``x`` must lie in ``[q[0], q[-1]]``.
     """
     if interpolation not in ("powerlaw", "linear"):
-        raise TheoryInputError(f"interpolation = {interpolation!r}; expected 'linear' or 'powerlaw'")
+        raise TheoryInputError(f"interpolation = {interpolation!r}; expected 'linear' or "
+                               "'powerlaw'")
     q = np.asarray(q, dtype=float)
     f = np.asarray(f, dtype=float)
     x = np.asarray(x, dtype=float)
@@ -171,7 +173,8 @@ def cumulative_integral(q: np.ndarray, f: np.ndarray, x: np.ndarray, moment: int
         qa, qb, fa, fb = q[i], q[i + 1], f[i], f[i + 1]
         pos = (fa > 0) & (fb > 0) & (interpolation == "powerlaw")
         with np.errstate(divide="ignore", invalid="ignore"):
-            s = np.where(pos, np.log(np.where(pos, fb, 1.0) / np.where(pos, fa, 1.0)) / np.log(qb / qa), 0.0)
+            ratio = np.where(pos, fb, 1.0) / np.where(pos, fa, 1.0)
+            s = np.where(pos, np.log(ratio) / np.log(qb / qa), 0.0)
         L = np.log(upper / qa)
         power = fa * qa ** (m + 1.0) * _expm1_ratio(s + m + 1.0, L)
         # linear interpolant f = fa + beta (q - qa), integrated against q^m exactly
