@@ -1,0 +1,406 @@
+"""Run independent single-scale runs serially or farmed over MPI ranks (mpi4py).
+
+The campaign logic (:mod:`.homogenise`) is a *planner*: it hands out the tasks whose inputs are
+known (``next_tasks()``) and is told every outcome (``record()``); new tasks become ready as
+earlier ones finish (the pressure of scale i+1 needs all samples of scale i).  The farm drives a
+planner to the end:
+
+* **serial** (one rank): take a ready task, execute it, record it, repeat.
+* **MPI** (``mpirun -n N``): dynamic load balancing with rank 0 as dispatcher.  A dispatcher
+  thread on rank 0 owns the planner and answers requests; every rank, rank 0 included (its main
+  thread), is a worker: it asks for a task, executes it, and sends the outcome with its next
+  request.  Protocol on a private duplicate of ``COMM_WORLD``::
+
+      worker -> 0   tag REQUEST  (outcome of the previous task or None)
+      0 -> worker   tag TASK     (Task)  or  tag STOP (None)
+
+  The dispatcher polls with ``Iprobe`` and sleeps ``poll`` seconds when idle, so it costs rank 0
+  almost no CPU.  This needs ``MPI_THREAD_MULTIPLE`` (rank 0's worker runs PETSc on
+  ``COMM_SELF`` while the dispatcher talks on the world communicator); with a lower thread
+  level rank 0 only dispatches (one worker fewer) and says so.
+
+*Executing* a task (:class:`Executor`) happens on the rank that got it: look the key up in the
+store (a finished run is reused, not recomputed), otherwise run it on ``MPI.COMM_SELF`` (its own
+communicator: a single-scale run never spans ranks), store it atomically from that rank and
+return the small :class:`~rubberfriction.driver.store.Outcome`.  Storing on the worker means a
+finished run is on disk the moment it finishes, whatever happens to the other ranks; the store's
+one-file-per-run layout makes concurrent writers safe.  A run that raises is caught and recorded
+as a failure (``failure="error"``, with the traceback); it never stops the campaign.
+
+Determinism: a run depends only on its inputs (its key), and the planner combines outcomes in
+sample order, not arrival order, so the stored results and the averages do not depend on which
+rank ran what or when.
+
+Scaling (many nodes, thousands of runs): the work is embarrassingly parallel within a stage; the
+limits are (1) the number of runs ready at once -- in the rough-surface cascade that is
+(points x samples) per stage, so ranks beyond that idle until the next stage (run many (p, v,
+compound) points in one scene to fill a large allocation); (2) the longest single run (no run is
+split over ranks); (3) one dispatcher: each request costs it ~0.1 ms, negligible against runs of
+seconds to minutes even for thousands of ranks; (4) the store folder must be on a file system
+every rank sees (one small file per run; thousands are fine, millions would want an object store).
+"""
+
+from __future__ import annotations
+
+import inspect
+import queue
+import sys
+import threading
+import time
+import traceback
+from collections import deque
+from dataclasses import dataclass, field
+from typing import Any, Callable, Protocol
+
+from rubberfriction.driver.store import Outcome, Store
+
+TAG_REQUEST, TAG_TASK, TAG_STOP = 11, 12, 13
+
+
+@dataclass(frozen=True)
+class Task:
+    """One independent run: its store key, the runner's input (a SlidingSpec) and a label."""
+
+    key: str
+    payload: Any
+    label: dict = field(default_factory=dict, hash=False, compare=False)
+
+
+class Planner(Protocol):
+    """The campaign logic as the farm sees it."""
+
+    def next_tasks(self) -> list[Task]:
+        """Tasks that became ready since the last call (each task is handed out once)."""
+
+    def record(self, task: Task, outcome: Outcome) -> None:
+        """The outcome of a task returned by next_tasks."""
+
+    def total(self) -> int:
+        """Number of tasks the campaign will run in total (for progress)."""
+
+
+class ProgressLike(Protocol):
+    def start(self, total: int, workers: int) -> None: ...
+    def update(self, task: Task, outcome: Outcome) -> None: ...
+    def finish(self) -> None: ...
+
+
+class StaticPlanner:
+    """A planner for a fixed list of independent tasks (studies, benchmarks, tests)."""
+
+    def __init__(self, tasks: list[Task]):
+        self.tasks = list(tasks)
+        self.outcomes: dict[int, Outcome] = {}
+        self._issued = False
+
+    def total(self) -> int:
+        return len(self.tasks)
+
+    def next_tasks(self) -> list[Task]:
+        if self._issued:
+            return []
+        self._issued = True
+        return list(self.tasks)
+
+    def record(self, task: Task, outcome: Outcome) -> None:
+        for i, t in enumerate(self.tasks):
+            if t is task or (t.key == task.key and t.label == task.label):
+                self.outcomes[i] = outcome
+
+    def ordered(self) -> list[Outcome]:
+        """Outcomes in task order (after the farm finished)."""
+        return [self.outcomes[i] for i in range(len(self.tasks))]
+
+
+class FarmError(RuntimeError):
+    """The campaign could not be driven (planner bug, dispatcher failure)."""
+
+
+def failure_result(reason: str) -> Any:
+    """A SlidingResult-like failed result for a run that raised."""
+    from types import SimpleNamespace
+
+    return SimpleNamespace(status="failed", reason=reason, series={}, stats={}, dissipation_by_depth=None,
+                           mu_force=float("nan"), mu_energy=float("nan"), mean_pressure=float("nan"),
+                           contact_fraction=float("nan"), t_reached=0.0)
+
+
+def default_runner() -> Callable[[Any], Any]:
+    """``run_sliding`` from :mod:`rubberfriction.driver.sliding`, called on ``MPI.COMM_SELF``.
+
+    Raises ImportError with a clear message when the sliding driver has no ``run_sliding``.
+    """
+    from rubberfriction.driver import sliding
+
+    fn = getattr(sliding, "run_sliding", None)
+    if fn is None:
+        raise ImportError("rubberfriction.driver.sliding.run_sliding is not available in this build "
+                          "(the single-scale run with its default mesh and contact factories)")
+    try:
+        params = inspect.signature(fn).parameters
+    except (TypeError, ValueError):
+        params = {}
+    if "comm" in params:
+        from mpi4py import MPI
+
+        def runner(spec: Any) -> Any:
+            return fn(spec, comm=MPI.COMM_SELF)
+
+        return runner
+    return fn
+
+
+class Executor:
+    """Execute one task where it lands: reuse from the store, or run and store it."""
+
+    def __init__(self, store: Store, runner: Callable[[Any], Any], *, retry_failed: bool = False,
+                 settings: dict | None = None):
+        self.store = store
+        self.runner = runner
+        self.retry_failed = retry_failed
+        self.settings = settings or {}
+
+    def _reusable(self, task: Task) -> Outcome | None:
+        out = self.store.outcome(task.key)
+        if out is None:
+            return None
+        if out.failure == "error" or (out.failure == "physics" and self.retry_failed):
+            return None
+        return out
+
+    def __call__(self, task: Task) -> Outcome:
+        out = self._reusable(task)
+        if out is not None:
+            return out
+        t0 = time.perf_counter()
+        failure = None
+        try:
+            result = self.runner(task.payload)
+        except Exception as err:  # noqa: BLE001 -- a failing run must never stop the campaign
+            tb = traceback.format_exc(limit=6)
+            result = failure_result(f"error: {type(err).__name__}: {err}\n{tb}")
+            failure = "error"
+        wall = time.perf_counter() - t0
+        stats = getattr(result, "stats", None)
+        if isinstance(stats, dict) and "wall_time" in stats:
+            wall = float(stats["wall_time"])
+        return self.store.put(task.key, task.payload, result, wall_time=wall, label=task.label,
+                              failure=failure, settings=self.settings)
+
+
+class _Book:
+    """In-campaign bookkeeping shared by the serial and MPI drivers: a task whose key is already
+    finished (or in flight) in this campaign is not executed twice."""
+
+    def __init__(self, planner: Planner, progress: ProgressLike | None):
+        self.planner = planner
+        self.progress = progress
+        self.ready: deque[Task] = deque()
+        self.done: dict[str, Outcome] = {}
+        self.waiting: dict[str, list[Task]] = {}  # key in flight -> duplicate tasks
+        self.in_flight = 0
+
+    def pull(self) -> None:
+        for t in self.planner.next_tasks():
+            if t.key in self.done:
+                self._record(t, self.done[t.key])
+            elif t.key in self.waiting:
+                self.waiting[t.key].append(t)
+            else:
+                self.ready.append(t)
+
+    def take(self) -> Task | None:
+        while self.ready:
+            t = self.ready.popleft()
+            if t.key in self.done:
+                self._record(t, self.done[t.key])
+                continue
+            if t.key in self.waiting:
+                self.waiting[t.key].append(t)
+                continue
+            self.waiting[t.key] = []
+            self.in_flight += 1
+            return t
+        return None
+
+    def finish(self, task: Task, outcome: Outcome) -> None:
+        self.in_flight -= 1
+        self.done[task.key] = outcome
+        dups = self.waiting.pop(task.key, [])
+        self._record(task, outcome)
+        for t in dups:
+            self._record(t, outcome)
+        self.pull()
+
+    def _record(self, task: Task, outcome: Outcome) -> None:
+        self.planner.record(task, outcome)
+        if self.progress is not None:
+            self.progress.update(task, outcome)
+
+    @property
+    def finished(self) -> bool:
+        return not self.ready and self.in_flight == 0
+
+
+def run_serial(planner: Planner, execute: Callable[[Task], Outcome],
+               progress: ProgressLike | None = None) -> dict[str, Outcome]:
+    """Drive the planner on this process alone. Returns outcomes by key."""
+    book = _Book(planner, progress)
+    if progress is not None:
+        progress.start(planner.total(), 1)
+    book.pull()
+    while True:
+        task = book.take()
+        if task is None:
+            if book.finished:
+                break
+            raise FarmError("planner deadlock: no task ready and none running")  # pragma: no cover
+        book.finish(task, execute(task))
+    if progress is not None:
+        progress.finish()
+    return book.done
+
+
+def run_farm(make_planner: Callable[[], Planner], execute: Callable[[Task], Outcome],
+             progress: ProgressLike | None = None, comm: Any = None,
+             poll: float = 0.02) -> tuple[Planner | None, dict[str, Outcome]]:
+    """Run a campaign on all ranks of ``comm`` (default: COMM_WORLD, or serial without MPI).
+
+    Every rank calls this with the same arguments; ``make_planner`` is only called on rank 0.
+    Returns ``(planner, outcomes)`` on rank 0 and ``(None, {})`` on the other ranks.  An
+    exception raised while planning on rank 0 stops all workers and is re-raised on rank 0.
+    """
+    if comm is None:
+        comm = _world()
+    if comm is None or comm.Get_size() == 1:
+        planner = make_planner()
+        return planner, run_serial(planner, execute, progress)
+    comm = comm.Dup()
+    try:
+        if comm.Get_rank() == 0:
+            return _master(comm, make_planner, execute, progress, poll)
+        _worker(comm, execute)
+        return None, {}
+    finally:
+        comm.Free()
+
+
+def _world() -> Any:
+    try:
+        from mpi4py import MPI
+    except ImportError:  # pragma: no cover - mpi4py is a hard dependency of the FE stack
+        return None
+    return MPI.COMM_WORLD
+
+
+def _worker(comm: Any, execute: Callable[[Task], Outcome]) -> None:
+    from mpi4py import MPI
+
+    status = MPI.Status()
+    outcome: tuple[Task, Outcome] | None = None
+    while True:
+        comm.send(outcome, dest=0, tag=TAG_REQUEST)
+        task = comm.recv(source=0, tag=MPI.ANY_TAG, status=status)
+        if status.Get_tag() == TAG_STOP:
+            return
+        outcome = (task, execute(task))
+
+
+def _master(comm: Any, make_planner: Callable[[], Planner], execute: Callable[[Task], Outcome],
+            progress: ProgressLike | None, poll: float) -> tuple[Planner | None, dict[str, Outcome]]:
+    from mpi4py import MPI
+
+    nworkers = comm.Get_size() - 1
+    local = MPI.Query_thread() >= MPI.THREAD_MULTIPLE
+    if not local:
+        print("farm: MPI thread level below THREAD_MULTIPLE: rank 0 only dispatches "
+              f"({nworkers} workers)", file=sys.stderr)
+    try:
+        planner = make_planner()
+    except BaseException:
+        _stop_all(comm, nworkers)
+        raise
+    book = _Book(planner, progress)
+    if progress is not None:
+        progress.start(planner.total(), nworkers + (1 if local else 0))
+    to_local: queue.Queue = queue.Queue()
+    from_local: queue.Queue = queue.Queue()
+    failure: list[BaseException] = []
+    abort = threading.Event()
+
+    def dispatch() -> None:
+        st = MPI.Status()
+        idle: deque[int] = deque()
+        local_idle = local
+        try:
+            book.pull()
+            while True:
+                if abort.is_set():
+                    raise FarmError("rank 0 worker failed")
+                busy = False
+                while comm.Iprobe(source=MPI.ANY_SOURCE, tag=TAG_REQUEST, status=st):
+                    src = st.Get_source()
+                    msg = comm.recv(source=src, tag=TAG_REQUEST)
+                    if msg is not None:
+                        book.finish(*msg)
+                    idle.append(src)
+                    busy = True
+                while True:
+                    try:
+                        msg = from_local.get_nowait()
+                    except queue.Empty:
+                        break
+                    book.finish(*msg)
+                    local_idle = True
+                    busy = True
+                while idle or local_idle:
+                    task = book.take()
+                    if task is None:
+                        break
+                    if local_idle:  # rank 0's own worker first: no message needed
+                        to_local.put(task)
+                        local_idle = False
+                    else:
+                        comm.send(task, dest=idle.popleft(), tag=TAG_TASK)
+                    busy = True
+                if book.finished and (local_idle or not local) and len(idle) == nworkers:
+                    break
+                if not busy:
+                    time.sleep(poll)
+        except BaseException as err:  # noqa: BLE001 -- reported on the main thread
+            failure.append(err)
+        finally:
+            for _ in range(nworkers):  # every worker is (or will be) waiting for an answer
+                while not idle:
+                    comm.recv(source=MPI.ANY_SOURCE, tag=TAG_REQUEST, status=st)
+                    idle.append(st.Get_source())
+                comm.send(None, dest=idle.popleft(), tag=TAG_STOP)
+            to_local.put(None)
+
+    thread = threading.Thread(target=dispatch, name="rf-dispatcher", daemon=True)
+    thread.start()
+    try:
+        while local:
+            task = to_local.get()
+            if task is None:
+                break
+            from_local.put((task, execute(task)))
+    except BaseException:
+        abort.set()  # the dispatcher stops the workers, then we re-raise
+        thread.join()
+        raise
+    thread.join()
+    if failure:
+        raise FarmError(f"campaign dispatcher failed: {failure[0]!r}") from failure[0]
+    if progress is not None:
+        progress.finish()
+    return planner, book.done
+
+
+def _stop_all(comm: Any, nworkers: int) -> None:
+    from mpi4py import MPI
+
+    st = MPI.Status()
+    for _ in range(nworkers):
+        comm.recv(source=MPI.ANY_SOURCE, tag=TAG_REQUEST, status=st)
+        comm.send(None, dest=st.Get_source(), tag=TAG_STOP)

@@ -1,0 +1,432 @@
+"""Campaign report: CSV tables, plots (matplotlib, Agg) and a text summary.
+
+Files written into the campaign's output folder:
+
+* ``results.csv`` -- one row per (compound, p, v) point: mu with standard deviation, 95 %
+  confidence interval and the number of samples the average used / that failed, flagged scales;
+  separated variant: reference mu, relative difference, wall times.  These rows are the mu(v)
+  and mu(p) curves.
+* ``scales.csv`` -- per point and scale (thesis fig. 6.29 a): the pressure applied on the scale
+  (eq. 6.12) with the spread of the samples that gave it, the Coulomb mu from the scale below,
+  the overall mu (eq. 6.13), mu from dissipated energy, contact fraction (7.4), overall relative
+  contact area (7.5), dissipation (mu_energy x p: energy per unit sliding length and nominal
+  area, mJ/mm^3 = MPa), flags and notes.
+* ``samples.csv`` -- every single-scale run (thesis fig. 6.29 b): branch, scale, sample, status,
+  failure reason, inputs and results, wall time, whether it was reused, store key.
+* ``mu_v.png``, ``mu_p.png`` -- the curves with 95 % CI error bars.
+* ``scales_<point>.png`` -- fig. 6.29 a (p, mu, A_r over scales with spread);
+  ``samples_<point>.png`` -- fig. 6.29 b (per-sample values per scale);
+  ``dissipation_<point>.png`` -- fig. 6.29 c (dissipation over depth) when the runs provide it.
+* separated variant: ``friction_law_<point>.png`` (fig. 6.4 a: the spline law with the micro
+  raw data) and ``comparison.png`` (fig. 6.4 b, c: mu and wall time, multiscale vs reference).
+* ``summary.txt`` (also printed), ``scene.toml`` (the scene as run), ``campaign.json``
+  (provenance: code version, git describe, times, counts, surface provenance).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import re
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from rubberfriction.driver.homogenise import PointResult, SampleCountStudy, SampleStats
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _slug(text: str) -> str:
+    return re.sub(r"[^A-Za-z0-9.=_-]+", "_", text).strip("_")
+
+
+def _fmt(x: Any) -> Any:
+    if isinstance(x, float):
+        return "" if math.isnan(x) else f"{x:.6g}"
+    return x
+
+
+def _stats(prefix: str, st: SampleStats | None) -> dict[str, Any]:
+    if st is None:
+        return {prefix: math.nan, f"{prefix}_std": math.nan, f"{prefix}_ci95": math.nan,
+                f"{prefix}_n_used": 0, f"{prefix}_n_failed": 0}
+    return st.as_dict(prefix)
+
+
+def _write_csv(path: Path, rows: list[dict[str, Any]]) -> Path:
+    keys: list[str] = []
+    for r in rows:
+        for k in r:
+            if k not in keys:
+                keys.append(k)
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=keys)
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: _fmt(r.get(k, "")) for k in keys})
+    return path
+
+
+# ----------------------------------------------------------------------------------------------
+# tables
+# ----------------------------------------------------------------------------------------------
+
+
+def point_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
+    rows = []
+    for r in points:
+        row: dict[str, Any] = {"variant": r.variant, "compound": r.point.compound, "pressure_MPa": r.point.pressure,
+                               "velocity_mm_s": r.point.velocity, "status": r.status, "reason": r.reason}
+        row.update(_stats("mu", r.mu))
+        if r.variant == "rough":
+            row["mu_adhesion"] = r.mu_adhesion
+            row["area_ratio"] = r.area_ratio
+            row["flagged_scales"] = " ".join(s.name for s in r.scales if s.flagged)
+        else:
+            for k in ("mu_reference", "relative_difference", "time_multiscale", "time_reference", "time_ratio",
+                      "macro_mean_pressure"):
+                row[k] = r.extra.get(k, math.nan)
+        row["runs"] = sum(len(v) for v in r.runs.values())
+        row["runs_failed"] = sum(not o.ok for v in r.runs.values() for _, o in v)
+        row["wall_time_s"] = r.wall_time
+        rows.append(row)
+    return rows
+
+
+def scale_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
+    rows = []
+    for r in points:
+        for s in r.scales:
+            row: dict[str, Any] = {"compound": r.point.compound, "pressure_MPa": r.point.pressure,
+                                   "velocity_mm_s": r.point.velocity, "scale": s.index, "name": s.name,
+                                   "lambda_long_mm": s.band[0], "lambda_short_mm": s.band[1],
+                                   "pressure": s.pressure}
+            sp = s.pressure_spread
+            row.update({"pressure_std": sp.std if sp else math.nan, "pressure_ci95": sp.ci95 if sp else math.nan,
+                        "pressure_n_used": sp.n_used if sp else 0, "pressure_n_failed": sp.n_failed if sp else 0})
+            row.update(_stats("mean_contact_pressure", s.pressure_down))
+            row["friction_in"] = s.friction_in
+            row.update(_stats("mu", s.mu))
+            row.update(_stats("mu_energy", s.mu_energy))
+            row.update(_stats("contact_fraction", s.contact))
+            row["area_ratio"] = s.area_ratio
+            row.update(_stats("dissipation_MPa", s.dissipation))
+            row["flagged"] = s.flagged
+            row["notes"] = "; ".join(s.notes)
+            rows.append(row)
+    return rows
+
+
+def sample_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
+    rows = []
+    for r in points:
+        for stage, runs in r.runs.items():
+            for t, o in runs:
+                lab = t.label
+                rows.append({"point": r.point.id, "branch": lab.get("branch"), "scale": lab.get("scale"),
+                             "scale_name": lab.get("scale_name"), "sample": lab.get("sample"),
+                             "pressure_in": lab.get("pressure_in"), "velocity_in": lab.get("velocity_in",
+                                                                                         r.point.velocity),
+                             "friction_in": lab.get("friction_in"), "status": o.status, "failure": o.failure,
+                             "reason": o.reason.splitlines()[0] if o.reason else "",
+                             "mean_pressure": o.value("mean_pressure"), "mu_force": o.value("mu_force"),
+                             "mu_energy": o.value("mu_energy"), "contact_fraction": o.value("contact_fraction"),
+                             "wall_time_s": o.wall_time, "reused": o.reused, "key": o.key})
+    return rows
+
+
+def time_by_scale(points: Sequence[PointResult]) -> dict[str, float]:
+    """Wall time of the runs per scale name (computed and reused alike: the cost of the scale)."""
+    out: dict[str, float] = {}
+    for r in points:
+        for runs in r.runs.values():
+            for t, o in runs:
+                name = str(t.label.get("scale_name"))
+                out[name] = out.get(name, 0.0) + o.wall_time
+    return out
+
+
+# ----------------------------------------------------------------------------------------------
+# text
+# ----------------------------------------------------------------------------------------------
+
+
+def _pm(st: SampleStats | None) -> str:
+    if st is None or math.isnan(st.mean):
+        return "n/a"
+    spread = f" +- {st.ci95:.3g} (95% CI, std {st.std:.3g})" if st.n_used > 1 else " (one sample: no spread)"
+    fail = f", {st.n_failed} failed" if st.n_failed else ""
+    return f"{st.mean:.4g}{spread} [{st.n_used} samples{fail}]"
+
+
+def summary_text(result: Any) -> str:
+    sc = result.scene
+    lines = [f"scene {sc.name!r} ({sc.variant}) from {sc.source}: {len(result.points)} point(s), "
+             f"{result.n_runs} single-scale runs ({result.n_reused} reused, {result.n_failed} failed), "
+             f"{result.wall_time:.1f} s on {result.workers} worker(s)"]
+    for r in result.points:
+        head = f"  {r.point.id}: "
+        if not r.ok:
+            lines.append(head + f"FAILED: {r.reason}")
+            continue
+        lines.append(head + f"mu = {_pm(r.mu)}")
+        if r.variant == "rough":
+            if not math.isnan(r.mu_adhesion):
+                lines.append(f"      adhesive share alpha mu_A = {r.mu_adhesion:.4g} (eq. 7.8)")
+            for s in r.scales:
+                flag = "  FLAGGED: too many failed samples" if s.flagged else ""
+                lines.append(f"      {s.name:<8} p = {s.pressure:.4g} MPa  mu = {_pm(s.mu)}  A/A0 = "
+                             f"{s.contact.mean if s.contact else math.nan:.3g}  A_r = {s.area_ratio:.3g}{flag}")
+        else:
+            e = r.extra
+            lines.append(f"      reference (single scale, full profile): mu = {e.get('mu_reference', math.nan):.4g}; "
+                         f"difference {100 * e.get('relative_difference', math.nan):+.2f} %")
+            lines.append(f"      wall time: multiscale {e.get('time_multiscale', math.nan):.1f} s, reference "
+                         f"{e.get('time_reference', math.nan):.1f} s (ratio {e.get('time_ratio', math.nan):.3g})")
+    shares = time_by_scale(result.points)
+    total = sum(shares.values())
+    if total > 0:
+        lines.append("  run time per scale: " + ", ".join(f"{k} {100 * v / total:.0f} %" for k, v in shares.items()))
+    return "\n".join(lines)
+
+
+# ----------------------------------------------------------------------------------------------
+# plots
+# ----------------------------------------------------------------------------------------------
+
+
+def _errorbar(ax, x, sts: list[SampleStats | None], **kw) -> None:
+    y = np.array([s.mean if s else math.nan for s in sts])
+    e = np.array([s.ci95 if s and s.n_used > 1 else 0.0 for s in sts])
+    ax.errorbar(x, y, yerr=e, capsize=3, marker="o", **kw)
+
+
+def plot_curves(points: Sequence[PointResult], out: Path) -> list[Path]:
+    """mu(v) per (compound, p) and mu(p) per (compound, v), 95 % CI error bars."""
+    plt = _plt()
+    files = []
+    for axis, other, fname, xlabel in (("velocity", "pressure", "mu_v.png", "sliding velocity v (mm/s)"),
+                                       ("pressure", "velocity", "mu_p.png", "nominal pressure p (MPa)")):
+        fig, ax = plt.subplots(figsize=(6, 4))
+        groups: dict[tuple[str, float], list[PointResult]] = {}
+        for r in points:
+            groups.setdefault((r.point.compound, getattr(r.point, other)), []).append(r)
+        for (comp, val), rs in groups.items():
+            rs = sorted(rs, key=lambda r: getattr(r.point, axis))
+            x = [getattr(r.point, axis) for r in rs]
+            unit = "MPa" if other == "pressure" else "mm/s"
+            _errorbar(ax, x, [r.mu if r.ok else None for r in rs], label=f"{comp}, {other[0]} = {val:g} {unit}")
+            for r in rs:
+                if r.ok and r.mu is not None:
+                    ax.annotate(f"n={r.mu.n_used}", (getattr(r.point, axis), r.mu.mean), fontsize=7,
+                                textcoords="offset points", xytext=(4, 4))
+        if axis == "velocity":
+            ax.set_xscale("log")
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("coefficient of friction mu")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(out / fname, dpi=120)
+        plt.close(fig)
+        files.append(out / fname)
+    return files
+
+
+def plot_scales(r: PointResult, out: Path) -> list[Path]:
+    """Thesis fig. 6.29 a (overall p, mu, A_r over scales) and b (per-sample values)."""
+    plt = _plt()
+    files = []
+    idx = [s.index + 1 for s in r.scales]
+    names = [s.name for s in r.scales]
+    fig, axs = plt.subplots(1, 3, figsize=(11, 3.5))
+    p_stats = [s.pressure_spread for s in r.scales]
+    axs[0].errorbar(idx, [s.pressure for s in r.scales],
+                    yerr=[st.ci95 if st and st.n_used > 1 else 0.0 for st in p_stats], marker="o", capsize=3)
+    axs[0].set_ylabel("pressure p (MPa)")
+    _errorbar(axs[1], idx, [s.mu for s in r.scales])
+    axs[1].set_ylabel("overall mu (eq. 6.13)")
+    axs[2].plot(idx, [s.area_ratio for s in r.scales], marker="o")
+    axs[2].set_yscale("log")
+    axs[2].set_ylabel("overall A_r (eq. 7.5)")
+    for ax in axs:
+        ax.set_xticks(idx, names)
+        ax.set_xlabel("scale")
+        ax.grid(True, alpha=0.3)
+    fig.suptitle(f"{r.point.id}: quantities over scales (thesis fig. 6.29 a)", fontsize=10)
+    fig.tight_layout()
+    f = out / f"scales_{_slug(r.point.id)}.png"
+    fig.savefig(f, dpi=120)
+    plt.close(fig)
+    files.append(f)
+    fig, axs = plt.subplots(1, 3, figsize=(11, 3.5))
+    for s in r.scales:
+        if s.pressure_down is not None:
+            axs[0].plot(np.arange(1, s.pressure_down.n_total + 1), s.pressure_down.values, "o-", label=s.name)
+        if s.mu is not None:
+            axs[1].plot(np.arange(1, s.mu.n_total + 1), s.mu.values, "o-", label=s.name)
+        if s.contact is not None:
+            axs[2].plot(np.arange(1, s.contact.n_total + 1), s.contact.values, "o-", label=s.name)
+    for ax, lab in zip(axs, ("mean contact pressure (eq. 6.11)", "mu per sample", "contact fraction")):
+        ax.set_xlabel("surface sample k / j")
+        ax.set_ylabel(lab)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(f"{r.point.id}: per-sample values (thesis fig. 6.29 b; failed samples missing)", fontsize=10)
+    fig.tight_layout()
+    f = out / f"samples_{_slug(r.point.id)}.png"
+    fig.savefig(f, dpi=120)
+    plt.close(fig)
+    files.append(f)
+    return files
+
+
+def plot_dissipation(r: PointResult, store: Any, out: Path) -> list[Path]:
+    """Thesis fig. 6.29 c: dissipation over depth of the first sample of each scale (if stored)."""
+    plt = _plt()
+    curves = []
+    for stage, runs in r.runs.items():
+        if not stage.startswith("up") or not runs:
+            continue
+        t, o = runs[0]
+        if not o.ok or not store.has(o.key):
+            continue
+        dd = store.load(o.key).dissipation_by_depth
+        if dd is not None and len(dd[0]):
+            curves.append((t.label.get("scale_name"), dd))
+    if not curves:
+        return []
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for name, (z, d) in curves:
+        ax.plot(d / max(np.max(np.abs(d)), 1e-300), z, label=str(name))
+    ax.set_xlabel("relative dissipated energy")
+    ax.set_ylabel("depth z (mm)")
+    ax.legend(fontsize=8)
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    f = out / f"dissipation_{_slug(r.point.id)}.png"
+    fig.savefig(f, dpi=120)
+    plt.close(fig)
+    return [f]
+
+
+def plot_separated(points: Sequence[PointResult], out: Path) -> list[Path]:
+    """Thesis fig. 6.4: (a) micro law with raw data, (b) mu multiscale vs reference, (c) times."""
+    plt = _plt()
+    files = []
+    for r in points:
+        e = r.extra
+        if "law" not in e:
+            continue
+        from rubberfriction.driver.homogenise import _law_from_dict
+
+        law = _law_from_dict(e["law"])
+        P, V = e["grid_p"], e["grid_v"]
+        pp = np.linspace(P.min(), P.max(), 40)
+        fig, ax = plt.subplots(figsize=(6, 4))
+        for k, v in enumerate(V):
+            line, = ax.plot(pp, law(pp, np.full_like(pp, v)), label=f"v = {v:g} mm/s")
+            ax.plot(P, e["grid_mu"][:, k], "o", color=line.get_color())
+        ax.set_xlabel("micro pressure p (MPa)")
+        ax.set_ylabel("micro mu (spline eq. 6.6; dots: runs)")
+        ax.legend(fontsize=8)
+        ax.grid(True, alpha=0.3)
+        fig.tight_layout()
+        f = out / f"friction_law_{_slug(r.point.id)}.png"
+        fig.savefig(f, dpi=120)
+        plt.close(fig)
+        files.append(f)
+    ok = [r for r in points if r.ok and "mu_reference" in r.extra]
+    if ok:
+        fig, axs = plt.subplots(1, 2, figsize=(9, 3.5))
+        lab = [r.point.id for r in ok]
+        x = np.arange(len(ok))
+        axs[0].bar(x - 0.2, [r.extra["mu_reference"] for r in ok], 0.4, label="reference (single scale)")
+        axs[0].bar(x + 0.2, [r.mu.mean for r in ok], 0.4, label="multiscale")  # type: ignore[union-attr]
+        axs[0].set_ylabel("mu")
+        axs[0].legend(fontsize=8)
+        axs[1].bar(x - 0.2, [1.0 for _ in ok], 0.4, label="reference")
+        axs[1].bar(x + 0.2, [r.extra.get("time_ratio", math.nan) for r in ok], 0.4, label="multiscale")
+        axs[1].set_ylabel("relative wall time")
+        axs[1].legend(fontsize=8)
+        for ax in axs:
+            ax.set_xticks(x, lab, fontsize=7)
+        fig.suptitle("multiscale vs single-scale reference (thesis fig. 6.4 b, c)", fontsize=10)
+        fig.tight_layout()
+        f = out / "comparison.png"
+        fig.savefig(f, dpi=120)
+        plt.close(fig)
+        files.append(f)
+    return files
+
+
+def plot_sample_study(study: SampleCountStudy, path: Path, title: str = "") -> Path:
+    """Thesis fig. 6.13: (a) histogram of mu, (b) running means of three orders and +-S(n)."""
+    plt = _plt()
+    fig, axs = plt.subplots(1, 2, figsize=(10, 3.8))
+    axs[0].hist(study.values, bins=max(5, int(np.sqrt(study.values.size))), color="0.6", edgecolor="k")
+    axs[0].set_xlabel("mu of one sample")
+    axs[0].set_ylabel("frequency m(mu)")
+    n = study.n
+    for k, run in enumerate(study.examples, start=1):
+        axs[1].plot(n, run, lw=1, label=f"order k = {k}")
+    axs[1].axhline(study.mean_ref, color="k", lw=1, label=f"reference mean of {n[-1]}")
+    axs[1].fill_between(n, study.mean_ref - study.S, study.mean_ref + study.S, color="C0", alpha=0.15,
+                        label="+- S(n) (random orders)")
+    axs[1].set_xlabel("number of samples n")
+    axs[1].set_ylabel("sample mean of mu")
+    axs[1].legend(fontsize=7)
+    for ax in axs:
+        ax.grid(True, alpha=0.3)
+    fig.suptitle(title or "sample-count study (thesis fig. 6.13)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def study_rows(study: SampleCountStudy) -> list[dict[str, Any]]:
+    return [{"n": int(k), "S": float(s), "S_exact": float(se), "mean_ref": study.mean_ref}
+            for k, s, se in zip(study.n, study.S, study.S_exact)]
+
+
+# ----------------------------------------------------------------------------------------------
+# all of it
+# ----------------------------------------------------------------------------------------------
+
+
+def write_report(result: Any, quiet: bool = False) -> list[Path]:
+    """Write every table and plot of a finished campaign into its output folder."""
+    from rubberfriction.driver.campaign import campaign_json
+
+    out = Path(result.output)
+    out.mkdir(parents=True, exist_ok=True)
+    pts = result.points
+    files = [_write_csv(out / "results.csv", point_rows(pts)),
+             _write_csv(out / "scales.csv", scale_rows(pts)),
+             _write_csv(out / "samples.csv", sample_rows(pts))]
+    files += plot_curves(pts, out)
+    for r in pts:
+        if r.variant == "rough" and r.ok:
+            files += plot_scales(r, out)
+            files += plot_dissipation(r, result.store, out)
+    if result.scene.variant == "separated":
+        files += plot_separated(pts, out)
+    text = summary_text(result)
+    (out / "summary.txt").write_text(text + "\n")
+    (out / "scene.toml").write_text(result.scene.text)
+    (out / "campaign.json").write_text(campaign_json(result) + "\n")
+    files += [out / "summary.txt", out / "scene.toml", out / "campaign.json"]
+    if not quiet:
+        print(text)
+        print(f"report: {out}/ (results.csv, scales.csv, samples.csv, plots)")
+    return files

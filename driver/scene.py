@@ -1,0 +1,580 @@
+"""Scenes: the user's description of a multiscale friction campaign (TOML), validated early.
+
+A scene says *what* to compute -- surface, scales, samples, compounds, pressures, velocities,
+temperature, physics -- and *how finely* (numerical settings).  ``rubberfriction run SCENE``
+runs it; ``rubberfriction run`` runs the embedded default scene (``driver/scenes/default.toml``).
+Every key, its default and its meaning is in :data:`SCHEMA` below (the one place defaults are
+written down); ``rubberfriction run --schema`` prints it.
+
+Validation fails early with a message that names the file, the key, the value and what is
+expected; unknown keys are rejected with a did-you-mean suggestion.  Relative paths in a scene
+(``surface.files``, compound files) are relative to the scene file; ``output`` is relative to
+the current directory.
+
+Variants (``variant``):
+
+* ``"rough"`` -- rough road surfaces, thesis 6.3.2 (fig. 6.7, 6.8): band-pass scales (eq. 6.10,
+  6.14), ``samples.pressure`` (k) frictionless samples per scale to pass the mean contact
+  pressure down (eq. 6.11, 6.12), ``samples.friction`` (j) samples per scale to pass the
+  coefficient of friction up (eq. 6.13).  Any number of scales.
+* ``"separated"`` -- separated scales, thesis 6.2 (fig. 6.1): two scales, micro runs on a
+  (p, v) grid, a smooth spline law mu(p, v) (eq. 6.6) fitted to them, the macro run with that
+  law in the contact; optionally the single-scale reference on the full profile (fig. 6.4).
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import tomllib
+from dataclasses import dataclass, field, fields, replace
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+#: Shipped scenes (``driver/scenes/<name>.toml``); ``load_scene("two_sine")`` finds them by name.
+SCENES_PACKAGE = "rubberfriction.driver.scenes"
+
+
+class SceneError(ValueError):
+    """A scene that cannot be run; the message names the key, the value and what is expected."""
+
+
+# ----------------------------------------------------------------------------------------------
+# the schema: one place for keys, types, defaults and meaning
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Key:
+    """One scene key: its type, default, admissible values and meaning."""
+
+    kind: str  # "str" "int" "float" "bool" "floats" "strs" "ints" "opt_float"
+    default: Any
+    doc: str
+    choices: tuple = ()
+    minimum: float | None = None  # value >= minimum
+    above: float | None = None  # value > above
+    maximum: float | None = None  # value <= maximum
+    nonempty: bool = False
+
+
+SCHEMA: dict[str, dict[str, Key]] = {
+    "": {
+        "name": Key("str", "scene", "name of the scene (labels the runs and the report)"),
+        "description": Key("str", "", "free text"),
+        "variant": Key("str", "rough", "rough: rough-surface cascade (thesis 6.3.2); separated: two "
+                       "separated scales with a spline law mu(p, v) (thesis 6.2)", choices=("rough", "separated")),
+        "output": Key("str", "rf-results/{name}", "output folder (relative to the current directory); "
+                      "{name} is replaced by the scene name; the command line --out wins"),
+    },
+    "surface": {
+        "source": Key("str", "default_road", "default_road: CAPTIF chipseal + self-affine fine extension "
+                      "(driver.surfaces.default_road); files: measured profiles listed in 'files'; "
+                      "sines: one sine wave per scale (amplitudes, wavelengths)",
+                      choices=("default_road", "files", "sines")),
+        "files": Key("strs", [], "source = files: profile files (relative to the scene file), one or "
+                     "more resolutions of one road; each band is cut from the coarsest file resolving it"),
+        "edges": Key("floats", [20.0, 3.0, 0.3, 0.04, 0.003], "scale edges in mm, descending: scale i is "
+                     "the band edges[i]..edges[i+1] (eq. 6.10, 6.14); source = sines: optional, each "
+                     "wavelength must lie in its band"),
+        "names": Key("strs", [], "scale names (default: macro, meso, micro1, micro2 / scale0..)"),
+        "block_lengths": Key("floats", [], "rubber block length per scale in mm (default: the long edge "
+                             "of each band, thesis 6.5.1; sines: periods_per_block x wavelength)"),
+        "top_fraction": Key("float", 0.2, "sample centres lie on the top fraction of the carrier "
+                            "(thesis 6.5.1: contact happens on the top asperities)", above=0.0, maximum=1.0),
+        "seed": Key("int", 1, "seed of the sample positions (same seed, same samples)", minimum=0),
+        "amplitudes": Key("floats", [], "source = sines: amplitude of each wave in mm (scale order)"),
+        "wavelengths": Key("floats", [], "source = sines: wavelength of each wave in mm, descending"),
+        "periods_per_block": Key("int", 1, "source = sines: block length in wavelengths", minimum=1),
+        "points_per_wavelength": Key("int", 64, "source = sines: vertices of the rigid polyline per "
+                                     "wavelength", minimum=8),
+    },
+    "samples": {
+        "pressure": Key("int", 2, "k: surface samples per scale on the frictionless pressure branch "
+                        "(eq. 6.11, 6.12); the thesis argues k < j suffices", minimum=1),
+        "friction": Key("int", 2, "j: surface samples per scale on the friction branch (eq. 6.13); "
+                        "the thesis uses 10 (6.4.2: S(10) ~ S(1)/3)", minimum=1),
+        "max_failed_fraction": Key("float", 0.25, "a scale on which more than this fraction of the "
+                                   "samples failed is flagged in the report", minimum=0.0, maximum=1.0),
+    },
+    "conditions": {
+        "compounds": Key("strs", ["tread_default"], "compound names (forms/data) or TOML files "
+                         "(relative to the scene file)", nonempty=True),
+        "pressures": Key("floats", [0.3], "global nominal pressures p in MPa", nonempty=True, above=0.0),
+        "velocities": Key("floats", [1.0, 10.0, 100.0], "global sliding velocities v in mm/s (full slip: "
+                          "the same v on every scale, thesis 6.3.2)", nonempty=True, above=0.0),
+        "T0": Key("opt_float", None, "temperature T0 (unit: T0_unit); omitted: the compound's WLF "
+                  "reference temperature"),
+        "T0_unit": Key("str", "K", "unit of T0", choices=("K", "degC")),
+    },
+    "physics": {
+        "hysteresis": Key("bool", True, "viscoelastic rubber (Prony series, history variables); false: "
+                          "long-term elastic rubber, no history variables are built"),
+        "adhesion": Key("bool", False, "bell-law adhesion on the macro scale with the multiscale real "
+                        "contact area (thesis 7.3, eq. 7.5-7.8); needs the [adhesion] table"),
+        "thermal": Key("bool", False, "thermomechanical macro scale (thesis ch. 8): not available in "
+                       "this version"),
+    },
+    "adhesion": {
+        "tau0": Key("float", 3.0, "peak adhesive shear stress in MPa (eq. 7.6)", minimum=0.0),
+        "c": Key("float", 0.15, "width of the bell (eq. 7.6, decadic log)", above=0.0),
+        "v0": Key("float", 20.0, "velocity of the peak in mm/s (eq. 7.6)", above=0.0),
+        "alpha": Key("float", 1.0, "share of adhesion, 1 dry .. 0 lubricated (eq. 7.8)", minimum=0.0,
+                     maximum=1.0),
+    },
+    "numerics": {
+        "elements_per_wavelength": Key("int", 8, "contact-face elements per shortest wavelength of a "
+                                       "sample (the run's element size rule)", minimum=2),
+        "grading": Key("float", 1.2, "growth ratio of element height away from the contact face",
+                       minimum=1.0, maximum=3.0),
+        "slide_periods": Key("float", 2.0, "sliding distance in block lengths", above=0.0),
+        "window_start": Key("float", 1.0 / 3.0, "fraction of the sliding distance before the time "
+                            "average of eq. (6.2) starts (run-in)", minimum=0.0, maximum=0.9),
+        "step_per_element": Key("float", 0.5, "sliding step / contact element size", above=0.0, maximum=4.0),
+        "compression_steps": Key("int", 10, "steps of the compression phase", minimum=1),
+        "contact": Key("str", "mortar", "contact formulation (falls back to nts when a run fails)",
+                       choices=("mortar", "nts")),
+        "element": Key("str", "Q1P0", "rubber element", choices=("Q1P0", "Q1")),
+        "max_cutbacks": Key("int", 8, "step halvings before a step counts as failed", minimum=0),
+    },
+    "separated": {
+        "pressures": Key("floats", [], "micro grid pressures in MPa; empty: pressure_factors x the mean "
+                         "contact pressure of the frictionless macro run (thesis 6.2.1 step C)", above=0.0),
+        "pressure_factors": Key("floats", [0.25, 0.5, 1.0, 2.0, 4.0], "see pressures", above=0.0),
+        "velocities": Key("floats", [], "micro grid velocities in mm/s; empty: velocity_factors x v",
+                          above=0.0),
+        "velocity_factors": Key("floats", [0.5, 1.0, 2.0], "see velocities", above=0.0),
+        "micro_window_start": Key("float", 0.0, "window start of the micro time average; 0 includes the "
+                                  "micro run-in, which the thesis finds necessary (6.2.3)", minimum=0.0,
+                                  maximum=0.9),
+        "micro_slide_periods": Key("float", 1.5, "micro sliding distance in block lengths (thesis 6.2.3: "
+                                   "1.5 wavelengths)", above=0.0),
+        "reference": Key("bool", True, "also run the single-scale reference on the full profile and "
+                         "compare mu and wall time (thesis fig. 6.4)"),
+        "spline_degree": Key("int", 3, "highest spline degree per axis (eq. 6.6); lowered to the grid",
+                             minimum=1, maximum=5),
+        "smoothing": Key("float", 0.0, "FITPACK smoothing factor of the spline fit (0: interpolate)",
+                         minimum=0.0),
+    },
+}
+
+SECTIONS = tuple(k for k in SCHEMA if k)
+
+
+def schema_text() -> str:
+    """All keys with defaults and meaning, as TOML comments (``rubberfriction run --schema``)."""
+    lines = []
+    for section, keys in SCHEMA.items():
+        if section:
+            lines.append(f"\n[{section}]")
+        for name, key in keys.items():
+            default = _toml_value(key.default)
+            extra = f" (one of {', '.join(map(str, key.choices))})" if key.choices else ""
+            lines.append(f"{name} = {default}  # {key.doc}{extra}")
+    return "\n".join(lines).lstrip() + "\n"
+
+
+def _toml_value(v: Any) -> str:
+    if v is None:
+        return "<unset>"
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return f'"{v}"'
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    return repr(v)
+
+
+# ----------------------------------------------------------------------------------------------
+# typed scene
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class SurfaceConfig:
+    source: str
+    files: tuple[Path, ...]
+    edges: tuple[float, ...]
+    names: tuple[str, ...]
+    block_lengths: tuple[float, ...]
+    top_fraction: float
+    seed: int
+    amplitudes: tuple[float, ...]
+    wavelengths: tuple[float, ...]
+    periods_per_block: int
+    points_per_wavelength: int
+
+    @property
+    def n_scales(self) -> int:
+        return len(self.wavelengths) if self.source == "sines" else len(self.edges) - 1
+
+
+@dataclass(frozen=True)
+class SamplesConfig:
+    pressure: int
+    friction: int
+    max_failed_fraction: float
+
+
+@dataclass(frozen=True)
+class ConditionsConfig:
+    compounds: tuple[str, ...]  # as written in the scene
+    compound_paths: tuple[str, ...]  # names or resolved file paths, for load_compound
+    pressures: tuple[float, ...]
+    velocities: tuple[float, ...]
+    T0: float | None  # kelvin
+
+
+@dataclass(frozen=True)
+class PhysicsConfig:
+    hysteresis: bool
+    adhesion: bool
+    thermal: bool
+
+
+@dataclass(frozen=True)
+class AdhesionConfig:
+    tau0: float
+    c: float
+    v0: float
+    alpha: float
+
+
+@dataclass(frozen=True)
+class NumericsConfig:
+    elements_per_wavelength: int
+    grading: float
+    slide_periods: float
+    window_start: float
+    step_per_element: float
+    compression_steps: int
+    contact: str
+    element: str
+    max_cutbacks: int
+
+
+@dataclass(frozen=True)
+class SeparatedConfig:
+    pressures: tuple[float, ...]
+    pressure_factors: tuple[float, ...]
+    velocities: tuple[float, ...]
+    velocity_factors: tuple[float, ...]
+    micro_window_start: float
+    micro_slide_periods: float
+    reference: bool
+    spline_degree: int
+    smoothing: float
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene (plain typed data; see :data:`SCHEMA`)."""
+
+    name: str
+    description: str
+    variant: str
+    output: Path
+    surface: SurfaceConfig
+    samples: SamplesConfig
+    conditions: ConditionsConfig
+    physics: PhysicsConfig
+    adhesion: AdhesionConfig | None
+    numerics: NumericsConfig
+    separated: SeparatedConfig | None
+    source: str  # file path or "embedded:<name>"
+    text: str = field(repr=False, default="")  # the TOML as given (stored with the results)
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def n_scales(self) -> int:
+        return self.surface.n_scales
+
+    def with_output(self, output: str | Path) -> Scene:
+        return replace(self, output=Path(output))
+
+    def with_samples(self, pressure: int | None = None, friction: int | None = None) -> Scene:
+        s = self.samples
+        return replace(self, samples=replace(s, pressure=pressure or s.pressure, friction=friction or s.friction))
+
+
+# ----------------------------------------------------------------------------------------------
+# loading and validation
+# ----------------------------------------------------------------------------------------------
+
+
+def _where(section: str, key: str) -> str:
+    return f"[{section}].{key}" if section else key
+
+
+def _suggest(name: str, allowed: list[str]) -> str:
+    close = difflib.get_close_matches(name, allowed, n=1, cutoff=0.6)
+    return f"; did you mean {close[0]!r}?" if close else ""
+
+
+def _check_value(origin: str, section: str, name: str, key: Key, value: Any) -> Any:
+    where = f"{origin}: {_where(section, name)} = {value!r}"
+
+    def number(v: Any, what: str) -> float:
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise SceneError(f"{where}: expected {what}")
+        v = float(v)
+        if not math.isfinite(v):
+            raise SceneError(f"{where}: expected a finite {what}")
+        if key.minimum is not None and v < key.minimum:
+            raise SceneError(f"{where}: expected {what} >= {key.minimum:g}")
+        if key.above is not None and v <= key.above:
+            raise SceneError(f"{where}: expected {what} > {key.above:g}")
+        if key.maximum is not None and v > key.maximum:
+            raise SceneError(f"{where}: expected {what} <= {key.maximum:g}")
+        return v
+
+    k = key.kind
+    if k == "str":
+        if not isinstance(value, str):
+            raise SceneError(f"{where}: expected a string")
+        if key.choices and value not in key.choices:
+            raise SceneError(f"{where}: expected one of {', '.join(map(repr, key.choices))}"
+                             f"{_suggest(value, list(key.choices))}")
+        return value
+    if k == "bool":
+        if not isinstance(value, bool):
+            raise SceneError(f"{where}: expected true or false")
+        return value
+    if k == "int":
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise SceneError(f"{where}: expected an integer")
+        return int(number(value, "an integer"))
+    if k == "float":
+        return number(value, "a number")
+    if k == "opt_float":
+        return None if value is None else number(value, "a number")
+    if k in ("floats", "strs"):
+        if isinstance(value, (int, float, str)) and not isinstance(value, bool):
+            value = [value]  # a single value where a list is expected
+        if not isinstance(value, list):
+            raise SceneError(f"{where}: expected a list")
+        if key.nonempty and not value:
+            raise SceneError(f"{where}: expected a non-empty list")
+        if k == "strs":
+            if not all(isinstance(v, str) for v in value):
+                raise SceneError(f"{where}: expected a list of strings")
+            return tuple(value)
+        return tuple(number(v, "a list of numbers") for v in value)
+    raise AssertionError(k)  # pragma: no cover
+
+
+def _table(origin: str, doc: dict, section: str) -> dict[str, Any]:
+    """Validated values of one section (defaults filled in), unknown keys rejected."""
+    keys = SCHEMA[section]
+    table = doc if not section else doc.get(section, {})
+    if not isinstance(table, dict):
+        raise SceneError(f"{origin}: [{section}] must be a table, got {table!r}")
+    allowed = list(keys) + ([] if section else list(SECTIONS))
+    for name in table:
+        if name not in allowed:
+            what = "section" if not section and isinstance(table[name], dict) else "key"
+            raise SceneError(f"{origin}: unknown {what} {_where(section, name)!s}{_suggest(name, allowed)} "
+                             f"(allowed: {', '.join(allowed)})")
+    out = {}
+    for name, key in keys.items():
+        if name in table:
+            out[name] = _check_value(origin, section, name, key, table[name])
+        else:
+            d = key.default
+            out[name] = tuple(d) if isinstance(d, list) else d
+    return out
+
+
+def _resolve_file(origin: str, base: Path | None, where: str, text: str) -> Path:
+    p = Path(text).expanduser()
+    if not p.is_absolute() and base is not None:
+        p = base / p
+    if not p.is_file():
+        raise SceneError(f"{origin}: {where} = {text!r}: file not found (looked at {p})")
+    return p
+
+
+def _compound_path(origin: str, base: Path | None, i: int, text: str) -> str:
+    from rubberfriction.forms.materials import available, resolve_data_path
+
+    where = f"[conditions].compounds[{i}]"
+    if text.endswith(".toml") or "/" in text:
+        return str(_resolve_file(origin, base, where, text))
+    try:
+        resolve_data_path(text)
+    except ValueError:
+        names = available("compound")
+        raise SceneError(f"{origin}: {where} = {text!r}: no shipped compound of that name and no such "
+                         f"file{_suggest(text, names)} (shipped: {', '.join(names)})") from None
+    return text
+
+
+def _check_edges(origin: str, edges: tuple[float, ...]) -> None:
+    where = f"{origin}: [surface].edges = {list(edges)}"
+    if len(edges) < 2:
+        raise SceneError(f"{where}: expected at least two wavelengths (lambda_max, lambda_min) in mm")
+    if any(e <= 0 for e in edges):
+        raise SceneError(f"{where}: expected positive wavelengths in mm")
+    for i in range(len(edges) - 1):
+        if edges[i + 1] >= edges[i]:
+            raise SceneError(f"{where}: expected strictly descending wavelengths (lambda_max first), but "
+                             f"edges[{i + 1}] = {edges[i + 1]:g} >= edges[{i}] = {edges[i]:g}")
+
+
+def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) -> Scene:
+    """Validate a scene given as TOML text; ``base`` is the folder relative paths start from."""
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise SceneError(f"{origin}: not valid TOML: {err}") from None
+    top = _table(origin, doc, "")
+    vals = {s: _table(origin, doc, s) for s in SECTIONS}
+    warnings: list[str] = []
+
+    # --- surface ------------------------------------------------------------------------------
+    s = vals["surface"]
+    given = doc.get("surface", {})
+    if s["source"] == "sines":
+        amps, lams = s["amplitudes"], s["wavelengths"]
+        if not lams:
+            raise SceneError(f"{origin}: [surface].wavelengths = []: source = \"sines\" needs one wavelength "
+                             "(mm) per scale")
+        if len(amps) != len(lams):
+            raise SceneError(f"{origin}: [surface].amplitudes = {list(amps)}: expected one amplitude per "
+                             f"wavelength ({len(lams)} wavelengths given)")
+        if any(v <= 0 for v in lams) or any(a < 0 for a in amps):
+            raise SceneError(f"{origin}: [surface].wavelengths/amplitudes: expected wavelengths > 0 and "
+                             "amplitudes >= 0 (mm)")
+        if any(lams[i + 1] >= lams[i] for i in range(len(lams) - 1)):
+            raise SceneError(f"{origin}: [surface].wavelengths = {list(lams)}: expected strictly "
+                             "descending wavelengths (macro scale first)")
+        if "edges" in given:
+            _check_edges(origin, s["edges"])
+            if len(s["edges"]) != len(lams) + 1:
+                raise SceneError(f"{origin}: [surface].edges = {list(s['edges'])}: {len(lams)} waves need "
+                                 f"{len(lams) + 1} edges (or omit edges)")
+            for i, lam in enumerate(lams):
+                if not s["edges"][i + 1] < lam <= s["edges"][i]:
+                    raise SceneError(f"{origin}: [surface].edges = {list(s['edges'])}: wavelength {lam:g} mm "
+                                     f"of scale {i} is outside its band {s['edges'][i]:g}-{s['edges'][i + 1]:g} mm")
+        else:
+            s["edges"] = ()
+    else:
+        _check_edges(origin, s["edges"])
+        for k in ("amplitudes", "wavelengths"):
+            if k in given:
+                raise SceneError(f"{origin}: [surface].{k}: only for source = \"sines\" (source is {s['source']!r})")
+    if s["source"] == "files":
+        if not s["files"]:
+            raise SceneError(f"{origin}: [surface].files = []: source = \"files\" needs at least one profile file")
+        s["files"] = tuple(_resolve_file(origin, base, f"[surface].files[{i}]", f) for i, f in enumerate(s["files"]))
+    elif s["files"]:
+        raise SceneError(f"{origin}: [surface].files: only for source = \"files\" (source is {s['source']!r})")
+    surface = SurfaceConfig(**s)
+    n = surface.n_scales
+    for k in ("names", "block_lengths"):
+        if surface.__dict__[k] and len(surface.__dict__[k]) != n:
+            raise SceneError(f"{origin}: [surface].{k} = {list(surface.__dict__[k])}: expected {n} entries, "
+                             f"one per scale (the edges give {n} scales)")
+    if any(b <= 0 for b in surface.block_lengths):
+        raise SceneError(f"{origin}: [surface].block_lengths = {list(surface.block_lengths)}: expected "
+                         "positive lengths in mm")
+
+    # --- conditions -------------------------------------------------------------------------------
+    c = vals["conditions"]
+    paths = tuple(_compound_path(origin, base, i, t) for i, t in enumerate(c["compounds"]))
+    T0 = c["T0"]
+    if T0 is not None and c["T0_unit"] == "degC":
+        T0 = T0 + 273.15
+    if T0 is not None and T0 <= 0:
+        raise SceneError(f"{origin}: [conditions].T0 = {c['T0']!r} {c['T0_unit']}: expected a temperature "
+                         "above absolute zero")
+    conditions = ConditionsConfig(c["compounds"], paths, c["pressures"], c["velocities"], T0)
+
+    # --- physics ---------------------------------------------------------------------------------
+    physics = PhysicsConfig(**vals["physics"])
+    if physics.thermal:
+        raise SceneError(f"{origin}: [physics].thermal = true: the thermomechanical macro scale (thesis "
+                         "ch. 8) is not available in this version; expected false")
+    if not physics.hysteresis and not physics.adhesion:
+        raise SceneError(f"{origin}: [physics]: hysteresis = false and adhesion = false leave nothing to "
+                         "compute; expected at least one of them true")
+    adhesion = None
+    if physics.adhesion:
+        if "adhesion" not in doc:
+            raise SceneError(f"{origin}: [physics].adhesion = true: expected an [adhesion] table with tau0 "
+                             "(MPa), c, v0 (mm/s) and alpha (eq. 7.6-7.8)")
+        adhesion = AdhesionConfig(**vals["adhesion"])
+    elif "adhesion" in doc:
+        warnings.append("[adhesion] is ignored: [physics].adhesion = false")
+
+    # --- variant ---------------------------------------------------------------------------------
+    separated = None
+    if top["variant"] == "separated":
+        if n != 2:
+            raise SceneError(f"{origin}: variant = \"separated\": expected exactly two scales (macro, micro), "
+                             f"the surface gives {n}")
+        if physics.adhesion:
+            raise SceneError(f"{origin}: variant = \"separated\" with [physics].adhesion = true: adhesion is "
+                             "coupled in the rough-surface variant only (thesis 7.3); expected variant = \"rough\"")
+        separated = SeparatedConfig(**vals["separated"])
+        if not separated.pressures and not separated.pressure_factors:
+            raise SceneError(f"{origin}: [separated]: expected pressures or pressure_factors")
+        if not separated.velocities and not separated.velocity_factors:
+            raise SceneError(f"{origin}: [separated]: expected velocities or velocity_factors")
+        for axis, plural in (("pressure", "pressures"), ("velocity", "velocities")):
+            grid = getattr(separated, plural) or getattr(separated, axis + "_factors")
+            if len(set(grid)) != len(grid) or len(grid) < 2:
+                raise SceneError(f"{origin}: [separated].{plural}/{axis}_factors = {list(grid)}: expected at "
+                                 "least two distinct values (a spline needs two points per axis)")
+    elif "separated" in doc:
+        warnings.append("[separated] is ignored: variant = \"rough\"")
+
+    name = top["name"]
+    output = Path(top["output"].replace("{name}", name))
+    return Scene(name=name, description=top["description"], variant=top["variant"], output=output,
+                 surface=surface, samples=SamplesConfig(**vals["samples"]), conditions=conditions,
+                 physics=physics, adhesion=adhesion, numerics=NumericsConfig(**vals["numerics"]),
+                 separated=separated, source=origin, text=text, warnings=tuple(warnings))
+
+
+def shipped_scenes() -> list[str]:
+    """Names of the scenes shipped in ``driver/scenes``."""
+    return sorted(p.name[:-5] for p in resources.files(SCENES_PACKAGE).iterdir() if p.name.endswith(".toml"))
+
+
+def load_scene(path: str | Path | None = None) -> Scene:
+    """Load and validate a scene: a file path, a shipped scene name, or None for the default."""
+    if path is None:
+        path = "default"
+    p = Path(path).expanduser()
+    if p.is_file():
+        return parse_scene(p.read_text(), str(p), p.resolve().parent)
+    name = str(path)
+    if "/" not in name and not name.endswith(".toml") and name in shipped_scenes():
+        text = resources.files(SCENES_PACKAGE).joinpath(f"{name}.toml").read_text()
+        return parse_scene(text, f"embedded:{name}", None)
+    hint = _suggest(name, shipped_scenes())
+    raise SceneError(f"scene {name!r}: no such file and no shipped scene of that name{hint} "
+                     f"(shipped: {', '.join(shipped_scenes())})")
+
+
+def override(scene: Scene, **changes: Any) -> Scene:
+    """A copy of the scene with top-level or section fields replaced (for tests and studies).
+
+    ``override(scene, samples={"friction": 10}, conditions={"velocities": (100.0,)})``.
+    """
+    kw: dict[str, Any] = {}
+    for name, val in changes.items():
+        cur = getattr(scene, name)
+        if isinstance(val, dict):
+            allowed = {f.name for f in fields(cur)}
+            bad = set(val) - allowed
+            if bad:
+                raise SceneError(f"override: unknown key(s) {sorted(bad)} for {name}")
+            kw[name] = replace(cur, **val)
+        else:
+            kw[name] = val
+    return replace(scene, **kw)
