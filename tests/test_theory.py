@@ -367,9 +367,10 @@ def test_flash_kernel_limits() -> None:
     assert float(layer_response(a, b, t, D, k)) == pytest.approx(no_diffusion, rel=1e-6)
 
 
-def test_flash_vanishes_for_good_conduction() -> None:
+@pytest.mark.parametrize("dim", [1, 2])
+def test_flash_vanishes_for_good_conduction(dim: int) -> None:
     q, C = power_law_psd(0.8, 0.3, 1000.0, 2000)
-    spec = spectrum_from_psd(q, C, 1)
+    spec = spectrum_from_psd(q, C if dim == 1 else 0.6 * C / q, dim, n_nodes=100)
     v = np.logspace(0, 4, 5)
     cool = Rubber(BROAD_THERMAL.modulus, nu=0.5, log10_aT=wlf, rho=1.208e-9, c=1.67e9, k=0.2553e12,
                   T_ref=293.15)  # Delta T ~ 1/sqrt(k rho c): 1e12 x k, ~1e-6 of the heating

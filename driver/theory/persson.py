@@ -375,8 +375,14 @@ def persson_friction(
         relax = np.full(nv, fopts.relax)
         prev_change = np.full(nv, np.inf)
         prev_step = np.zeros((nv, nq))
+        # 2D: iterate on a half-size angle rule until the temperatures are within 100 tol, then
+        # on the full rule, so the fixed point is the full rule's (saves ~40 % of the time)
+        ev_iter = ev
+        if spectrum.dim == 2 and opts.n_phi >= 16:
+            half = PerssonOptions(gamma=opts.gamma, n_phi=opts.n_phi // 2)
+            ev_iter = _Evaluator(spectrum, rubber, float(pressure), v, half)
         for iterations in range(1, fopts.max_iter + 1):
-            mu_q, P_bin, P_end, _ = ev(T)
+            mu_q, P_bin, P_end, _ = ev_iter(T)
             w = power[:, None] * mu_q                # heat per node, mW/mm^2 (nominal)
             dT = (np.einsum("vij,vj->vi", K_low, w / P_bin)
                   + np.einsum("vij,vj->vi", K_up, w) / P_bin)
@@ -387,6 +393,9 @@ def persson_friction(
             T_new = T0 + dT
             change = np.max(np.abs(T_new - T), axis=1)
             converged = change < fopts.tol
+            if ev_iter is not ev and np.max(change) < 100.0 * fopts.tol:
+                ev_iter = ev
+                converged[:] = False
             if np.all(converged):
                 T = T_new
                 break
