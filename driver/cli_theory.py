@@ -427,6 +427,33 @@ def scene_theory_curves(scene: str | Path | None = None,
     return curves, result
 
 
+def draw_beside_fe(ax_mu: Any, scene: str | Path | None, *, v_fe: Any, compound: str | None = None,
+                   pressure: float | None = None, T0: float | None = None,
+                   models: tuple[str, ...] = ("persson-1d", "persson-2d"),
+                   ax_area: Any | None = None, n: int = 40) -> tuple[list[TheoryCurve], list[str]]:
+    """Draw the theory curves of a scene on the multiscale report's mu(v) axes (and A/A0 axes).
+
+    The curves span the FE speeds ``v_fe`` (mm/s) with a factor 3 margin on a log grid of ``n``
+    speeds, for the FE's compound, pressure and temperature.  A failure (e.g. a surface the
+    theories cannot read) never breaks the report: it is returned as a note and nothing is
+    drawn.  Returns (curves, notes).
+    """
+    from rubberfriction.driver.theory.curves import add_to_axes
+
+    v = np.asarray(v_fe, dtype=float).ravel()
+    v = v[np.isfinite(v) & (v > 0)]
+    if v.size == 0:
+        return [], ["theory: no FE speeds > 0 to compare with"]
+    grid = list(np.geomspace(v.min() / 3.0, v.max() * 3.0, n))
+    try:
+        curves, info = scene_theory_curves(scene, velocities=grid, compound=compound,
+                                           pressure=pressure, temperature=T0, models=list(models))
+    except (TheoryInputError, ValueError, OSError) as err:
+        return [], [f"theory curves not drawn: {err}"]
+    add_to_axes(curves, ax_mu, ax_area)
+    return curves, list(info.get("notes", [])) + [n_ for c in curves for n_ in c.notes]
+
+
 def _print_table(result: dict[str, Any]) -> None:
     curves: list[TheoryCurve] = result["_curves"]
     cond, surf, comp = result["conditions"], result["surface"], result["compound"]

@@ -692,6 +692,27 @@ def test_cli_theory_sines_scene_full_contact_exact(tmp_path, capsys) -> None:
         assert mu == pytest.approx(mu_full_contact_sinusoid(k, 0.01, E, 2.0, nu=rub.nu), rel=1e-9)
 
 
+def test_draw_beside_fe(tmp_path) -> None:
+    """The report hook draws the theory curves on given axes and never raises."""
+    pytest.importorskip("rubberfriction.forms.materials")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rubberfriction.driver.cli_theory import draw_beside_fe
+
+    scene = tmp_path / "sines.toml"
+    scene.write_text('[surface]\nsource = "sines"\namplitudes = [0.01]\nwavelengths = [5.0]\n')
+    fig, ax = plt.subplots()
+    curves, notes = draw_beside_fe(ax, scene, v_fe=[10.0, 100.0], pressure=0.3, n=12)
+    assert [c.model for c in curves] == ["persson-1d"] and len(ax.lines) == 1
+    assert curves[0].v[0] == pytest.approx(10.0 / 3) and curves[0].v[-1] == pytest.approx(300.0)
+    curves, notes = draw_beside_fe(ax, tmp_path / "missing.toml", v_fe=[10.0])
+    assert curves == [] and "not found" in notes[0]
+    plt.close(fig)
+
+
 def test_cli_theory_bad_scene(tmp_path, capsys) -> None:
     from rubberfriction.driver.cli import main
 
