@@ -4,12 +4,14 @@ gmsh keeps global state. `gmsh_session` initialises it, silences its terminal ou
 `verbose`, pins the options that influence reproducibility (one thread, fixed random seed) and
 always finalises it, also on errors. The mesh builders therefore must not be called while the
 caller holds an initialised gmsh session of its own (gmsh 4.8 cannot tell whether it is
-initialised). gmsh is imported here, lazily: importing it resets the SIGINT handler, which
-`gmsh.finalize` restores.
+initialised). gmsh is imported here, lazily: importing it resets the SIGINT handler (so
+Ctrl-C would no longer raise KeyboardInterrupt); the session puts the caller's handler back.
 """
 
 from __future__ import annotations
 
+import signal
+import threading
 from contextlib import contextmanager
 from typing import Iterator
 
@@ -20,7 +22,9 @@ _GMSH_QUAD = 3
 
 @contextmanager
 def gmsh_session(name: str, verbose: bool = False) -> Iterator:
-    """Yield the `gmsh` module with a fresh model `name`; finalise gmsh on exit."""
+    """Yield the `gmsh` module with a fresh model `name`; finalise gmsh on exit and put back
+    the SIGINT handler the caller had."""
+    handler = signal.getsignal(signal.SIGINT)
     import gmsh
 
     gmsh.initialize(readConfigFiles=False)
@@ -33,6 +37,8 @@ def gmsh_session(name: str, verbose: bool = False) -> Iterator:
         yield gmsh
     finally:
         gmsh.finalize()
+        if handler is not None and threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGINT, handler)
 
 
 def quad_mesh_arrays(gmsh) -> tuple[np.ndarray, np.ndarray]:

@@ -25,8 +25,8 @@ from mpi4py import MPI
 
 import dolfinx
 import dolfinx.cpp.mesh
-import dolfinx.io.gmshio
 import dolfinx.mesh
+import ufl
 
 CONTACT = 1
 OPPOSITE = 2
@@ -36,7 +36,9 @@ RIGHT = 4
 # Coordinates closer than this (relative to the body size) to a face count as lying on it.
 GEOMETRY_TOL = 1e-9
 
-_GMSH_QUAD = 3  # gmsh element type id of the 4-node quadrilateral
+# Vertex order: around the cell (gmsh, VTK) -> DOLFINx tensor order. Kept here rather than
+# taken from dolfinx.io.gmshio, whose import imports gmsh and so resets the SIGINT handler.
+_AROUND_TO_DOLFINX = [0, 1, 3, 2]
 
 FacetRule = tuple[int, Callable[[np.ndarray], np.ndarray]]
 
@@ -131,8 +133,7 @@ def orient_and_reorder_gmsh_quads(points: np.ndarray, quads_ccw: np.ndarray) -> 
                        for k in range(4))
     q = quads_ccw.copy()
     q[signed < 0] = q[signed < 0][:, ::-1]
-    perm = dolfinx.io.gmshio.cell_perm_array(dolfinx.mesh.CellType.quadrilateral, 4)
-    return q[:, perm]
+    return q[:, _AROUND_TO_DOLFINX]
 
 
 def mirror_x(points: np.ndarray, cells: np.ndarray, length: float) -> tuple[np.ndarray,
@@ -191,9 +192,10 @@ def build_body_mesh(comm: MPI.Comm, points: np.ndarray, cells: np.ndarray,
     if points.ndim != 2 or points.shape[1] != 2 or cells.ndim != 2 or cells.shape[1] != 4:
         raise ValueError("points must be (N, 2) and cells (M, 4)")
     det, _ = corner_jacobians(points, cells)
-    if det.min() <= 0.0:
+    if len(det) and det.min() <= 0.0:
         raise RuntimeError("internal error: built cells with non-positive Jacobian")
-    domain = dolfinx.io.gmshio.ufl_mesh(_GMSH_QUAD, 2)
+    domain = ufl.Mesh(ufl.VectorElement("Lagrange", ufl.Cell("quadrilateral",
+                                                             geometric_dimension=2), 1))
     if comm.rank == 0:
         c, x = cells.astype(np.int64), np.ascontiguousarray(points, dtype=float)
     else:

@@ -10,7 +10,7 @@ elements of arc length <= h_contact (the lowest point (0, 0) is a node, the firs
 point). Away from it the element size grows linearly with the distance d from the contact
 zone, size = min(h_contact + (grading - 1) d, max_size), which is the continuous form of a
 geometric progression with ratio `grading`. gmsh (4.8) meshes the disc with
-frontal-Delaunay triangles at twice these sizes, recombines them (Blossom) and splits every
+frontal-Delaunay triangles at twice these sizes, recombines them and splits every
 cell into quadrilaterals (Mesh.SubdivisionAlgorithm = 1; new boundary nodes are placed on the
 circle). Recombination alone leaves triangles whenever a boundary has an odd number of edges,
 and the 'full-quad' recombination of gmsh 4.8 aborts on odd transfinite curves, so the
@@ -20,11 +20,11 @@ RuntimeError) and det J > 0 everywhere.
 Facet tags: 1 curved boundary (contact), 2 flat top (load), 3 symmetry line x = 0 (quarter
 only). One cell tag, 1.
 
-Area: the mesh is the polygon through the boundary nodes, which lie on the circle. Each
-boundary chord c cuts off a circular segment of area ~ c**3 / (12 R), so the mesh area is
-smaller than pi R**2 / 2 by at most (pi / 12) c_max**2 (half disc; half of that for the
-quarter), c_max the largest chord (<= about max_size); it decreases quadratically with
-max_size.
+Area: the mesh is the polygon through the boundary nodes, which lie on the circle. A boundary
+element of arc length s cuts off a circular segment of area <= s**3 / (12 R), so the mesh area
+is smaller than pi R**2 / 2 by at most (pi / 12) s_max**2 (half disc; half of that for the
+quarter), s_max the largest boundary element (about max_size); the error decreases
+quadratically with max_size.
 """
 
 from __future__ import annotations
@@ -76,14 +76,17 @@ def hertz_cylinder(radius: float, *, h_contact: float, contact_width: float,
     # (Mesh.SubdivisionAlgorithm = 1), which halves every edge and guarantees an all-quad mesh.
     n_coarse = math.ceil(R * alpha / (2.0 * hc) * (1.0 - 1e-12))
     n_half = 2 * n_coarse
-    with gmsh_session("hertz_cylinder", verbose) as gmsh:
-        contact_curves = _geometry(gmsh, R, alpha, quarter)
-        for c in contact_curves:
-            gmsh.model.mesh.setTransfiniteCurve(c, n_coarse + 1)
-        _size_field(gmsh, contact_curves, 2.0 * hc, 2.0 * hmax, g, n_coarse)
-        gmsh.model.mesh.generate(2)
-        points, quads = quad_mesh_arrays(gmsh)
-    cells = orient_and_reorder_gmsh_quads(points, quads)
+    if comm.rank == 0:  # gmsh runs on one rank; DOLFINx distributes the mesh
+        with gmsh_session("hertz_cylinder", verbose) as gmsh:
+            contact_curves = _geometry(gmsh, R, alpha, quarter)
+            for c in contact_curves:
+                gmsh.model.mesh.setTransfiniteCurve(c, n_coarse + 1)
+            _size_field(gmsh, contact_curves, 2.0 * hc, 2.0 * hmax, g, n_coarse)
+            gmsh.model.mesh.generate(2)
+            points, quads = quad_mesh_arrays(gmsh)
+        cells = orient_and_reorder_gmsh_quads(points, quads)
+    else:
+        points, cells = np.empty((0, 2)), np.empty((0, 4), dtype=np.int64)
     tol = GEOMETRY_TOL * R
     rules = [(CONTACT, lambda p: np.abs(np.hypot(p[:, 0], p[:, 1] - R) - R) <= tol),
              (OPPOSITE, lambda p: np.abs(p[:, 1] - R) <= tol)]
@@ -124,7 +127,9 @@ def _geometry(gmsh, R: float, alpha: float, quarter: bool) -> list[int]:
 
 def _size_field(gmsh, curves: list[int], hc: float, hmax: float, g: float, n: int) -> None:
     """Element size hc + (grading - 1) * distance, capped at hmax (before subdivision);
-    Blossom recombination followed by the all-quadrilateral subdivision."""
+    recombination followed by the all-quadrilateral subdivision. The 'simple' recombination
+    is used: over a parameter sweep (R, h_contact, width, grading, half/quarter) its worst
+    cell had a scaled Jacobian of 0.39 against 0.12 for Blossom."""
     field = gmsh.model.mesh.field
     dist = field.add("Distance")
     field.setNumbers(dist, "CurvesList", curves)
@@ -138,6 +143,6 @@ def _size_field(gmsh, curves: list[int], hc: float, hmax: float, g: float, n: in
     field.setAsBackgroundMesh(size)
     for name, value in {"Mesh.MeshSizeExtendFromBoundary": 0, "Mesh.MeshSizeFromPoints": 0,
                         "Mesh.MeshSizeFromCurvature": 0, "Mesh.Algorithm": 6,
-                        "Mesh.RecombineAll": 1, "Mesh.RecombinationAlgorithm": 1,
+                        "Mesh.RecombineAll": 1, "Mesh.RecombinationAlgorithm": 0,
                         "Mesh.SubdivisionAlgorithm": 1, "Mesh.ElementOrder": 1}.items():
         gmsh.option.setNumber(name, value)
