@@ -92,9 +92,12 @@ def rubber_block(length: float, height: float, *, nx_contact: int | None = None,
         1..n+1 from the contact face up. Default: one layer, tag 1. With a rounded edge all
         levels must be >= leading_edge_radius.
     leading_edge_radius: r >= 0, r < height and r < length; 0 = sharp corners. With r > 0 the
-        flat part of the contact face [0, l - r] keeps equal elements (count rounded up), the
-        quarter arc gets elements of about the same size on its lower half, and z = r is a mesh
-        line. The left and right z-nodes then differ (the macroscopic block is not periodic).
+        flat part of the contact face [0, l - r] keeps equal elements (count rounded up, size
+        <= h_contact), the quarter arc is divided uniformly in angle into elements of arc
+        length <= h_contact, z = r is a mesh line, and the rows between z = t ~ r/2 and r are
+        uniform (see _rounded_grid). The left and right z-nodes then differ (the macroscopic
+        block is not periodic). Needs r large enough for a graded mesh line in [0.4 r, 0.8 r]
+        (roughly r >= 3 first_layer), else ValueError.
     leading_edge: 'right' (bottom-right corner, the front when sliding in +x) or 'left'.
 
     info keys: body, length, height, h_contact (spacing of the flat contact part),
