@@ -415,5 +415,27 @@ PYBIND11_MODULE(_contact, m) {
           },
           py::arg("u") = py::none(), py::arg("margin") = -1.0,
           "(rows, cols) of every coupling the contact can write (see ContactInterface::sparsity)")
+      .def(
+          "sparsity_blocks",
+          [](const rf::ContactInterface& c, const py::object& u, double margin) {
+            std::vector<double> zero;
+            const double* x = nullptr;
+            std::size_t n = 0;
+            DArray ua;
+            if (u.is_none()) {
+              zero.assign(static_cast<std::size_t>(c.max_dof() + 1), 0.0);
+              x = zero.data();
+              n = zero.size();
+            } else {
+              ua = DArray::ensure(u);
+              x = solution(ua, n);
+            }
+            py::list out;
+            for (const auto& [rows, cols] : c.sparsity_blocks(x, n, margin))
+              out.append(py::make_tuple(as_array(rows), as_array(cols)));
+            return out;
+          },
+          py::arg("u") = py::none(), py::arg("margin") = -1.0,
+          "The couplings as a list of dense (rows, cols) blocks (for sparsity patterns built block-wise)")
       .def_property_readonly("max_dof", &rf::ContactInterface::max_dof);
 }

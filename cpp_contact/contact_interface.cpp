@@ -721,8 +721,8 @@ void ContactInterface::commit() {
   ++steps_;
 }
 
-std::vector<std::pair<DofIndex, DofIndex>> ContactInterface::sparsity(const double* u, std::size_t n,
-                                                                      double margin) const {
+std::vector<std::pair<std::vector<DofIndex>, std::vector<DofIndex>>> ContactInterface::sparsity_blocks(
+    const double* u, std::size_t n, double margin) const {
   const int ns = slave_.num_nodes();
   auto chain = [&](int A, int depth) {
     std::vector<int> nodes{A};
@@ -742,15 +742,13 @@ std::vector<std::pair<DofIndex, DofIndex>> ContactInterface::sparsity(const doub
     out.push_back(slave_.dofs[static_cast<std::size_t>(e)][1]);
     if (slave_.has_temperature()) out.push_back(slave_.temperature_dofs[static_cast<std::size_t>(e)]);
   };
-  std::vector<std::pair<DofIndex, DofIndex>> pairs;
-  std::vector<DofIndex> rows, cols;
+  std::vector<std::pair<std::vector<DofIndex>, std::vector<DofIndex>>> blocks;
+  // slave rows B receive D_AB P_A of nodes A = B-1..B+1, whose stencils reach B-3..B+3
   for (int B = 0; B < ns; ++B) {
-    rows.clear();
-    cols.clear();
+    std::vector<DofIndex> rows, cols;
     slave_dofs(B, rows);
     for (int e : chain(B, 3)) slave_dofs(e, cols);
-    for (DofIndex r : rows)
-      for (DofIndex c : cols) pairs.emplace_back(r, c);
+    blocks.emplace_back(std::move(rows), std::move(cols));
   }
   if (master_) {
     std::vector<V2<double>> xs, xm;
@@ -765,9 +763,9 @@ std::vector<std::pair<DofIndex, DofIndex>> ContactInterface::sparsity(const doub
     const double mg = margin >= 0.0 ? margin : 2.0 * search_radius();
     const double reach = mg + 1.5 * search_radius() + slave_.h_max;
     std::vector<int> ids;
-    std::vector<DofIndex> group;
     for (int A = 0; A < ns; ++A) {
-      group.clear();
+      // node A couples its stencil (slave A-2..A+2, master nodes near A-1..A+1) with itself
+      std::vector<DofIndex> group;
       for (int e : chain(A, 2)) slave_dofs(e, group);
       ids.clear();
       for (int e : chain(A, 1)) {
@@ -779,15 +777,24 @@ std::vector<std::pair<DofIndex, DofIndex>> ContactInterface::sparsity(const doub
         mnodes.insert(master_->segments[static_cast<std::size_t>(s)][0]);
         mnodes.insert(master_->segments[static_cast<std::size_t>(s)][1]);
       }
+      if (mnodes.empty()) continue;
       for (int m : mnodes) {
         group.push_back(master_->dofs[static_cast<std::size_t>(m)][0]);
         group.push_back(master_->dofs[static_cast<std::size_t>(m)][1]);
         if (master_->has_temperature()) group.push_back(master_->temperature_dofs[static_cast<std::size_t>(m)]);
       }
-      for (DofIndex r : group)
-        for (DofIndex c : group) pairs.emplace_back(r, c);
+      blocks.emplace_back(group, group);
     }
   }
+  return blocks;
+}
+
+std::vector<std::pair<DofIndex, DofIndex>> ContactInterface::sparsity(const double* u, std::size_t n,
+                                                                      double margin) const {
+  std::vector<std::pair<DofIndex, DofIndex>> pairs;
+  for (const auto& [rows, cols] : sparsity_blocks(u, n, margin))
+    for (DofIndex r : rows)
+      for (DofIndex c : cols) pairs.emplace_back(r, c);
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   return pairs;

@@ -97,6 +97,9 @@ class ContactInterface {
   /// (static). Deformable master: additionally master nodes within `margin` of the slave nodes at
   /// displacement u (margin < 0: 2 x search radius).
   std::vector<std::pair<DofIndex, DofIndex>> sparsity(const double* u, std::size_t n, double margin) const;
+  /// The same couplings as dense blocks (rows x cols), one or two per slave node.
+  std::vector<std::pair<std::vector<DofIndex>, std::vector<DofIndex>>> sparsity_blocks(const double* u, std::size_t n,
+                                                                                       double margin) const;
 
   const PenaltyChoice& penalty() const { return penalty_; }
   double search_radius() const;

@@ -80,6 +80,12 @@ AssemblyReport add_to_petsc(const ContactInterface& contact, Mat A, Vec b) {
       }
       rep.entries += static_cast<long>(rows.size() * cols.size());
     }
+    if (contact.allow_new_nonzeros()) {
+      // PETSc counts mallocs at the final assembly: finish it here so the count can be reported
+      // (the caller's own final assembly afterwards is then a no-op).
+      check_petsc(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin(FINAL)");
+      check_petsc(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd(FINAL)");
+    }
     MatInfo info;
     check_petsc(MatGetInfo(A, MAT_LOCAL, &info), "MatGetInfo");
     rep.mallocs = info.mallocs;
@@ -88,11 +94,18 @@ AssemblyReport add_to_petsc(const ContactInterface& contact, Mat A, Vec b) {
     require_serial(reinterpret_cast<PetscObject>(b), "vector");
     PetscInt n = 0;
     check_petsc(VecGetSize(b, &n), "VecGetSize");
+    std::vector<PetscScalar> vals;
     for (const LocalBlock& blk : blocks) {
-      rows.resize(blk.rows.size());
-      for (std::size_t i = 0; i < rows.size(); ++i)
-        rows[i] = contact.is_fixed(blk.rows[i]) ? -1 : to_petsc(blk.rows[i], n, "row");
-      check_petsc(VecSetValues(b, static_cast<PetscInt>(rows.size()), rows.data(), blk.r.data(), ADD_VALUES),
+      // VecSetValues does not skip negative indices (unlike MatSetValues): drop fixed rows here
+      rows.clear();
+      vals.clear();
+      for (std::size_t i = 0; i < blk.rows.size(); ++i) {
+        if (blk.rows[i] < 0 || contact.is_fixed(blk.rows[i])) continue;
+        rows.push_back(to_petsc(blk.rows[i], n, "row"));
+        vals.push_back(blk.r[i]);
+      }
+      if (rows.empty()) continue;
+      check_petsc(VecSetValues(b, static_cast<PetscInt>(rows.size()), rows.data(), vals.data(), ADD_VALUES),
                   "VecSetValues of a contact block");
     }
     check_petsc(VecAssemblyBegin(b), "VecAssemblyBegin");

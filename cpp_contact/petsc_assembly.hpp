@@ -19,7 +19,9 @@ namespace rf {
 void check_petsc(PetscErrorCode ierr, const std::string& what);
 
 struct AssemblyReport {
-  double mallocs = 0.0;    ///< mallocs reported by MatGetInfo after the insertion (0 if A is null)
+  /// Mallocs of A reported by MatGetInfo (cumulative; PETSc counts them at final assembly, which
+  /// this call performs itself when new nonzeros are allowed). 0 if A is null.
+  double mallocs = 0.0;
   long entries = 0;        ///< matrix entries added
 };
 

@@ -1,0 +1,152 @@
+"""The contact tangent is the exact derivative of the contact residual.
+
+Central finite differences of the assembled residual against the Jacobian, column by column, on
+curved slave and master surfaces (so the projection, the segmentation points and the averaged
+normals all vary with u), for every group of terms: normal penalty, stick, slip with constant mu,
+slip with mu(p, v, T) from a spline, and the thermal blocks (conduction with h_c(p), frictional
+heating, temperature coupling of mu).  Mortar and node-to-segment, rigid and deformable master.
+Tolerance: 1e-6 relative, per block (u-u, u-T, T-u, T-T), to the block's largest entry.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rubberfriction.driver import friction_law as fl
+from rubberfriction.driver.contact import Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface, ThermalSettings
+
+RTOL = 1e-6
+
+
+def pv_T_law() -> fl.SplineLaw:
+    """A smooth mu(p, v, T) with all three derivatives nonzero in the test range."""
+    p = np.linspace(0.0, 20.0, 6)
+    v = np.logspace(-3, 2, 7)
+    T = np.linspace(250.0, 400.0, 5)
+    P, V, TT = np.meshgrid(p, v, T, indexing="ij")
+    mu = 0.5 + 0.2 * np.exp(-P / 10.0) * (0.5 + 0.3 * np.tanh(np.log10(V))) - 0.003 * (TT - 300.0)
+    return fl.fit_mu_pvT(p, v, T, mu)
+
+
+def build(method="mortar", *, friction=None, thermal=False, deformable=False):
+    """Curved slave chain above a curved master; dofs (u_x, u_z[, T]) interleaved per node."""
+    n = 9
+    x = np.linspace(0.0, 1.0, n) + 0.01 * np.sin(7.0 * np.arange(n))
+    X = np.column_stack([x, 0.05 * np.sin(3.0 * x) + 0.02])
+    nd = 3 if thermal else 2
+    dofs = np.column_stack([nd * np.arange(n), nd * np.arange(n) + 1])
+    tdofs = nd * np.arange(n) + 2 if thermal else None
+    slave = SlaveSurface(X, dofs, np.column_stack([np.arange(n - 1), np.arange(1, n)]), tdofs)
+    ndof = nd * n
+    if deformable:
+        m = 13
+        xm = np.linspace(1.3, -0.3, m)  # the lower body's top face runs right to left
+        mdofs = ndof + np.column_stack([nd * np.arange(m), nd * np.arange(m) + 1])
+        mt = ndof + nd * np.arange(m) + 2 if thermal else None
+        master = DeformableMaster(np.column_stack([xm, 0.03 * np.cos(2.0 * xm)]), mdofs,
+                                  np.column_stack([np.arange(m - 1), np.arange(1, m)]), mt)
+        ndof += nd * m
+    else:
+        xm = np.linspace(-0.5, 1.5, 23)
+        master = RigidMaster(np.column_stack([xm, 0.03 * np.cos(2.0 * xm)]))
+    th = ThermalSettings(h0=2.0, h1=0.5, beta=1.5, kappa=0.3,
+                         master_temperature=None if deformable else 300.0) if thermal else None
+    c = Contact(slave, master, method=method, friction=friction, penalty=PenaltySettings(c_N=100.0, c_T=60.0),
+                thermal=th, search_radius=0.3)
+    return c, ndof, nd
+
+
+def residual_jacobian(c: Contact, u, **kw):
+    rr, rv, jr, jc, jv = c.local_system(u, **kw)
+    R = np.zeros(u.size)
+    np.add.at(R, rr, rv)
+    J = np.zeros((u.size, u.size))
+    np.add.at(J, (jr, jc), jv)
+    return R, J
+
+
+def state_of(c: Contact, u, **kw):
+    c.local_system(u, **kw)
+    return c.state()["status"].copy()
+
+
+def fd_check(c: Contact, u, nd, h=1e-7, **kw) -> tuple[dict, np.ndarray]:
+    """Per-block relative errors {name: err} of the Jacobian against central differences."""
+    R, J = residual_jacobian(c, u, **kw)
+    status = state_of(c, u, **kw)
+    Jfd = np.zeros_like(J)
+    for j in range(u.size):
+        hj = h * max(1.0, abs(u[j]))  # temperatures are O(300 K)
+        up, um = u.copy(), u.copy()
+        up[j] += hj
+        um[j] -= hj
+        assert np.array_equal(state_of(c, up, **kw), status), "the FD stencil crosses a stick/slip/open switch"
+        Jfd[:, j] = (residual_jacobian(c, up, **kw)[0] - residual_jacobian(c, um, **kw)[0]) / (2 * hj)
+    T = (np.arange(u.size) % nd == 2) if nd == 3 else np.zeros(u.size, bool)
+    U = ~T
+    errors = {}
+    for name, (r, k) in {"u-u": (U, U), "u-T": (U, T), "T-u": (T, U), "T-T": (T, T)}.items():
+        blk, blk_fd = J[np.ix_(r, k)], Jfd[np.ix_(r, k)]
+        if blk.size == 0 or np.abs(blk_fd).max() == 0.0:
+            assert blk.size == 0 or np.abs(blk).max() == 0.0, f"{name}: tangent has entries FD does not"
+            continue
+        errors[name] = float(np.abs(blk - blk_fd).max() / np.abs(blk_fd).max())
+    return errors, status
+
+
+def configuration(ndof, nd, *, deformable, slide, thermal, seed=1):
+    """Slave pushed 0.04 into the master, random perturbation, rigid slide of the slave by `slide`."""
+    rng = np.random.default_rng(seed)
+    u = np.zeros(ndof)
+    ns = 9
+    u[1:nd * ns:nd] = -0.045 + 0.004 * rng.standard_normal(ns)
+    u[0:nd * ns:nd] = slide + 0.002 * rng.standard_normal(ns)
+    if deformable:
+        u[nd * ns::nd] = 0.003 * rng.standard_normal((ndof - nd * ns) // nd)
+        u[nd * ns + 1::nd] = 0.02 + 0.003 * rng.standard_normal((ndof - nd * ns) // nd)
+    if thermal:
+        u[2::nd] = 300.0 + 20.0 * rng.random(ndof // nd)
+    return u
+
+
+CASES = [
+    # (method, deformable, friction, slide, thermal, expected statuses present)
+    ("mortar", False, None, 0.0, False, {1}),
+    ("mortar", False, 0.3, 0.0, False, {1}),  # stick (no slip increment yet)
+    ("mortar", False, 0.3, 0.03, False, {2}),  # slip
+    ("mortar", False, "spline", 0.03, False, {2}),  # slip with mu(p, v, T)
+    ("mortar", False, "spline", 0.03, True, {2}),  # + thermal blocks, mu(T) from the slave nodes
+    ("mortar", True, None, 0.0, False, {1}),
+    ("mortar", True, 0.3, 0.03, False, {2}),
+    ("mortar", True, "spline", 0.03, True, {2}),
+    ("nts", False, 0.3, 0.0, False, {1}),
+    ("nts", False, "spline", 0.03, True, {2}),
+    ("nts", True, "spline", 0.03, True, {2}),
+]
+
+
+@pytest.mark.parametrize("method,deformable,friction,slide,thermal,expect", CASES)
+def test_jacobian_matches_finite_differences(method, deformable, friction, slide, thermal, expect):
+    law = pv_T_law() if friction == "spline" else friction
+    c, ndof, nd = build(method, friction=law, thermal=thermal, deformable=deformable)
+    u = configuration(ndof, nd, deformable=deformable, slide=slide, thermal=thermal)
+    errors, status = fd_check(c, u, nd, dt=0.1, temperature=310.0)
+    active = set(status[status > 0].tolist())
+    assert expect <= active, f"statuses {status}"
+    assert np.count_nonzero(status) >= 3
+    if thermal:
+        assert set(errors) == {"u-u", "u-T", "T-u", "T-T"}
+    for name, err in errors.items():
+        assert err < RTOL, f"{name} tangent error {err:.2e}"
+
+
+def test_thermal_blocks_are_nonzero_and_checked():
+    """The FD check above includes T-rows/T-cols: make sure they carry weight (not vacuous)."""
+    c, ndof, nd = build("mortar", friction=pv_T_law(), thermal=True, deformable=True)
+    u = configuration(ndof, nd, deformable=True, slide=0.03, thermal=True)
+    _, J = residual_jacobian(c, u, dt=0.1)
+    T = np.arange(ndof) % nd == 2
+    U = ~T
+    for name, block in {"T-T": J[np.ix_(T, T)], "T-u": J[np.ix_(T, U)], "u-T": J[np.ix_(U, T)]}.items():
+        assert np.abs(block).max() > 1e-6 * np.abs(J).max(), f"{name} block is empty"
