@@ -26,25 +26,6 @@ std::array<V2<D12>, 6> seed(const SlaveSegment& s, const MasterSegment& m) {
   return X;
 }
 
-/// Root of a + b xi + c xi^2 = 0 closest to 1/2; false if no real root.
-bool quadratic_root(double c0, double c1, double c2, double& xi) {
-  const double scale = std::max({std::abs(c0), std::abs(c1), std::abs(c2)});
-  if (scale == 0.0) return false;
-  if (std::abs(c2) <= 1e-12 * std::max(std::abs(c1), std::abs(c0))) {
-    if (c1 == 0.0) return false;
-    xi = -c0 / c1;
-    return std::isfinite(xi);
-  }
-  const double disc = c1 * c1 - 4.0 * c2 * c0;
-  if (disc < 0.0) return false;
-  const double sq = std::sqrt(disc);
-  const double q = -0.5 * (c1 + std::copysign(sq, c1));
-  double r1 = q / c2;
-  double r2 = q != 0.0 ? c0 / q : r1;
-  xi = std::abs(r1 - 0.5) < std::abs(r2 - 0.5) ? r1 : r2;
-  return std::isfinite(xi);
-}
-
 /// F(xi) = (q - x(xi)) x n(xi) and dF/dxi for the projection of q onto the slave segment.
 template <class T>
 T projection_residual(const std::array<V2<T>, 4>& x, const V2<T>& na, const V2<T>& nb, const V2<T>& q, double xi) {
@@ -69,37 +50,56 @@ void nodal_normals(const SlaveSegment& s, V2<double>& na, V2<double>& nb) {
   normals_t(s.x, s.has_prev, s.has_next, na, nb);
 }
 
-bool project_onto_slave(const SlaveSegment& s, const V2<double>& na, const V2<double>& nb, const V2<double>& q,
-                        double& xi) {
-  // (d - xi e) x (na + xi m) = 0 with d = q - x_a, e = x_b - x_a, m = nb - na
-  const V2<double> d = q - s.x[1], e = s.x[2] - s.x[1], m = nb - na;
-  const double c0 = cross(d, na);
-  const double c1 = cross(d, m) - cross(e, na);
-  const double c2 = -cross(e, m);
-  return quadratic_root(c0, c1, c2, xi);
-}
-
 Overlap overlap(const SlaveSegment& s, const V2<double>& na, const V2<double>& nb, const MasterSegment& m) {
+  // Decide in master coordinates first: the slave end points projected along their nodal normals
+  // onto the master segment line (linear, well conditioned). A master node is projected onto the
+  // slave segment (quadratic, along the rotating normal field) only when it lies between them;
+  // projecting far master nodes would pick up spurious roots of the rotating normal field.
   Overlap o;
-  double xc = 0.0, xd = 0.0;
-  if (!project_onto_slave(s, na, nb, m.q0, xc) || !project_onto_slave(s, na, nb, m.q1, xd)) return o;
-  Breakpoint::Kind kc = Breakpoint::master_q0, kd = Breakpoint::master_q1;
-  if (xc > xd) {
-    std::swap(xc, xd);
-    std::swap(kc, kd);
+  const V2<double> t = m.q1 - m.q0;
+  const double da = cross(t, na), db = cross(t, nb);
+  if (da == 0.0 || db == 0.0) return o;
+  const double eta_a = cross(s.x[1] - m.q0, na) / da;
+  const double eta_b = cross(s.x[2] - m.q0, nb) / db;
+  struct End {
+    double xi;
+    Breakpoint::Kind kind;
+  };
+  std::array<End, 4> ends{};
+  int ne = 0;
+  if (eta_a >= 0.0 && eta_a <= 1.0) ends[static_cast<std::size_t>(ne++)] = {0.0, Breakpoint::slave_start};
+  if (eta_b >= 0.0 && eta_b <= 1.0) ends[static_cast<std::size_t>(ne++)] = {1.0, Breakpoint::slave_end};
+  const double lo_eta = std::min(eta_a, eta_b), hi_eta = std::max(eta_a, eta_b);
+  for (int node = 0; node < 2; ++node) {
+    const double eta = static_cast<double>(node);
+    if (!(eta > lo_eta && eta < hi_eta)) continue;
+    const V2<double>& q = node == 0 ? m.q0 : m.q1;
+    const double guess = (eta - eta_a) / (eta_b - eta_a);
+    // roots of (q - x(xi)) x n(xi) = 0; keep the one nearest the linear estimate
+    const V2<double> d = q - s.x[1], e = s.x[2] - s.x[1], mm = nb - na;
+    const double c0 = cross(d, na), c1 = cross(d, mm) - cross(e, na), c2 = -cross(e, mm);
+    double xi = guess;
+    if (std::abs(c2) <= 1e-12 * std::max(std::abs(c1), std::abs(c0))) {
+      if (c1 != 0.0) xi = -c0 / c1;
+    } else {
+      const double disc = c1 * c1 - 4.0 * c2 * c0;
+      if (disc >= 0.0) {
+        const double sq = std::sqrt(disc);
+        const double qq = -0.5 * (c1 + std::copysign(sq, c1));
+        const double r1 = qq / c2, r2 = qq != 0.0 ? c0 / qq : r1;
+        xi = std::abs(r1 - guess) < std::abs(r2 - guess) ? r1 : r2;
+      }
+    }
+    if (!std::isfinite(xi)) xi = guess;
+    xi = std::min(1.0, std::max(0.0, xi));
+    ends[static_cast<std::size_t>(ne++)] = {xi, node == 0 ? Breakpoint::master_q0 : Breakpoint::master_q1};
   }
-  o.lo = xc;
-  o.lo_kind = kc;
-  o.hi = xd;
-  o.hi_kind = kd;
-  if (o.lo <= 0.0) {
-    o.lo = 0.0;
-    o.lo_kind = Breakpoint::slave_start;
-  }
-  if (o.hi >= 1.0) {
-    o.hi = 1.0;
-    o.hi_kind = Breakpoint::slave_end;
-  }
+  if (ne < 2) return o;
+  std::sort(ends.begin(), ends.begin() + ne, [](const End& a, const End& b) { return a.xi < b.xi; });
+  o.lo = ends[0].xi;
+  o.lo_kind = ends[0].kind;
+  o.hi = ends[static_cast<std::size_t>(ne - 1)].xi;
+  o.hi_kind = ends[static_cast<std::size_t>(ne - 1)].kind;
   if (!(o.hi - o.lo > 1e-12)) return o;
   // the master segment must face the slave segment
   const double mid = 0.5 * (o.lo + o.hi);

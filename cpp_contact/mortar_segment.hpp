@@ -62,11 +62,9 @@ struct PairIntegrals {
 /// Nodal normals n_a, n_b of a slave segment (values only).
 void nodal_normals(const SlaveSegment& s, V2<double>& na, V2<double>& nb);
 
-/// Projection of master point q onto the slave segment along n(xi): returns false if none.
-bool project_onto_slave(const SlaveSegment& s, const V2<double>& na, const V2<double>& nb, const V2<double>& q,
-                        double& xi);
-
-/// Overlap of master segment m with slave segment s in slave coordinates.
+/// Overlap of master segment m with slave segment s in slave coordinates: the slave ends are
+/// projected along their nodal normals onto the master line; master nodes lying between them are
+/// projected onto the slave segment along n(xi).
 struct Overlap {
   bool valid = false;
   double lo = 0.0, hi = 0.0;

@@ -289,11 +289,15 @@ class Contact:
         return s
 
     def couplings(self, margin: float | None = None, u: np.ndarray | None = None) -> list:
-        """Every coupling the contact may write, as dense (rows, cols) blocks for the FE sparsity
-        pattern (``driver.newton``'s ``extra_couplings``).  Rigid master: slave dofs within chain
+        """Every coupling the contact may write, as ``[(rows, cols)]`` element-wise pair arrays --
+        the ``extra_couplings`` of ``driver.newton``.  Rigid master: slave dofs within chain
         distance 3 (static).  Deformable master: plus master nodes within `margin` (default 2 x
         search radius) of the slave at u; sliding beyond that needs a new pattern or
         ``allow_new_nonzeros``."""
+        return [self.sparsity_pairs(margin, u)]
+
+    def coupling_blocks(self, margin: float | None = None, u: np.ndarray | None = None) -> list:
+        """The same couplings as a list of dense (rows, cols) blocks (one or two per slave node)."""
         return [(r, c) for r, c in self._c.sparsity_blocks(None if u is None else np.asarray(u, float),
                                                          -1.0 if margin is None else float(margin))]
 

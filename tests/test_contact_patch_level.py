@@ -141,3 +141,22 @@ def test_gap_open_gives_no_force_and_reports_gap():
     s = c.state()
     np.testing.assert_allclose(s["gap"], 0.01, rtol=1e-12)
     assert s["contact_length"] == 0.0 and not s["active"].any()
+
+
+@pytest.mark.parametrize("method", ["mortar", "nts"])
+def test_curved_slave_fully_paired_with_a_long_master_segment(method):
+    """Regression: with rotating nodal normals, projecting far-away master nodes onto a slave
+    segment has spurious roots; pairing must not depend on where the master segment ends."""
+    R = 10.0
+    theta = np.linspace(-0.06, 0.06, 49) + 1e-3 * np.sin(np.arange(49))  # irregular arc near the bottom
+    X = np.column_stack([R * np.sin(theta), R - R * np.cos(theta)])
+    n = X.shape[0]
+    slave = SlaveSurface(X, np.arange(2 * n).reshape(n, 2), np.column_stack([np.arange(n - 1), np.arange(1, n)]))
+    for half in (2.0, 20.0, 2000.0):
+        c = Contact(slave, RigidMaster(np.array([[-half, 0.0], [half, 0.0]])), method=method,
+                    penalty=PenaltySettings(c_N=100.0), search_radius=1.0)
+        s = c.evaluate(np.zeros(2 * n))
+        assert s["paired"].all()
+        if method == "mortar":
+            length = np.linalg.norm(np.diff(X, axis=0), axis=1).sum()
+            assert abs(s["weight"].sum() - length) <= 1e-12 * length

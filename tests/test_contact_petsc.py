@@ -85,7 +85,7 @@ def test_assembly_matches_local_system_and_pattern_survives_sliding(deformable):
         assert c.state()["n_active"] > 0
         c.commit()
     # dense blocks and pairs describe the same pattern
-    blocks = c.couplings(margin=1.0)
+    blocks = c.coupling_blocks(margin=1.0)
     from_blocks = {(int(r), int(k)) for rows_b, cols_b in blocks for r in rows_b for k in cols_b}
     assert from_blocks == set(zip(rows.tolist(), cols.tolist()))
 
