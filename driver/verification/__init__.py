@@ -6,11 +6,14 @@ with keyword parameters that the tests call directly.
 """
 
 CASES: dict[str, tuple[str, str]] = {
-    "hertz": ("rubberfriction.driver.verification.hertz", "plane-strain cylinder on a rigid flat (Hertz)"),
-    "westergaard": ("rubberfriction.driver.verification.westergaard",
+    "hertz": ("rubberfriction.driver.verification.contact_cases", "plane-strain cylinder on a rigid flat (Hertz)"),
+    "westergaard": ("rubberfriction.driver.verification.contact_cases",
                     "elastic block on a rigid periodic sinusoid (Westergaard)"),
-    "patch": ("rubberfriction.driver.verification.patch", "contact patch test on non-matching meshes"),
-    "sliding-block": ("rubberfriction.driver.verification.sliding_block", "Coulomb sliding block, Fx/Fz = mu"),
+    "patch": ("rubberfriction.driver.verification.contact_cases", "contact patch test on non-matching meshes"),
+    "sliding-block": ("rubberfriction.driver.verification.contact_cases",
+                      "Coulomb sliding block, Fx/Fz = mu (constant mu and a mu(p, v) law)"),
+    "thermal-bars": ("rubberfriction.driver.verification.contact_cases",
+                     "thermal contact: two bars through a conductance, frictional heat split kappa"),
     "viscoelastic-sinusoid": ("rubberfriction.driver.verification.viscoelastic_sinusoid",
                               "viscoelastic block sliding over a sinusoid in full contact"),
     "sawtooth": ("rubberfriction.driver.verification.sawtooth", "sawtooth anisotropy, sharp vs smooth"),

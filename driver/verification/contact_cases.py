@@ -699,3 +699,49 @@ def thermal_bars(*, L1: float = 0.5, L2: float = 1.0, k1: float = 0.25, k2: floa
                                     "beta": beta, "T_top": T_top, "T_bottom": T_bottom, "n_upper": n_upper,
                                     "n_lower": n_lower, "c_N": c_N, "mu": mu, "kappa": kappa, "slide": slide,
                                     "dt": dt, "method": method}, checks, notes)
+
+
+# ------------------------------------------------------------------------------ CLI glue
+
+#: CLI name -> case function (the registry in ``driver/verification/__init__.py`` points all of
+#: them to this module; ``run`` dispatches on ``args.case``).
+CASE_FUNCTIONS = {"patch": patch, "hertz": hertz, "westergaard": westergaard, "sliding-block": sliding_block,
+                  "thermal-bars": thermal_bars}
+
+
+def _case_of(parser) -> str:
+    name = parser.prog.split()[-1]
+    if name not in CASE_FUNCTIONS:
+        raise ValueError(f"contact_cases: unknown case {name!r} (expected one of {sorted(CASE_FUNCTIONS)})")
+    return name
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """One --option per keyword parameter of the case function (defaults shown in --help)."""
+    import inspect
+
+    fn = CASE_FUNCTIONS[_case_of(parser)]
+    for name, prm in inspect.signature(fn).parameters.items():
+        default = prm.default
+        flag = "--" + name.replace("_", "-")
+        if isinstance(default, bool) or default is inspect.Parameter.empty or name == "law":
+            continue
+        if isinstance(default, tuple):
+            parser.add_argument(flag, dest=name, type=type(default[0]), nargs="+", default=list(default),
+                                help=f"(default: {' '.join(map(str, default))})")
+        elif default is None:
+            parser.add_argument(flag, dest=name, type=float, default=None, help="(default: automatic)")
+        else:
+            parser.add_argument(flag, dest=name, type=type(default), default=default, help=f"(default: {default})")
+
+
+def run(args: argparse.Namespace) -> dict:
+    import inspect
+
+    fn = CASE_FUNCTIONS[args.case]
+    kwargs = {}
+    for name in inspect.signature(fn).parameters:
+        if hasattr(args, name):
+            v = getattr(args, name)
+            kwargs[name] = tuple(v) if isinstance(v, list) else v
+    return fn(**kwargs)
