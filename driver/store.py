@@ -17,7 +17,7 @@ A single-scale run is a pure function of its :class:`~rubberfriction.driver.slid
   and inside a run file::
 
       /                 attrs: key, status ("ok" | "failed"), failure ("" | "physics" | "error"),
-                        reason, schema, code_version, git_describe, host, created, wall_time,
+                        reason, schema, code_version, git_describe, host, pid, created, wall_time,
                         label (JSON: campaign, point, branch, scale, sample)
       /inputs           attrs: spec (canonical JSON, arrays as sha256), pressure, velocity, ...
         surface_x, surface_h
@@ -336,7 +336,7 @@ class Store:
                 f.attrs.update({
                     "key": key, "status": status, "reason": reason, "failure": failure,
                     "schema": STORE_SCHEMA, "code_version": code_version(), "git_describe": git_describe(),
-                    "host": socket.gethostname(), "created": _dt.datetime.now(_dt.timezone.utc).isoformat(),
+                    "host": socket.gethostname(), "pid": os.getpid(), "created": _dt.datetime.now(_dt.timezone.utc).isoformat(),
                     "wall_time": float(wall_time), "label": json.dumps(canonical(label or {}), sort_keys=True),
                     "settings": json.dumps(canonical(settings or {}), sort_keys=True),
                 })
@@ -414,7 +414,7 @@ class Store:
                 if name in f["inputs"]:
                     inputs[name] = np.asarray(f["inputs"][name][()])
         label = json.loads(a.pop("label", "{}"))
-        prov = {k: a[k] for k in ("schema", "code_version", "git_describe", "host", "created", "wall_time")
+        prov = {k: a[k] for k in ("schema", "code_version", "git_describe", "host", "pid", "created", "wall_time")
                 if k in a}
         prov["settings"] = json.loads(a.get("settings", "{}"))
         return StoredRun(key, a["status"], a.get("reason", ""), a.get("failure", ""), values, series, stats,

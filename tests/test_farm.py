@@ -1,0 +1,226 @@
+"""Farming independent runs: serial and MPI drivers give the same stored results, work is spread
+over the ranks, a run that raises is recorded and never stops the campaign, and a killed
+campaign resumes computing only the missing runs.
+
+The task here is a cheap deterministic function of the run's inputs (`toy_run` below), which is
+legitimate for testing orchestration: it is not physics.  The physics through the same farm is
+tested in test_multiscale.py with the real FE runs.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rubberfriction.driver.farm import Executor, StaticPlanner, Task, run_serial
+from rubberfriction.driver.store import Store, run_key
+
+ROOT = Path(__file__).resolve().parents[1]
+MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1", "OMP_NUM_THREADS": "1",
+           "OMPI_MCA_rmaps_base_oversubscribe": "1"}
+
+# A deterministic stand-in for run_sliding (orchestration tests only), importable by subprocesses.
+TOY = textwrap.dedent('''
+    import os, time
+    import numpy as np
+    from rubberfriction.driver.sliding import SlidingResult
+
+    def toy_run(spec):
+        """mu and pressure from the sample's rms slope and the applied friction; optional delay."""
+        time.sleep(float(os.environ.get("TOY_DELAY", "0")))
+        h, x = np.asarray(spec.surface_h), np.asarray(spec.surface_x)
+        slope = float(np.sqrt(np.mean((np.diff(h) / np.diff(x)) ** 2)))
+        mu0 = float(spec.friction or 0.0)
+        if os.environ.get("TOY_FAIL_VELOCITY") and spec.velocity == float(os.environ["TOY_FAIL_VELOCITY"]):
+            raise RuntimeError("toy failure")
+        s = np.linspace(0.0, 1.0, 9)
+        return SlidingResult("ok", series={"s": s, "mu_force": mu0 + slope * (1 + np.sin(7 * s))},
+                             mu_force=mu0 + 0.1 * slope + 1e-3 * spec.velocity ** 0.5, mu_energy=mu0 + 0.08 * slope,
+                             mean_pressure=spec.pressure * (1.0 + 3.0 * slope), contact_fraction=1.0 / (1.0 + 5 * slope),
+                             stats={"steps": 9})
+''')
+
+SCENE = textwrap.dedent('''
+    name = "farmtest"
+    [surface]
+    source = "default_road"
+    edges = [20.0, 3.0, 0.3, 0.04]
+    [samples]
+    pressure = 2
+    friction = 3
+    [conditions]
+    pressures = [0.2, 0.4]
+    velocities = [10.0, 100.0]
+''')
+
+
+@pytest.fixture()
+def toy(tmp_path: Path, monkeypatch):
+    (tmp_path / "toy_farm.py").write_text(TOY)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import importlib
+
+    import toy_farm
+
+    importlib.reload(toy_farm)
+    return toy_farm.toy_run
+
+
+def driver_script(tmp_path: Path) -> Path:
+    """Runs the test scene with the toy runner: python script.py OUT [delay]."""
+    (tmp_path / "scene.toml").write_text(SCENE)
+    (tmp_path / "toy_farm.py").write_text(TOY)
+    script = tmp_path / "drive.py"
+    script.write_text(textwrap.dedent(f'''
+        import sys
+        sys.path[:0] = [{str(ROOT)!r}, {str(tmp_path)!r}]
+        from rubberfriction.driver.campaign import run_scene
+        from rubberfriction.driver.scene import load_scene
+        from toy_farm import toy_run
+        r = run_scene(load_scene({str(tmp_path / "scene.toml")!r}), output=sys.argv[1], runner=toy_run, quiet=True)
+        if r is not None:
+            print("RESULT", r.n_runs, r.n_reused, r.workers, [round(p.mu.mean, 12) for p in r.points])
+    '''))
+    return script
+
+
+def _env(**extra: str) -> dict:
+    env = dict(os.environ, **MPI_ENV, **extra)
+    env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
+    return env
+
+
+def test_serial_farm_records_failures_and_runs_each_key_once(tmp_path: Path, toy):
+    from rubberfriction.driver.sliding import SlidingSpec
+    from rubberfriction.forms.materials import load_compound
+
+    c = load_compound("tread_default")
+    x = np.linspace(0, 1, 16, endpoint=False)
+    specs = [SlidingSpec(surface_x=x, surface_h=a * np.sin(2 * np.pi * x), period=1.0, pressure=0.3, velocity=v,
+                         compound=c) for a in (0.01, 0.02) for v in (1.0, 2.0, 3.0)]
+    tasks = [Task(run_key(s), s, {"sample": i}) for i, s in enumerate(specs)]
+    tasks.append(Task(tasks[0].key, specs[0], {"sample": 99}))  # the same run twice in one campaign
+    calls = []
+
+    def runner(spec):
+        calls.append(spec.velocity)
+        if spec.velocity == 2.0:
+            raise RuntimeError("solver exploded")
+        return toy(spec)
+
+    store = Store(tmp_path / "store")
+    planner = StaticPlanner(tasks)
+    out = run_serial(planner, Executor(store, runner))
+    assert len(calls) == 6 and len(out) == 6 and len(store) == 6
+    res = planner.ordered()
+    assert res[-1] is res[0]  # the duplicate got the outcome of the single run
+    failed = [o for o in res if not o.ok]
+    assert len(failed) == 2 and all(o.failure == "error" and "solver exploded" in o.reason for o in failed)
+    assert all(o.ok for o in res if o not in failed)
+
+
+@pytest.mark.mpi
+def test_mpi_two_ranks_store_identical_results_and_share_the_work(tmp_path: Path):
+    script = driver_script(tmp_path)
+    serial = subprocess.run([sys.executable, str(script), str(tmp_path / "serial")], env=_env(TOY_DELAY="0.02"),
+                            capture_output=True, text=True, timeout=300)
+    assert serial.returncode == 0, serial.stderr
+    par = subprocess.run(["mpirun", "-n", "2", sys.executable, str(script), str(tmp_path / "mpi")],
+                         env=_env(TOY_DELAY="0.02"), capture_output=True, text=True, timeout=300)
+    assert par.returncode == 0, par.stderr + par.stdout
+    line_s = [ln for ln in serial.stdout.splitlines() if ln.startswith("RESULT")][0].split(" ", 4)
+    line_p = [ln for ln in par.stdout.splitlines() if ln.startswith("RESULT")][0].split(" ", 4)
+    assert line_s[1] == line_p[1] == "52"  # 4 points x (2 scales x k=2 + 3 scales x j=3)
+    assert line_s[3] == "1" and line_p[3] == "2"  # workers: rank 0 computes too
+    assert line_s[4] == line_p[4]  # identical sample-averaged mu per point
+    a, b = Store(tmp_path / "serial" / "store"), Store(tmp_path / "mpi" / "store")
+    assert a.keys() == b.keys() and len(a) == 52
+    pids = set()
+    for key in a.keys():
+        ra, rb = a.load(key), b.load(key)
+        assert ra.status == rb.status and ra.values == rb.values and ra.label == rb.label
+        assert ra.series.keys() == rb.series.keys()
+        for name in ra.series:
+            np.testing.assert_array_equal(ra.series[name], rb.series[name])
+        pids.add(rb.provenance["pid"])
+    assert len(pids) == 2  # dynamic load balancing gave work to both ranks
+    for f in ("results.csv", "scales.csv"):
+        assert (tmp_path / "serial" / f).read_text().count("\n") == (tmp_path / "mpi" / f).read_text().count("\n")
+
+
+@pytest.mark.mpi
+def test_mpi_planner_failure_stops_every_rank(tmp_path: Path):
+    script = tmp_path / "boom.py"
+    script.write_text(textwrap.dedent('''
+        import sys
+        sys.path.insert(0, ROOT)
+        from mpi4py import MPI
+        from rubberfriction.driver.farm import Executor, run_farm
+        from rubberfriction.driver.store import Store
+
+        def planner():
+            raise ValueError("bad surface")
+
+        try:
+            run_farm(planner, Executor(Store(sys.argv[1]), lambda s: None))
+        except ValueError as err:
+            sys.stdout.write(f"rank {MPI.COMM_WORLD.rank} raised {err}\\n")
+        else:
+            sys.stdout.write(f"rank {MPI.COMM_WORLD.rank} released\\n")
+    ''').replace("ROOT", repr(str(ROOT))))
+    r = subprocess.run(["mpirun", "-n", "2", sys.executable, str(script), str(tmp_path / "s")], env=_env(),
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert "rank 0 raised bad surface" in r.stdout and "rank 1 released" in r.stdout
+
+
+def test_killed_campaign_resumes_with_only_the_missing_runs(tmp_path: Path, toy):
+    script = driver_script(tmp_path)
+    out = tmp_path / "killed"
+    proc = subprocess.Popen([sys.executable, str(script), str(out)], env=_env(TOY_DELAY="0.15"),
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=True)
+    store = Store(out / "store") if out.exists() else None
+    t0 = time.time()
+    while time.time() - t0 < 120:
+        if (out / "store" / "runs").exists():
+            store = Store(out / "store")
+            if len(store) >= 12:
+                break
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGKILL)  # as hard as a kill gets: no clean-up runs
+    proc.wait()
+    assert store is not None
+    before = set(store.keys())
+    assert 12 <= len(before) < 52
+    for key in before:  # everything that counts as finished is complete and readable
+        assert store.load(key).status == "ok"
+
+    calls = []
+
+    def counting(spec):
+        calls.append(run_key(spec))
+        return toy(spec)
+
+    from rubberfriction.driver.campaign import run_scene
+    from rubberfriction.driver.scene import load_scene
+
+    r = run_scene(load_scene(str(tmp_path / "scene.toml")), output=out, runner=counting, quiet=True)
+    assert len(calls) == 52 - len(before) and not (set(calls) & before)
+    assert r.n_runs == 52 and r.n_reused == len(before) and len(Store(out / "store")) == 52
+    # a third pass computes nothing and gives the same answer
+    calls.clear()
+    r2 = run_scene(load_scene(str(tmp_path / "scene.toml")), output=out, runner=counting, quiet=True)
+    assert calls == [] and r2.n_reused == 52
+    assert [p.mu.mean for p in r2.points] == [p.mu.mean for p in r.points]
+    # --fresh moves the store aside (nothing is deleted) and computes everything again
+    r3 = run_scene(load_scene(str(tmp_path / "scene.toml")), output=out, runner=counting, quiet=True, fresh=True)
+    assert len(calls) == 52 and r3.n_reused == 0
+    assert len(list(out.glob("store-*"))) == 1

@@ -1,0 +1,154 @@
+"""Scene files: shipped scenes load, defaults come from one schema, bad input fails early with a
+message that names the key, the value and what is expected (unknown keys with a did-you-mean)."""
+
+from __future__ import annotations
+
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from rubberfriction.driver.scene import SCHEMA, SceneError, load_scene, parse_scene, schema_text, shipped_scenes
+
+
+def scene_text(extra: str = "", surface: str = 'source = "sines"\namplitudes = [0.02, 0.002]\n'
+               'wavelengths = [2.0, 0.2]\n') -> str:
+    return textwrap.dedent(f"""
+        name = "t"
+        [surface]
+        {surface}
+        """) + textwrap.dedent(extra)
+
+
+def parse(extra: str = "", **kw) -> object:
+    return parse_scene(scene_text(extra, **kw), "t.toml", Path("."))
+
+
+def error_of(text: str, base: Path | None = None) -> str:
+    with pytest.raises(SceneError) as exc:
+        parse_scene(text, "t.toml", base)
+    return str(exc.value)
+
+
+def test_shipped_scenes_load_and_are_consistent():
+    assert {"default", "two_sine"} <= set(shipped_scenes())
+    d = load_scene(None)
+    assert d.name == "default" and d.variant == "rough"
+    assert d.surface.source == "default_road" and d.surface.edges == (20.0, 3.0, 0.3, 0.04, 0.003)
+    assert d.n_scales == 4 and d.conditions.pressures == (0.3,) and len(d.conditions.velocities) >= 2
+    assert d.conditions.T0 == pytest.approx(293.15)
+    assert d.source == "embedded:default" and "[surface]" in d.text
+    t = load_scene("two_sine")
+    assert t.variant == "separated" and t.n_scales == 2
+    assert t.surface.amplitudes == (0.075, 0.01) and t.surface.wavelengths == (5.0, 0.5)  # eq. (6.8)
+    assert t.conditions.pressures == (0.3,) and t.conditions.velocities == (500.0,)  # thesis 6.2.3
+    assert t.separated is not None and t.separated.reference
+
+
+def test_defaults_come_from_the_schema():
+    s = parse()
+    for section, keys in SCHEMA.items():
+        if section in ("", "surface", "adhesion", "separated", "conditions"):
+            continue
+        obj = getattr(s, section)
+        for name, key in keys.items():
+            assert getattr(obj, name) == (tuple(key.default) if isinstance(key.default, list) else key.default)
+    assert s.conditions.T0 is None  # WLF reference temperature
+    assert s.output == Path("rf-results/t")
+    text = schema_text()
+    for section, keys in SCHEMA.items():
+        for name in keys:
+            assert f"\n{name} = " in "\n" + text, name
+
+
+def test_unknown_key_and_section_get_a_did_you_mean():
+    msg = error_of(scene_text("[numerics]\nelements_per_wavelenght = 8\n"))
+    assert "[numerics].elements_per_wavelenght" in msg and "did you mean 'elements_per_wavelength'" in msg
+    msg = error_of(scene_text("[numeric]\ngrading = 1.2\n"))
+    assert "unknown section numeric" in msg and "did you mean 'numerics'" in msg
+    msg = error_of("nmae = 'x'\n")
+    assert "did you mean 'name'" in msg
+
+
+def test_type_and_range_errors_name_key_value_and_expectation():
+    msg = error_of(scene_text('[conditions]\npressures = ["a"]\n'))
+    assert "[conditions].pressures" in msg and "'a'" in msg and "expected a list of numbers" in msg
+    msg = error_of(scene_text("[conditions]\nvelocities = [10.0, -1.0]\n"))
+    assert "[conditions].velocities" in msg and "expected a list of numbers > 0" in msg
+    msg = error_of(scene_text("[numerics]\ngrading = 0.9\n"))
+    assert "[numerics].grading = 0.9" in msg and ">= 1" in msg
+    msg = error_of(scene_text('[numerics]\ncontact = "morter"\n'))
+    assert "'mortar'" in msg and "did you mean 'mortar'" in msg
+    msg = error_of(scene_text("[samples]\nfriction = 2.5\n"))
+    assert "[samples].friction = 2.5" in msg and "integer" in msg
+    msg = error_of(scene_text('[conditions]\nT0 = -300\nT0_unit = "degC"\n'))
+    assert "T0" in msg and "absolute zero" in msg
+
+
+def test_missing_files_are_reported_with_their_key(tmp_path: Path):
+    text = scene_text(surface='source = "files"\nfiles = ["nowhere.dat"]\nedges = [2.0, 0.2]\n')
+    msg = error_of(text, tmp_path)
+    assert "[surface].files[0] = 'nowhere.dat'" in msg and "file not found" in msg and str(tmp_path) in msg
+    msg = error_of(scene_text('[conditions]\ncompounds = ["tread_defualt"]\n'))
+    assert "[conditions].compounds[0] = 'tread_defualt'" in msg and "did you mean 'tread_default'" in msg
+    msg = error_of(scene_text('[conditions]\ncompounds = ["my/compound.toml"]\n'), tmp_path)
+    assert "[conditions].compounds[0]" in msg and "file not found" in msg
+
+
+def test_inconsistent_scale_edges():
+    msg = error_of(scene_text(surface="edges = [20.0, 3.0, 5.0]\n"))
+    assert "[surface].edges = [20.0, 3.0, 5.0]" in msg and "descending" in msg
+    msg = error_of(scene_text(surface="edges = [20.0]\n"))
+    assert "at least two" in msg
+    msg = error_of(scene_text(surface="edges = [20.0, 3.0, 0.3]\nblock_lengths = [20.0]\n"))
+    assert "[surface].block_lengths" in msg and "2 entries, one per scale" in msg
+    msg = error_of(scene_text(surface='source = "sines"\namplitudes = [0.02, 0.002]\nwavelengths = [2.0, 0.2]\n'
+                              "edges = [4.0, 1.0, 0.5]\n"))
+    assert "wavelength 0.2 mm of scale 1 is outside its band 1-0.5 mm" in msg
+    msg = error_of(scene_text(surface='source = "sines"\namplitudes = [0.02]\nwavelengths = [2.0, 0.2]\n'))
+    assert "[surface].amplitudes" in msg and "one amplitude per wavelength" in msg
+    msg = error_of('name = "t"\nvariant = "separated"\n[surface]\nedges = [20.0, 3.0, 0.3, 0.04]\n')
+    assert 'variant = "separated"' in msg and "exactly two scales" in msg and "gives 3" in msg
+
+
+def test_edges_the_road_cannot_resolve_fail_when_the_scales_are_built():
+    from rubberfriction.driver.campaign import build_scales
+
+    s = parse_scene('name = "t"\n[surface]\nedges = [20.0, 3.0, 0.0005]\n', "t.toml")
+    with pytest.raises(SceneError) as exc:
+        build_scales(s, 1)
+    msg = str(exc.value)
+    assert "[surface]" in msg and "0.0005" in msg and "edges" in msg
+
+
+def test_physics_switches():
+    msg = error_of(scene_text("[physics]\nthermal = true\n"))
+    assert "[physics].thermal = true" in msg and "not available" in msg
+    msg = error_of(scene_text("[physics]\nhysteresis = false\n"))
+    assert "nothing" in msg
+    msg = error_of(scene_text("[physics]\nadhesion = true\n"))
+    assert "[adhesion] table" in msg
+    s = parse("[physics]\nadhesion = true\n[adhesion]\ntau0 = 2.0\nc = 0.12\nv0 = 110.0\nalpha = 0.5\n")
+    assert s.adhesion is not None and s.adhesion.tau0 == 2.0 and s.adhesion.alpha == 0.5
+    s = parse("[adhesion]\ntau0 = 2.0\n")
+    assert s.adhesion is None and any("[adhesion] is ignored" in w for w in s.warnings)
+
+
+def test_cli_reports_scene_errors_and_plans(tmp_path: Path, capsys):
+    from rubberfriction.driver.cli import main
+
+    bad = tmp_path / "bad.toml"
+    bad.write_text(scene_text("[samples]\nfrction = 3\n"))
+    assert main(["run", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert "[samples].frction" in err and "did you mean 'friction'" in err
+    assert main(["run", str(tmp_path / "missing.toml")]) == 2
+    assert "no such file" in capsys.readouterr().err
+    good = tmp_path / "good.toml"
+    good.write_text(scene_text("[samples]\npressure = 2\nfriction = 3\n[conditions]\nvelocities = [1.0, 10.0]\n"))
+    assert main(["run", str(good), "--check"]) == 0
+    out = capsys.readouterr().out
+    # two scales: 1 scale x k=2 pressure runs + 2 scales x j=3 friction runs = 8 per point, 2 points
+    assert "2 point(s) x 8 runs" in out and "= 16 single-scale runs" in out
+    assert main(["run", "--schema"]) == 0
+    assert "elements_per_wavelength" in capsys.readouterr().out
