@@ -95,11 +95,11 @@ def bench_newton_share(nx: int, steps: int = 3, friction=0.5, step_fraction: flo
         timer["contact"] += time.perf_counter() - t0
         timer["calls"] += 1
 
-    from rubberfriction.driver.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+    from rubberfriction.driver.newton import ConstrainedNonlinearProblem, NewtonSolver
 
     pb = ConstrainedNonlinearProblem(sp.residual, sp.jacobian(), sp.w, cmap, hooks=[timed_hook],
                                      extra_couplings=contact.couplings())
-    solver = NewtonSolver(pb, NewtonSettings(rtol=1e-9, max_iterations=40), force_scale=0.1 * L)
+    solver = NewtonSolver(pb, cc.newton_settings(rtol=1e-9, max_iterations=40), force_scale=0.1 * L)
     dt = step_fraction * L / nx / 10.0  # slide step_fraction of an element per step at 10 mm/s
     contact.set_time_step(dt)
 
