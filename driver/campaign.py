@@ -301,7 +301,7 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
     started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
     store = open_store(out, comm, fresh=fresh)
     try:
-        executor = Executor(store, runner, retry_failed=retry_failed,
+        executor = Executor(store, runner, retry_failed=retry_failed, timeout=scene.numerics.run_timeout,
                             settings={"scene": scene.name, "scene_source": scene.source})
         progress = Progress(quiet=quiet) if rank == 0 else None
         holder: dict[str, Any] = {}
@@ -377,7 +377,8 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
         raise SceneError(f"--n {n}: expected at least 2 samples")
     store = open_store(out, comm)
     try:
-        executor = Executor(store, runner, settings={"scene": scene.name, "study": "samples"})
+        executor = Executor(store, runner, timeout=scene.numerics.run_timeout,
+                            settings={"scene": scene.name, "study": "samples"})
         progress = Progress(quiet=quiet) if rank == 0 else None
         holder: dict[str, Any] = {}
 

@@ -43,6 +43,7 @@ every rank sees (one small file per run; thousands are fine, millions would want
 from __future__ import annotations
 
 import inspect
+import os
 import queue
 import sys
 import threading
@@ -154,17 +155,18 @@ class Executor:
     """Execute one task where it lands: reuse from the store, or run and store it."""
 
     def __init__(self, store: Store, runner: Callable[[Any], Any], *, retry_failed: bool = False,
-                 settings: dict | None = None):
+                 settings: dict | None = None, timeout: float = 0.0):
         self.store = store
         self.runner = runner
         self.retry_failed = retry_failed
         self.settings = settings or {}
+        self.timeout = float(timeout)
 
     def _reusable(self, task: Task) -> Outcome | None:
         out = self.store.outcome(task.key)
         if out is None:
             return None
-        if out.failure == "error" or (out.failure == "physics" and self.retry_failed):
+        if out.failure == "error" or (out.failure in ("physics", "timeout") and self.retry_failed):
             return None
         return out
 
@@ -174,18 +176,50 @@ class Executor:
             return out
         t0 = time.perf_counter()
         failure = None
+        watchdog = self._watchdog(task) if self.timeout > 0 else None
         try:
             result = self.runner(task.payload)
         except Exception as err:  # noqa: BLE001 -- a failing run must never stop the campaign
             tb = traceback.format_exc(limit=6)
             result = failure_result(f"error: {type(err).__name__}: {err}\n{tb}")
             failure = "error"
+        finally:
+            if watchdog is not None:
+                watchdog.cancel()
         wall = time.perf_counter() - t0
         stats = getattr(result, "stats", None)
         if isinstance(stats, dict) and "wall_time" in stats:
             wall = float(stats["wall_time"])
         return self.store.put(task.key, task.payload, result, wall_time=wall, label=task.label,
                               failure=failure, settings=self.settings)
+
+
+    def _watchdog(self, task: Task) -> threading.Timer:
+        """Last resort against a run that hangs (e.g. inside compiled code, where no exception can
+        reach it): after ``timeout`` seconds the run is stored as failed ("timeout", reused on
+        resume like any physics failure, recomputed with --retry-failed) and the process exits
+        with status 3 (under MPI the job is aborted).  Rerunning the scene resumes past it."""
+
+        def expire() -> None:
+            reason = f"timeout: the run exceeded {self.timeout:g} s and was killed"
+            try:
+                self.store.put(task.key, task.payload, failure_result(reason), wall_time=self.timeout,
+                               label=task.label, failure="timeout", settings=self.settings)
+            finally:
+                print(f"farm: run {task.key[:12]} ({task.label}) exceeded {self.timeout:g} s: recorded as "
+                      "failed; exiting -- run the scene again to resume", file=sys.stderr, flush=True)
+                try:
+                    from mpi4py import MPI
+
+                    if MPI.Is_initialized() and MPI.COMM_WORLD.Get_size() > 1:
+                        MPI.COMM_WORLD.Abort(3)
+                finally:
+                    os._exit(3)
+
+        timer = threading.Timer(self.timeout, expire)
+        timer.daemon = True
+        timer.start()
+        return timer
 
 
 class _Book:

@@ -137,6 +137,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
                        choices=("mortar", "nts")),
         "element": Key("str", "Q1P0", "rubber element", choices=("Q1P0", "Q1")),
         "max_cutbacks": Key("int", 8, "step halvings before a step counts as failed", minimum=0),
+        "run_timeout": Key("float", 0.0, "seconds after which a single run counts as hung: it is stored "
+                           "as failed and the campaign exits (rerun to resume past it); 0: no limit",
+                           minimum=0.0),
     },
     "separated": {
         "pressures": Key("floats", [], "micro grid pressures in MPa; empty: pressure_factors x the mean "
@@ -253,6 +256,7 @@ class NumericsConfig:
     contact: str
     element: str
     max_cutbacks: int
+    run_timeout: float
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,7 @@ A single-scale run is a pure function of its :class:`~rubberfriction.driver.slid
 
   and inside a run file::
 
-      /                 attrs: key, status ("ok" | "failed"), failure ("" | "physics" | "error"),
+      /                 attrs: key, status ("ok" | "failed"), failure ("" | "physics" | "error" | "timeout"),
                         reason, schema, code_version, git_describe, host, pid, created, wall_time,
                         label (JSON: campaign, point, branch, scale, sample)
       /inputs           attrs: spec (canonical JSON, arrays as sha256), pressure, velocity, ...
@@ -38,6 +38,8 @@ A single-scale run is a pure function of its :class:`~rubberfriction.driver.slid
   returned ``status="failed"`` (no convergence after cut-backs and fallbacks, distortion); it is
   a result of the inputs and is reused on resume.  ``failure = "error"``: the run raised (a bug,
   a missing module, memory); it is kept for the report but retried on the next campaign.
+  ``failure = "timeout"``: the run exceeded the scene's ``run_timeout`` (hung) and was killed;
+  reused on resume like a physics failure (``--retry-failed`` recomputes it).
 
 Query API: :meth:`Store.has`, :meth:`Store.outcome` (scalars only, cheap),
 :meth:`Store.load` (everything), :meth:`Store.keys`, :meth:`Store.query` (by status and label),

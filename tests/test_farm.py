@@ -224,3 +224,27 @@ def test_killed_campaign_resumes_with_only_the_missing_runs(tmp_path: Path, toy)
     r3 = run_scene(load_scene(str(tmp_path / "scene.toml")), output=out, runner=counting, quiet=True, fresh=True)
     assert len(calls) == 52 and r3.n_reused == 0
     assert len(list(out.glob("store-*"))) == 1
+
+
+def test_a_hung_run_is_recorded_and_the_campaign_exits_for_resume(tmp_path: Path):
+    """The watchdog: a run stuck where no exception reaches it is stored as failed ("timeout")."""
+    script = tmp_path / "hang.py"
+    script.write_text(textwrap.dedent('''
+        import sys, time
+        sys.path.insert(0, ROOT)
+        from rubberfriction.driver.farm import Executor, Task
+        from rubberfriction.driver.store import Store
+        ex = Executor(Store(sys.argv[1]), lambda spec: time.sleep(600), timeout=1.0)
+        ex(Task("ab" * 32, {"what": "hangs"}, {"sample": 0}))
+        print("not reached")
+    ''').replace("ROOT", repr(str(ROOT))))
+    t0 = time.time()
+    r = subprocess.run([sys.executable, str(script), str(tmp_path / "s")], env=_env(), capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 3 and "not reached" not in r.stdout and time.time() - t0 < 60
+    assert "exceeded 1 s" in r.stderr and "resume" in r.stderr
+    store = Store(tmp_path / "s")
+    out = store.outcome("ab" * 32)
+    assert out.status == "failed" and out.failure == "timeout" and "timeout" in out.reason
+    calls = []
+    assert Executor(store, calls.append)(Task("ab" * 32, {}, {})).reused and calls == []

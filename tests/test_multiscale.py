@@ -1,0 +1,391 @@
+"""Multiscale homogenisation (thesis ch. 6.2, 6.3.2, 6.4.2).
+
+Part 1, orchestration logic with a deterministic stand-in for the FE run (not physics): the
+cascade passes the sample-averaged mean contact pressure down (eq. 6.11, 6.12) and the
+sample-averaged mu up as the Coulomb coefficient of the next coarser scale (eq. 6.13), failed
+samples are excluded visibly, adhesion enters on the macro scale (eq. 7.5-7.8), the statistics
+are right, the separated variant fits its spline law (eq. 6.6) and hands it to the macro run.
+
+Part 2, physics with the real FE runs (``run_sliding``):
+* full contact on every scale: the cascade reproduces the sum of the closed-form viscoelastic
+  contributions of the waves within 5 %;
+* the thesis' two-sine case (eqs. 6.7, 6.8, fig. 6.4 b): the two-scale mu agrees with the
+  single-scale reference within 5 % and is cheaper;
+* serial and 2-rank MPI runs of a small scene store identical results.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import pickle
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rubberfriction.driver.campaign import PeriodicSample, sine_sample
+from rubberfriction.driver.farm import Executor, run_serial
+from rubberfriction.driver.homogenise import (
+    AdhesionLaw,
+    CampaignPlanner,
+    Point,
+    RoughCascade,
+    ScaleSet,
+    SeparatedTwoScale,
+    sample_count_study,
+    sample_stats,
+)
+from rubberfriction.driver.sliding import SlidingResult, SlidingSpec
+from rubberfriction.driver.store import Store
+
+ROOT = Path(__file__).resolve().parents[1]
+COMPOUND = None
+
+
+def _compound():
+    global COMPOUND
+    if COMPOUND is None:
+        from rubberfriction.forms.materials import load_compound
+
+        COMPOUND = load_compound("tread_default")
+    return COMPOUND
+
+
+def make_spec(point: Point, scale: int, sample, pressure: float, friction, role: str) -> SlidingSpec:
+    return SlidingSpec(surface_x=np.asarray(sample.x[:-1]), surface_h=np.asarray(sample.h[:-1]),
+                       period=float(sample.period), pressure=float(pressure), velocity=float(point.velocity),
+                       compound=_compound(), friction=friction)
+
+
+def _slope(spec: SlidingSpec) -> float:
+    h, x = np.asarray(spec.surface_h), np.asarray(spec.surface_x)
+    return float(np.sqrt(np.mean((np.diff(h) / np.diff(x)) ** 2)))
+
+
+def toy(spec: SlidingSpec) -> SlidingResult:
+    """Stand-in for the FE run: made-up, deterministic functions of the inputs (not physics)."""
+    s = _slope(spec)
+    mu0 = float(spec.friction or 0.0)
+    if s > 0.5:
+        return SlidingResult("failed", reason="sliding: element inversion (det F <= 0)")
+    return SlidingResult("ok", mu_force=mu0 + 0.5 * s * math.log10(spec.velocity + 1.0) / spec.pressure ** 0.25,
+                         mu_energy=mu0 + 0.4 * s, mean_pressure=spec.pressure * (1.0 + 4.0 * s),
+                         contact_fraction=1.0 / (1.0 + 4.0 * s))
+
+
+def scales_with_distinct_samples(n_samples: int) -> list[ScaleSet]:
+    out = []
+    for i, lam in enumerate((4.0, 0.5, 0.06)):
+        smp = [sine_sample([0.002 * lam * (1 + 0.5 * k)], [lam], lam, 32) for k in range(n_samples)]
+        out.append(ScaleSet(f"s{i}", (lam, lam / 8), tuple(smp)))
+    return out
+
+
+def run(planner, store: Store, runner=toy):
+    run_serial(planner, Executor(store, runner))
+    return planner
+
+
+# ----------------------------------------------------------------------------------------------
+# part 1: logic
+# ----------------------------------------------------------------------------------------------
+
+
+def test_cascade_passes_pressure_down_and_friction_up(tmp_path: Path):
+    sets = scales_with_distinct_samples(3)
+    pt = Point("tread_default", 0.3, 100.0)
+    casc = RoughCascade("t", pt, sets, make_spec, k=2, j=3)
+    assert casc.total() == 2 * 2 + 3 * 3
+    run(CampaignPlanner([casc]), Store(tmp_path / "s"))
+    r = casc.result
+    assert r.ok and len(r.runs) == 5  # down 0, down 1, up 2, up 1, up 0
+
+    def outcomes(stage):
+        return [o for _, o in r.runs[stage]]
+
+    # eq. (6.12): the pressure of scale i+1 is the mean over k samples of eq. (6.11) on scale i
+    for i in (0, 1):
+        mp = [o.value("mean_pressure") for o in outcomes(f"down:{i}")]
+        assert len(mp) == 2 and r.scales[i + 1].pressure == pytest.approx(np.mean(mp), rel=1e-15)
+        assert all(t.label["pressure_in"] == r.scales[i].pressure for t, _ in r.runs[f"down:{i}"])
+        assert all(t.payload.friction is None for t, _ in r.runs[f"down:{i}"])  # frictionless branch
+    assert r.scales[0].pressure == 0.3
+    # eq. (6.13): scale i's friction runs use the sample mean of scale i+1 as Coulomb mu
+    assert all(t.payload.friction is None for t, _ in r.runs["up:2"])  # the finest scale: frictionless
+    for i in (1, 0):
+        mu_below = np.mean([o.value("mu_force") for o in outcomes(f"up:{i + 1}")])
+        assert r.scales[i].friction_in == pytest.approx(mu_below, rel=1e-15)
+        assert all(t.payload.friction == pytest.approx(mu_below, rel=1e-15) for t, _ in r.runs[f"up:{i}"])
+        assert all(t.payload.pressure == r.scales[i].pressure for t, _ in r.runs[f"up:{i}"])
+        assert len(r.runs[f"up:{i}"]) == 3
+    assert r.mu.mean == pytest.approx(np.mean([o.value("mu_force") for o in outcomes("up:0")]), rel=1e-15)
+    assert r.mu.n_used == 3 and r.mu.n_failed == 0
+    # eq. (7.5): A_r is the product of the per-scale contact fractions (macro from frictionless runs)
+    fr = [np.mean([o.value("contact_fraction") for o in outcomes("down:0")])] + \
+         [np.mean([o.value("contact_fraction") for o in outcomes(f"up:{i}")]) for i in (1, 2)]
+    assert r.area_ratio == pytest.approx(np.prod(fr), rel=1e-12)
+    assert [s.area_ratio for s in r.scales] == pytest.approx(np.cumprod(fr), rel=1e-12)
+
+
+def test_failed_samples_are_excluded_visibly_and_scales_flagged(tmp_path: Path):
+    sets = scales_with_distinct_samples(4)
+    # make sample 3 of the finest scale too steep for the toy run: it fails
+    fine = list(sets[2].samples)
+    fine[3] = sine_sample([0.06 * 0.06 * 3], [0.06], 0.06, 32)
+    sets[2] = ScaleSet("s2", sets[2].band, tuple(fine))
+    casc = RoughCascade("t", Point("tread_default", 0.3, 100.0), sets, make_spec, k=1, j=4,
+                        max_failed_fraction=0.2)
+    run(CampaignPlanner([casc]), Store(tmp_path / "s"))
+    r = casc.result
+    fine_mu = r.scales[2].mu
+    assert r.ok and fine_mu.n_used == 3 and fine_mu.n_failed == 1 and math.isnan(fine_mu.values[3])
+    assert fine_mu.mean == pytest.approx(np.nanmean(fine_mu.values), rel=1e-15)
+    assert r.scales[2].flagged and not r.scales[1].flagged  # 1 of 4 > 20 %
+    assert any("1 of 4 samples failed" in n for n in r.scales[2].notes)
+    from rubberfriction.driver.report import scale_rows
+
+    row = [x for x in scale_rows([r]) if x["scale"] == 2][0]
+    assert row["mu_n_used"] == 3 and row["mu_n_failed"] == 1 and row["flagged"]
+
+
+def test_a_scale_where_every_sample_fails_fails_the_point(tmp_path: Path):
+    sets = scales_with_distinct_samples(1)
+    sets[1] = ScaleSet("s1", sets[1].band, (sine_sample([0.5 * 0.5], [0.5], 0.5, 32),))
+    casc = RoughCascade("t", Point("tread_default", 0.3, 100.0), sets, make_spec, k=1, j=1)
+    run(CampaignPlanner([casc]), Store(tmp_path / "s"))
+    assert casc.result.status == "failed" and "scale s1" in casc.result.reason
+    assert "element inversion" in casc.result.reason
+
+
+def test_adhesion_enters_on_the_macro_scale(tmp_path: Path):
+    from rubberfriction.driver.theory.adhesion import BellLaw
+
+    sets = scales_with_distinct_samples(2)
+    law = AdhesionLaw(tau0=3.0, c=0.15, v0=20.0, alpha=0.7)
+    pt = Point("tread_default", 0.3, 100.0)
+    casc = RoughCascade("t", pt, sets, make_spec, k=2, j=2, adhesion=law)
+    run(CampaignPlanner([casc]), Store(tmp_path / "s"))
+    r = casc.result
+    A_r = np.prod([r.scales[0].contact.mean, r.scales[1].contact.mean, r.scales[2].contact.mean])
+    mu_A = float(BellLaw(3.0, 0.15, 20.0).tau(100.0)) * A_r / 0.3  # eq. (7.7)
+    assert r.mu_adhesion == pytest.approx(0.7 * mu_A, rel=1e-12)
+    assert r.scales[0].friction_in == pytest.approx(r.scales[1].mu.mean + 0.7 * mu_A, rel=1e-12)  # eq. (7.8)
+    assert r.scales[1].friction_in == pytest.approx(r.scales[2].mu.mean, rel=1e-15)  # no adhesion below
+
+
+def test_sample_statistics():
+    st = sample_stats([0.10, 0.12, float("nan"), 0.14])
+    assert (st.n_used, st.n_failed) == (3, 1) and st.mean == pytest.approx(0.12)
+    assert st.std == pytest.approx(0.02)
+    assert st.ci95 == pytest.approx(4.302652729911275 * 0.02 / math.sqrt(3))  # t(0.975, 2)
+    one = sample_stats([0.2])
+    assert one.mean == 0.2 and math.isnan(one.std) and math.isnan(one.ci95)
+
+
+def test_sample_count_study_matches_drawing_without_replacement():
+    rng = np.random.default_rng(3)
+    mu = 0.3 + 0.05 * rng.standard_gamma(2.0, 40)  # skewed, like fig. 6.13 a
+    study = sample_count_study(np.append(mu, np.nan), orders=4000, seed=1)
+    assert study.n_failed == 1 and study.values.size == 40 and study.mean_ref == pytest.approx(mu.mean())
+    assert study.S[-1] == pytest.approx(0.0, abs=1e-12)  # all samples: every order gives the same mean
+    # Monte Carlo S(n) vs sigma/sqrt(n) sqrt((N-n)/(N-1)); the std of a std estimate over 4000
+    # orders is ~1.1 % -> 5 % is > 4 sigma
+    np.testing.assert_allclose(study.S[:-1], study.S_exact[:-1], rtol=0.05)
+    assert study.S[9] < study.S[0] / 2.5  # what ten samples buy (thesis: 0.047 -> 0.015)
+
+
+def test_separated_variant_fits_the_law_and_hands_it_to_the_macro_run(tmp_path: Path):
+    pytest.importorskip("rubberfriction._contact")
+    macro = ScaleSet("macro", (5.0, 5.0), (sine_sample([0.075], [5.0], 5.0, 32),))
+    micro = ScaleSet("micro", (0.5, 0.5), (sine_sample([0.01], [0.5], 0.5, 32),))
+    full = sine_sample([0.075, 0.01], [5.0, 0.5], 5.0, 32)
+    pt = Point("tread_default", 0.3, 500.0)
+
+    def micro_law(p, v):
+        return 0.05 + 0.02 * p + 0.01 * np.log10(v)
+
+    def runner(spec: SlidingSpec) -> SlidingResult:
+        if spec.period == 0.5:  # micro: a smooth made-up mu(p, v)
+            return SlidingResult("ok", mu_force=micro_law(spec.pressure, spec.velocity), mu_energy=0.0,
+                                 mean_pressure=spec.pressure, contact_fraction=0.5)
+        mu = 0.0 if spec.friction is None else float(spec.friction(spec.pressure, spec.velocity))
+        return SlidingResult("ok", mu_force=mu + 0.01, mu_energy=0.0, mean_pressure=0.6, contact_fraction=0.4)
+
+    sep = SeparatedTwoScale("t", pt, macro, micro, full, make_spec, pressure_factors=(0.25, 0.5, 1.0, 2.0, 4.0),
+                            velocity_factors=(0.5, 1.0, 2.0), reference=True)
+    assert sep.total() == 1 + 15 + 1 + 1
+    run(CampaignPlanner([sep]), Store(tmp_path / "s"), runner)
+    r = sep.result
+    assert r.ok
+    np.testing.assert_allclose(r.extra["grid_p"], 0.6 * np.array([0.25, 0.5, 1.0, 2.0, 4.0]))  # around p_macro
+    np.testing.assert_allclose(r.extra["grid_v"], [250.0, 500.0, 1000.0])
+    macro_task = r.runs["macro"][0][0]
+    law = macro_task.payload.friction
+    P, V = np.meshgrid(r.extra["grid_p"], r.extra["grid_v"], indexing="ij")
+    np.testing.assert_allclose(law(P, V), micro_law(P, V), rtol=1e-10)  # the spline interpolates its data
+    assert r.mu.mean == pytest.approx(micro_law(0.3, 500.0) + 0.01, rel=1e-6)
+    assert pickle.loads(pickle.dumps(law)).to_dict() == law.to_dict()  # MPI sends laws to workers
+    assert r.extra["relative_difference"] == pytest.approx((r.mu.mean - 0.01) / 0.01)
+    assert r.extra["time_multiscale"] >= 0 and "time_reference" in r.extra
+
+
+# ----------------------------------------------------------------------------------------------
+# part 2: physics with the real FE runs
+# ----------------------------------------------------------------------------------------------
+
+TOY_COMPOUND = textwrap.dedent("""
+    # Soft toy compound for the full-contact cascade: one Maxwell term (tau = 0.01 s), nearly
+    # incompressible (K = 2/D1 = 500 MPa = 1000 mu), so E* = 3 G* and the closed form holds.
+    kind = "compound"
+    name = "toy_soft"
+    description = "soft toy compound, one Maxwell term"
+    source = "tests/test_multiscale.py"
+    [units]
+    length = "mm"
+    time = "s"
+    mass = "t"
+    force = "N"
+    stress = "MPa"
+    energy = "mJ"
+    temperature = "K"
+    [hyperelastic]
+    model = "mooney_rivlin"
+    form = "split"
+    C10 = 0.25
+    C01 = 0.0
+    D1 = 0.004
+    [prony]
+    gamma = [0.5]
+    tau = [0.01]
+""")
+
+
+def full_contact_scene(tmp_path: Path) -> tuple[Path, float]:
+    """Two waves, lambda 2 and 0.2 mm, slope amplitude k h0 = 0.1 each, v = 10 mm/s (omega tau
+    = 0.31 and 3.1: both waves dissipate), p = 2 x the larger full-contact pressure, and the sum
+    of the closed-form contributions mu_i = (k_i h_i)^2 E''(k_i v) / (4 (1 - nu^2) p)."""
+    from rubberfriction.driver.theory.persson import full_contact_pressure_sinusoid, mu_full_contact_sinusoid
+    from rubberfriction.forms.materials import load_compound
+
+    (tmp_path / "toy_soft.toml").write_text(TOY_COMPOUND)
+    c = load_compound(tmp_path / "toy_soft.toml")
+    nu, v = c.hyperelastic.nu, 10.0
+    waves = [(2.0, 0.1 / (2 * np.pi / 2.0)), (0.2, 0.1 / (2 * np.pi / 0.2))]
+    p_full = max(full_contact_pressure_sinusoid(2 * np.pi / lam, h0, complex(c.complex_modulus(2 * np.pi / lam * v)), nu)
+                 for lam, h0 in waves)
+    p = 2.0 * p_full
+    mu_sum = sum(mu_full_contact_sinusoid(2 * np.pi / lam, h0, complex(c.complex_modulus(2 * np.pi / lam * v)), p, nu)
+                 for lam, h0 in waves)
+    (tmp_path / "fc.toml").write_text(textwrap.dedent(f"""
+        name = "full_contact"
+        [surface]
+        source = "sines"
+        amplitudes = [{waves[0][1]!r}, {waves[1][1]!r}]
+        wavelengths = [2.0, 0.2]
+        points_per_wavelength = 64
+        [samples]
+        pressure = 1
+        friction = 1
+        [conditions]
+        compounds = ["toy_soft.toml"]
+        pressures = [{p!r}]
+        velocities = [{v!r}]
+        [numerics]
+        elements_per_wavelength = 16
+        grading = 1.15
+        slide_periods = 3.0
+        window_start = 0.334
+        step_per_element = 0.5
+        run_timeout = 1500
+    """))
+    return tmp_path / "fc.toml", mu_sum
+
+
+@pytest.mark.slow
+def test_full_contact_cascade_reproduces_the_sum_of_closed_form_contributions(tmp_path: Path):
+    from rubberfriction.driver.campaign import run_scene
+    from rubberfriction.driver.scene import load_scene
+
+    path, mu_sum = full_contact_scene(tmp_path)
+    res = run_scene(load_scene(path), output=tmp_path / "out", quiet=True)
+    r = res.points[0]
+    assert r.ok, r.reason
+    # full contact everywhere: the mean contact pressure passed down equals the nominal one
+    assert r.scales[1].pressure == pytest.approx(r.point.pressure, rel=0.02)
+    assert all(s.contact.mean > 0.98 for s in r.scales)
+    print(f"cascade mu = {r.mu.mean:.5g}, sum of closed forms = {mu_sum:.5g}")
+    assert r.mu.mean == pytest.approx(mu_sum, rel=0.05)
+
+
+@pytest.mark.slow
+def test_two_sine_multiscale_agrees_with_the_reference_and_is_cheaper(tmp_path: Path):
+    from rubberfriction.driver.campaign import run_scene
+    from rubberfriction.driver.scene import load_scene
+
+    res = run_scene(load_scene("two_sine"), output=tmp_path / "out", quiet=True)
+    r = res.points[0]
+    assert r.ok, r.reason
+    e = r.extra
+    print(f"two-sine: mu multiscale = {r.mu.mean:.5g}, reference = {e['mu_reference']:.5g} "
+          f"({100 * e['relative_difference']:+.2f} %); wall time multiscale {e['time_multiscale']:.1f} s, "
+          f"reference {e['time_reference']:.1f} s")
+    assert abs(e["relative_difference"]) < 0.05  # thesis fig. 6.4 b
+    assert e["time_multiscale"] < e["time_reference"]  # thesis fig. 6.4 c
+    assert (tmp_path / "out" / "comparison.png").is_file()
+
+
+SMALL_SCENE = textwrap.dedent("""
+    name = "small"
+    [surface]
+    source = "sines"
+    amplitudes = [0.02, 0.002]
+    wavelengths = [2.0, 0.2]
+    [samples]
+    pressure = 1
+    friction = 1
+    [conditions]
+    pressures = [0.3]
+    velocities = [10.0, 100.0]
+    [numerics]
+    elements_per_wavelength = 8
+    slide_periods = 1.5
+    step_per_element = 1.0
+    run_timeout = 600
+""")
+
+
+@pytest.mark.slow
+@pytest.mark.mpi
+def test_serial_and_two_rank_runs_of_a_small_scene_store_identical_results(tmp_path: Path):
+    (tmp_path / "small.toml").write_text(SMALL_SCENE)
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1")
+    env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
+    cmd = [sys.executable, "-m", "rubberfriction", "run", str(tmp_path / "small.toml"), "--quiet"]
+    serial = subprocess.run(cmd + ["--out", str(tmp_path / "serial")], env=env, capture_output=True, text=True,
+                            timeout=1800)
+    assert serial.returncode == 0, serial.stderr[-3000:]
+    par = subprocess.run(["mpirun", "-n", "2"] + cmd + ["--out", str(tmp_path / "mpi")], env=env,
+                         capture_output=True, text=True, timeout=1800)
+    assert par.returncode == 0, par.stderr[-3000:]
+    a, b = Store(tmp_path / "serial" / "store"), Store(tmp_path / "mpi" / "store")
+    assert a.keys() == b.keys() and len(a) == 6  # 2 points x (1 down + 2 up)
+    for key in a.keys():
+        ra, rb = a.load(key), b.load(key)
+        assert ra.status == rb.status == "ok", ra.reason
+        assert ra.values == rb.values
+        for name in ra.series:
+            np.testing.assert_array_equal(ra.series[name], rb.series[name])
+    assert len({b.load(k).provenance["pid"] for k in b.keys()}) == 2
+    assert (tmp_path / "serial" / "results.csv").read_text().split("wall_time")[0] == \
+        (tmp_path / "mpi" / "results.csv").read_text().split("wall_time")[0]
+
+
+def test_sine_samples_are_exact_periods():
+    s = sine_sample([0.01, 0.002], [1.0, 0.25], 1.0, 16)
+    assert isinstance(s, PeriodicSample) and s.x.size == 16 * 4 + 1 and s.h[0] == s.h[-1]
+    np.testing.assert_allclose(s.h, 0.01 * np.sin(2 * np.pi * s.x) + 0.002 * np.sin(2 * np.pi * s.x / 0.25),
+                               atol=1e-15)
