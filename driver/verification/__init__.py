@@ -14,6 +14,8 @@ CASES: dict[str, tuple[str, str]] = {
                       "Coulomb sliding block, Fx/Fz = mu (constant mu and a mu(p, v) law)"),
     "thermal-bars": ("rubberfriction.driver.verification.contact_cases",
                      "thermal contact: two bars through a conductance, frictional heat split kappa"),
+    "periodic-sliding": ("rubberfriction.driver.verification.contact_cases",
+                         "elastic layer sliding over 3 periods of a wrapped periodic sinusoid"),
     "viscoelastic-sinusoid": ("rubberfriction.driver.verification.viscoelastic_sinusoid",
                               "viscoelastic block sliding over a sinusoid in full contact"),
     "sawtooth": ("rubberfriction.driver.verification.sawtooth", "sawtooth anisotropy, sharp vs smooth"),

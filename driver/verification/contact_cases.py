@@ -724,12 +724,69 @@ def thermal_bars(*, L1: float = 0.5, L2: float = 1.0, k1: float = 0.25, k2: floa
                                     "dt": dt, "method": method}, checks, notes)
 
 
+# ------------------------------------------------------------------- periodic wrap-around
+
+
+def periodic_sliding(*, E: float = 6.0, nu: float = 0.45, wavelength: float = 1.0, amplitude: float = 0.01,
+                     p_ratio: float = 0.5, mu: float = 0.3, velocity: float = 10.0, n_contact: int = 32,
+                     steps_per_period: int = 32, periods: int = 3, method: str = "mortar",
+                     element: str = "Q1P0", tolerance: float = 1e-6) -> dict:
+    """An elastic layer (one wavelength wide, periodic sides, top held) pressed onto the periodic
+    rigid sinusoid (mean pressure p_ratio p*, partial contact) and slid with friction over
+    `periods` periods: the master wraps across the cell boundary every period.  After the first
+    period (run-in) the response is periodic: the per-period means of F_x, F_z and of the
+    frictional dissipation agree between the last two periods within `tolerance`."""
+    Es = plane_strain_modulus(E, nu)
+    lam, h = wavelength, amplitude
+    p_star = math.pi * Es * h / lam
+    body, sp, spec, top_x, top_z = _block_setup(E=E, nu=nu, length=lam, height=lam, n_contact=n_contact,
+                                                periodic=True, element=element)
+    cmap = ConstraintMap(spec)
+    xm = np.arange(8 * n_contact) * lam / (8 * n_contact)
+    master = RigidMaster(np.column_stack([xm, h * np.cos(2.0 * np.pi * (xm - 0.5 * lam) / lam) - h]), period=lam)
+    contact = Contact(SlaveSurface.from_boundary(sp.boundary(1)), master, method=method, friction=mu, E_eff=Es,
+                      search_radius=4.0 * h, comm=body.mesh.comm)
+    F = p_ratio * p_star * lam
+    pb, solver = make_newton(sp, cmap, contact, force_scale=F, rtol=1e-12, max_iterations=60)
+    dt = lam / steps_per_period / velocity
+    contact.set_time_step(dt)
+
+    def solve_at(delta):
+        cmap.update_value(top_z, -delta)
+        solve_or_raise(solver, "periodic sliding: compression")
+        return contact.state()["Fz"]
+
+    approach_to_force(solve_at, F, 0.05 * h)
+    contact.commit()
+    t0 = time.perf_counter()
+    rows, iterations = [], 0
+    for k in range(1, periods * steps_per_period + 1):
+        contact.set_master_offset(-velocity * k * dt)
+        iterations += solve_or_raise(solver, f"periodic sliding: step {k}").iterations
+        contact.commit()
+        st = contact.state()
+        rows.append((st["Fx"], st["Fz"], st["dissipation"]))
+    wall = time.perf_counter() - t0
+    arr = np.array(rows).reshape(periods, steps_per_period, 3).mean(axis=1)
+    last, prev = arr[-1], arr[-2]
+    checks = [check("mean F_x, last two periods", last[0], prev[0], tolerance),
+              check("mean F_z, last two periods", last[1], prev[1], tolerance),
+              check("mean dissipation, last two periods", last[2], prev[2], tolerance),
+              check("mean F_x, run-in vs last", arr[0][0], last[0], None)]
+    notes = [f"{periods} periods x {steps_per_period} steps, {iterations} Newton iterations, {wall:.1f} s; "
+             f"mean -F_x/F_z = {-last[0] / last[1]:.6g}", contact.report_text()]
+    return _result("periodic-sliding", {"E": E, "nu": nu, "wavelength": lam, "amplitude": h, "p_ratio": p_ratio,
+                                        "mu": mu, "velocity": velocity, "n_contact": n_contact,
+                                        "steps_per_period": steps_per_period, "periods": periods, "method": method},
+                   checks, notes, period_means=arr.tolist())
+
+
 # ------------------------------------------------------------------------------ CLI glue
 
 #: CLI name -> case function (the registry in ``driver/verification/__init__.py`` points all of
 #: them to this module; ``run`` dispatches on ``args.case``).
 CASE_FUNCTIONS = {"patch": patch, "hertz": hertz, "westergaard": westergaard, "sliding-block": sliding_block,
-                  "thermal-bars": thermal_bars}
+                  "thermal-bars": thermal_bars, "periodic-sliding": periodic_sliding}
 
 
 def _case_of(parser) -> str:
