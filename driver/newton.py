@@ -36,8 +36,10 @@ class NewtonSettings:
     max_iterations: int = 25
     rtol: float = 1e-9  # on the reduced residual norm, relative to the reference force
     atol: float = 1e-10  # absolute floor on the reduced residual norm (N/mm)
-    line_search: bool = True  # backtrack on ||R|| when a full step increases it (active-set jumps)
+    line_search: bool = True  # backtrack when a full step blows the residual up (inversion, overshoot)
     max_backtracks: int = 5
+    backtrack_growth: float = 10.0  # ... i.e. grows it by more than this factor (active-set changes
+    # in penalty contact make moderate growth normal; halving those steps only slows Newton down)
     stol: float = 1e-12  # converged when ||du|| <= stol ||u|| (residual stalled at round-off)
     divergence_factor: float = 1e6  # stop if the residual grows by this factor
     linear_solver: str = "mumps"
@@ -205,7 +207,7 @@ class NewtonSolver:
             r_prev, alpha = res.residuals[-1], 1.0
             for _ in range(s.max_backtracks if s.line_search else 0):
                 r_try = pb.br.norm()
-                if np.isfinite(r_try) and r_try <= (1.0 - 1e-4 * alpha) * r_prev:
+                if np.isfinite(r_try) and r_try <= s.backtrack_growth * r_prev:
                     break
                 x -= 0.5 * alpha * du  # halve the step
                 alpha *= 0.5

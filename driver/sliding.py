@@ -178,7 +178,11 @@ class SlidingRun:
             self.sp.residual, self.sp.jacobian(), self.sp.w, self.cmap, hooks=[self.contact.hook],
             extra_couplings=self.contact.couplings(), external_force=self.fext)
         self.force_scale = s.pressure * L
-        self.newton = NewtonSolver(self.problem, NewtonSettings(rtol=1e-8, atol=1e-12 * self.force_scale),
+        # frictional steps need strict backtracking: a full step from trial slip can jump over the
+        # narrow stick cone into reverse slip and back (2-cycle); frictionless ones do not
+        growth = 1.0 if s.friction is not None else 10.0
+        self.newton = NewtonSolver(self.problem, NewtonSettings(rtol=1e-8, atol=1e-12 * self.force_scale,
+                                                                backtrack_growth=growth),
                                    force_scale=self.force_scale)
 
     def _switch_to_force_control(self) -> None:
@@ -195,12 +199,17 @@ class SlidingRun:
         self.newton.reset()
 
     # --- one step with cut-backs ---------------------------------------------------------------
-    def _solve_step(self, t: float, dt: float, apply_load) -> tuple[bool, str, int]:
-        """Advance from t to t + dt (sub-stepping on failure). Returns (ok, reason, cutbacks)."""
+    def _solve_step(self, t: float, dt: float, apply_load, predict=None) -> tuple[bool, str, int]:
+        """Advance from t to t + dt (sub-stepping on failure). Returns (ok, reason, cutbacks).
+
+        predict(h), if given, moves the start iterate of a sub-step of length h (not the result).
+        """
         cutbacks, t_cur, h = 0, t, dt
         while t_cur < t + dt - 1e-12 * dt:
             h = min(h, t + dt - t_cur)
             x_saved = self.sp.w.x.array.copy()
+            if predict is not None:
+                predict(h)
             apply_load(t_cur + h)
             self.sp.prepare_step(h)
             self.contact.set_time_step(h)
@@ -222,6 +231,34 @@ class SlidingRun:
                 return False, reason, cutbacks
             h *= 0.5
         return True, "", cutbacks
+
+    def _translation_predictor(self):
+        """Start iterate for a sliding step of a periodic cell: steady sliding carries the
+        deformation along with the surface, u_{n+1}(X) ~ u_n(X + v h) (periodic in x).  Nodes of
+        the structured block lie on rows of equal z; each row is interpolated in numpy.  Only the
+        Newton start changes; without it a step starts far from equilibrium on steep surfaces."""
+        X, L, v = self.sp.node_X, self.L, self.spec.velocity
+        d = self.sp.displacement_dofs()
+        x0 = X[:, 0].min()
+        rows = []
+        for z in np.unique(np.round(X[:, 1], 12)):
+            nodes = np.nonzero(np.abs(X[:, 1] - z) < 1e-9 * max(L, self.H))[0]
+            nodes = nodes[np.argsort(X[nodes, 0])]
+            data = nodes[:-1] if np.isclose(X[nodes[-1], 0] - X[nodes[0], 0], L) else nodes
+            rows.append((nodes, data))  # the right-edge node is the left one's periodic image
+        if sum(r[0].size for r in rows) < X.shape[0]:
+            return None  # not a structured block: no predictor
+
+        def predict(h: float) -> None:
+            shift = v * h
+            x = self.sp.w.x.array
+            for nodes, data in rows:
+                xd = X[data, 0] - x0
+                xe = (X[nodes, 0] - x0 + shift) % L
+                for c in (0, 1):
+                    x[d[nodes, c]] = np.interp(xe, xd, x[d[data, c]], period=L)
+
+        return predict
 
     def _inverted(self) -> bool:
         if self._detF is None:
@@ -313,6 +350,7 @@ class SlidingRun:
         nsteps = int(np.ceil(distance / step_len))
         t_s = t
         keep = self.fext.copy()
+        predict = self._translation_predictor() if s.period > 0 else None
         for k in range(1, nsteps + 1):
             self.step_energy = self.step_friction_energy = 0.0
 
@@ -320,7 +358,7 @@ class SlidingRun:
                 self.fext[:] = keep
                 self.contact.set_master_offset(-s.velocity * (tk - t_s), 0.0)
 
-            ok, reason, _ = self._solve_step(t, dt_slide, load)
+            ok, reason, _ = self._solve_step(t, dt_slide, load, predict)
             if not ok:
                 res = self._result(rows, distance, "failed", f"sliding: {reason}", t)
                 return res
@@ -371,8 +409,7 @@ class SlidingContact:
         if spec.penalty > 0:
             self.ci.set_penalty(spec.penalty, 0.1 * spec.penalty)
         else:
-            # penalty from the instantaneous plane-strain modulus: stiff enough at every velocity
-            self.ci.set_auto_penalty(sp.plane_strain_modulus(instantaneous=True), PENALTY_ALPHA, 0.1)
+            self.ci.set_auto_penalty(penalty_modulus(spec, sp), PENALTY_ALPHA, 0.1)
         if spec.friction is not None:
             law = spec.friction
             if isinstance(law, (int, float)):
@@ -409,8 +446,24 @@ class SlidingContact:
         return self.ci.report()
 
 
-#: automatic normal penalty c_N = alpha E*_inst / h (see cpp_contact ContactInterface::set_auto_penalty)
-PENALTY_ALPHA = 10.0
+#: automatic normal penalty c_N = alpha |E*_eff(omega)| / h_contact (ContactInterface::set_auto_penalty):
+#: the contact compliance h/(alpha E) is then ~1/alpha of the rubber's compliance at the element scale
+PENALTY_ALPHA = 100.0
+
+
+def penalty_modulus(spec: SlidingSpec, sp: SolidProblem) -> float:
+    """|E*_eff| of the rubber at the run's excitation frequency omega = 2 pi v / lambda_min.
+
+    The stiffness the contact works against is the dynamic modulus at the frequency the shortest
+    resolved wavelength (elements_per_wavelength contact elements) imposes; the glassy modulus
+    would make the penalty up to E0/E_inf ~ 300 times stiffer than needed at low speed and the
+    active-set iteration needlessly ill-conditioned, the long-term one too soft at high speed.
+    """
+    from rubberfriction.driver.verification.viscoelastic_sinusoid import effective_modulus
+
+    hc = spec.h_contact or default_h_contact(spec)
+    omega = 2.0 * np.pi * spec.velocity / (spec.elements_per_wavelength * hc)
+    return float(abs(effective_modulus(spec.compound, omega, spec.temperature)))
 
 
 def block_mesh(L: float, H: float, hc: float, grading: float, z0: float):

@@ -1,0 +1,86 @@
+"""Benchmark: speed-accuracy of one micro-cell sliding run, and a stability sweep.
+
+1. Speed-accuracy (the curve users choose settings from): the viscoelastic full-contact sinusoid
+   (``verify viscoelastic-sinusoid`` defaults, closed form known) against mesh refinement
+   (elements per wavelength) and time step (sliding distance per step / contact element size):
+   mu error and wall time per run.
+2. Stability: velocities 1e-6 .. 10 m/s x pressures 0.01 .. 10 MPa on a rough periodic sample
+   (a band of the default road): status, fallback level, cut-backs, Newton iterations, wall
+   time, mu.  Nothing may fail silently: a failed run prints its reason.
+
+    rubberfriction bench sliding [--part accuracy|stability|both] [--quick]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from rubberfriction.driver.sliding import SlidingSpec, run_sliding
+from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
+from rubberfriction.forms.materials import load_compound
+
+
+def accuracy(quick: bool) -> None:
+    comp = load_compound("tread_default")
+    print("speed-accuracy: viscoelastic full-contact sinusoid (lambda 1 mm, h0 2 um, p 0.1 MPa, v 10 mm/s)")
+    print(f"{'el/lambda':>9} {'step/h':>7} {'mu_force':>11} {'err':>8} {'mu_energy':>11} {'err':>8} {'wall [s]':>9}")
+    meshes = (8, 16) if quick else (8, 16, 32)
+    steps = (1.0, 0.5) if quick else (1.0, 0.5, 0.25)
+    for m in meshes:
+        for f in steps:
+            t0 = time.perf_counter()
+            o = simulate(comp, elements_per_wavelength=m, step_fraction=f)
+            wall = time.perf_counter() - t0
+            ex = o["mu_exact"]
+            print(f"{m:>9} {f:>7.2f} {o['mu_force']:>11.4e} {abs(o['mu_force'] / ex - 1):>8.2%} "
+                  f"{o['mu_energy']:>11.4e} {abs(o['mu_energy'] / ex - 1):>8.2%} {wall:>9.2f}", flush=True)
+    print(f"closed form mu = {ex:.4e}")
+
+
+def rough_sample():
+    """First sample of the micro1 scale (0.3-0.04 mm band) of the default road, period 0.3 mm."""
+    from rubberfriction.driver.surfaces import default_road
+
+    return default_road().extract_samples(1, seed=1)[2][0]
+
+
+def stability(quick: bool) -> None:
+    comp = load_compound("tread_default")
+    sample = rough_sample()
+    x, h = np.asarray(sample.x)[:-1], np.asarray(sample.h)[:-1]
+    print(f"stability sweep on a rough sample: period {sample.period:.4g} mm, rms height "
+          f"{sample.rms_height:.3g} mm, rms slope {sample.rms_slope:.3g}, {x.size} segments")
+    print(f"{'v [m/s]':>8} {'p [MPa]':>8} {'status':>7} {'fallback':>8} {'cutbacks':>8} {'newton':>7} "
+          f"{'wall [s]':>9} {'mu':>9}  reason")
+    vs = (1e-6, 1e-2, 10.0) if quick else (1e-6, 1e-4, 1e-2, 1.0, 10.0)
+    ps = (0.01, 10.0) if quick else (0.01, 0.1, 1.0, 10.0)
+    for v in vs:
+        for p in ps:
+            spec = SlidingSpec(surface_x=x, surface_h=h, period=sample.period, pressure=p, velocity=v * 1e3,
+                               compound=comp, elements_per_wavelength=8, slide_distance=sample.period)
+            t0 = time.perf_counter()
+            r = run_sliding(spec)
+            st = r.stats
+            print(f"{v:>8.0e} {p:>8.2g} {r.status:>7} {st.get('fallback_level', -1):>8} "
+                  f"{st.get('cutbacks', 0):>8} {st.get('newton_iterations', 0):>7} "
+                  f"{time.perf_counter() - t0:>9.2f} {r.mu_force:>9.4f}  {r.reason[:70]}", flush=True)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="rubberfriction bench sliding", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--part", choices=["accuracy", "stability", "both"], default="both")
+    ap.add_argument("--quick", action="store_true", help="fewer levels (a smoke run)")
+    a = ap.parse_args(argv)
+    if a.part in ("accuracy", "both"):
+        accuracy(a.quick)
+    if a.part in ("stability", "both"):
+        stability(a.quick)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,108 @@
+"""Single-scale sliding runs (thesis 6.2.2, 6.4) against closed forms and invariants."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rubberfriction.driver.sliding import SlidingSpec, run_sliding
+from rubberfriction.driver.verification.viscoelastic_sinusoid import (
+    effective_modulus,
+    simulate,
+)
+from rubberfriction.forms.materials import Compound, PronySeries, load_compound
+
+M1 = load_compound("m1")
+
+
+def elastic() -> Compound:
+    return Compound(name="m1-elastic", hyperelastic=M1.hyperelastic, prony=None, wlf=None, thermal=None)
+
+
+def one_term(tau: float = 1.0) -> Compound:
+    """Toy compound: E0 = 2 E_inf through one Maxwell term (tau in s)."""
+    return Compound(name="m1-one-term", hyperelastic=M1.hyperelastic,
+                    prony=PronySeries(np.array([0.5]), np.array([tau])), wlf=None, thermal=None)
+
+
+def sinusoid(amplitude: float, wavelength: float = 1.0, n: int = 128):
+    x = np.linspace(0.0, wavelength, n + 1)[:-1]
+    return x, amplitude * np.cos(2.0 * np.pi * x / wavelength)
+
+
+def test_elastic_frictionless_sinusoid_has_no_friction():
+    """Steady sliding of an elastic block: no hysteresis, mu < 1e-3 from force and energy."""
+    out = simulate(elastic(), amplitude=0.005, pressure=0.5, velocity=10.0)
+    res = out["result"]
+    assert res.ok, res.reason
+    assert abs(res.mu_force) < 1e-3 and abs(res.mu_energy) < 1e-3
+    assert res.contact_fraction > 0.95  # full contact (p = 0.5 > p* = 0.12 MPa)
+
+
+def test_viscoelastic_full_contact_sinusoid_closed_form():
+    """mu = (k h0)^2 Im E*_eff(k v) / (4 p0) within 3 % (force and energy); both within 2 %."""
+    out = simulate(load_compound("tread_default"), amplitude=0.002, pressure=0.1, velocity=10.0)
+    res = out["result"]
+    assert res.ok, res.reason
+    exact = out["mu_exact"]
+    assert abs(res.mu_force - exact) < 0.03 * exact, (res.mu_force, exact)
+    assert abs(res.mu_energy - exact) < 0.03 * exact, (res.mu_energy, exact)
+    assert abs(res.mu_force - res.mu_energy) < 0.02 * exact
+
+
+@pytest.mark.parametrize("velocity,limit", [(1e-3, "long-term"), (1e4, "instantaneous")])
+def test_velocity_extremes_give_elastic_westergaard(velocity, limit):
+    """v = 1e-6 m/s and 10 m/s (omega tau = 6e-3 and 6e4): partial contact follows Westergaard,
+    p = p* sin^2(pi a / lambda), p* = pi E*_eff h0 / lambda, with the long-term resp. instantaneous
+    modulus (they differ by a factor 2 here, so the limit is unambiguous)."""
+    comp = one_term(tau=1.0)
+    lam, h0 = 1.0, 0.01
+    E = effective_modulus(comp, 0.0).real if limit == "long-term" else effective_modulus(comp, 1e12).real
+    p_star = np.pi * E * h0 / lam
+    p = 0.5 * p_star  # half of the full-contact pressure: a / lambda = 1/4
+    x, h = sinusoid(h0, lam, 256)
+    spec = SlidingSpec(surface_x=x, surface_h=h, period=lam, pressure=p, velocity=velocity, compound=comp,
+                       h_contact=lam / 64, slide_distance=1.0, window_start=0.5)
+    res = run_sliding(spec)
+    assert res.ok, res.reason
+    a_exact = lam / np.pi * np.arcsin(np.sqrt(p / p_star))
+    frac_exact = 2.0 * a_exact / lam
+    assert abs(res.contact_fraction - frac_exact) < 0.05 * frac_exact, (res.contact_fraction, frac_exact)
+
+
+def test_periodic_cell_and_structured_failure():
+    """The periodic cell's edges move together; an absurd pressure returns a failure record."""
+    from rubberfriction.driver.sliding import SlidingRun, SlidingContact, block_mesh
+
+    x, h = sinusoid(0.005)
+    spec = SlidingSpec(surface_x=x, surface_h=h, period=1.0, pressure=0.5, velocity=10.0,
+                       compound=elastic(), slide_distance=0.5)
+    run = SlidingRun(spec, block_mesh, SlidingContact)
+    res = run.run()
+    assert res.ok, res.reason
+    X, u = run.sp.node_X, run.sp.nodal_displacement()
+    left = np.nonzero(np.isclose(X[:, 0], X[:, 0].min()))[0]
+    right = np.nonzero(np.isclose(X[:, 0], X[:, 0].max()))[0]
+    left, right = left[np.argsort(X[left, 1])], right[np.argsort(X[right, 1])]
+    assert np.abs(u[left] - u[right]).max() <= 1e-12 * np.abs(u).max()
+    bad = SlidingSpec(surface_x=x, surface_h=h, period=1.0, pressure=1e5, velocity=10.0,
+                      compound=elastic(), slide_distance=0.5, max_cutbacks=2)
+    fail = run_sliding(bad)
+    assert fail.status == "failed" and fail.reason
+    assert np.isnan(fail.mu_force)
+
+
+def test_sawtooth_sharp_orientation_gives_more_friction():
+    """Thesis 6.4.1: the steep flank facing the rubber gives clearly more hysteresis friction."""
+    from rubberfriction.driver.surfaces import sawtooth_profile
+
+    mus = {}
+    for orient in ("sharp", "smooth"):
+        prof = sawtooth_profile(1.0, 1.0 / 128, wavelength=1.0, height=0.02, orientation=orient,
+                                steep_fraction=0.2)
+        spec = SlidingSpec(surface_x=prof.x, surface_h=prof.h, period=1.0, pressure=0.2, velocity=10.0,
+                           compound=load_compound("tread_default"), h_contact=1.0 / 32, slide_distance=2.0)
+        res = run_sliding(spec)
+        assert res.ok, res.reason
+        mus[orient] = res.mu_force
+    assert mus["sharp"] > 1.1 * mus["smooth"] > 0.0, mus
