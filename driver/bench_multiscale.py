@@ -74,8 +74,10 @@ def run_measured(cmd: list[str], env: dict) -> dict[str, Any]:
         peak_sum = max(peak_sum, total)
         time.sleep(0.2)
     out, err = proc.communicate()
-    return {"wall": time.perf_counter() - t0, "returncode": proc.returncode, "stdout": out, "stderr": err,
-            "peak_process_MB": max(hwm.values(), default=0) / 1024.0, "peak_tree_MB": peak_sum / 1024.0}
+    return {"wall": time.perf_counter() - t0, "returncode": proc.returncode, "stdout": out,
+            "stderr": err,
+            "peak_process_MB": max(hwm.values(), default=0) / 1024.0,
+            "peak_tree_MB": peak_sum / 1024.0}
 
 
 def _toml(doc: dict) -> str:
@@ -100,7 +102,8 @@ def point_scene(samples: int, velocity: float) -> str:
     """The default scene reduced to one velocity with k = j = samples."""
     from importlib import resources
 
-    doc = tomllib.loads(resources.files("rubberfriction.driver.scenes").joinpath("default.toml").read_text())
+    scenes = resources.files("rubberfriction.driver.scenes")
+    doc = tomllib.loads(scenes.joinpath("default.toml").read_text())
     doc["name"] = "bench_point"
     doc["description"] = f"default road, four scales, {samples} samples per scale, one point"
     doc["samples"] = {"pressure": samples, "friction": samples}
@@ -116,7 +119,8 @@ def time_shares(out: Path) -> dict[str, float]:
     with open(path) as f:
         for row in csv.DictReader(f):
             try:
-                shares[row["scale_name"]] = shares.get(row["scale_name"], 0.0) + float(row["wall_time_s"] or 0)
+                shares[row["scale_name"]] = shares.get(row["scale_name"],
+                                                       0.0) + float(row["wall_time_s"] or 0)
             except ValueError:
                 continue
     total = sum(shares.values()) or 1.0
@@ -141,7 +145,8 @@ def campaign(label: str, scene: str, out: Path, ranks: int, env: dict) -> list[d
     base = [sys.executable, "-m", "rubberfriction", "run", scene, "--fresh", "--quiet"]
     modes = [("serial", base + ["--out", str(out / "serial")])]
     if ranks > 1:
-        modes.append((f"mpi x{ranks}", ["mpirun", "-n", str(ranks)] + base + ["--out", str(out / "mpi")]))
+        modes.append((f"mpi x{ranks}", ["mpirun", "-n", str(ranks)] + base + ["--out",
+                                                                              str(out / "mpi")]))
     for mode, cmd in modes:
         print(f"{label}: {mode} ...", flush=True)
         r = run_measured(cmd, env)
@@ -153,7 +158,8 @@ def campaign(label: str, scene: str, out: Path, ranks: int, env: dict) -> list[d
                 for row in csv.DictReader(f):
                     keys[row["key"]] = row["status"]
             n_runs, n_failed = len(keys), sum(s != "ok" for s in keys.values())
-        rows.append({"campaign": label, "mode": mode, "wall_s": r["wall"], "peak_process_MB": r["peak_process_MB"],
+        rows.append({"campaign": label, "mode": mode, "wall_s": r["wall"],
+                     "peak_process_MB": r["peak_process_MB"],
                      "peak_tree_MB": r["peak_tree_MB"], "runs": n_runs, "failed": n_failed,
                      "exit": r["returncode"], "shares": time_shares(folder)})
         if r["returncode"] not in (0, 1):
@@ -166,12 +172,17 @@ def campaign(label: str, scene: str, out: Path, ranks: int, env: dict) -> list[d
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="rubberfriction bench multiscale", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--ranks", type=int, default=2, help="MPI ranks for the parallel runs (default 2)")
-    ap.add_argument("--out", default="rf-bench/multiscale", help="work folder (default rf-bench/multiscale)")
+    ap.add_argument("--ranks", type=int, default=2,
+                    help="MPI ranks for the parallel runs (default 2)")
+    ap.add_argument("--out", default="rf-bench/multiscale",
+                    help="work folder (default rf-bench/multiscale)")
     ap.add_argument("--skip-default", action="store_true", help="skip the default scene")
-    ap.add_argument("--skip-point", action="store_true", help="skip the ten-sample four-scale point")
-    ap.add_argument("--point-samples", type=int, default=10, help="samples per scale of the point (default 10)")
-    ap.add_argument("--point-velocity", type=float, default=100.0, help="velocity of the point, mm/s")
+    ap.add_argument("--skip-point", action="store_true",
+                    help="skip the ten-sample four-scale point")
+    ap.add_argument("--point-samples", type=int, default=10,
+                    help="samples per scale of the point (default 10)")
+    ap.add_argument("--point-velocity", type=float, default=100.0,
+                    help="velocity of the point, mm/s")
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -186,18 +197,22 @@ def main(argv: list[str] | None = None) -> int:
     if not args.skip_point:
         scene = out / "point.toml"
         scene.write_text(point_scene(args.point_samples, args.point_velocity))
-        rows += campaign(f"4 scales x {args.point_samples} samples, v={args.point_velocity:g}", str(scene),
+        rows += campaign(f"4 scales x {args.point_samples} samples, v={args.point_velocity:g}",
+                         str(scene),
                          out / "point", args.ranks, env)
-    print(f"\n{'campaign':<34} {'mode':<8} {'wall [s]':>9} {'peak proc [MB]':>15} {'peak tree [MB]':>15} "
+    print(f"\n{'campaign':<34} {'mode':<8} {'wall [s]':>9} {'peak proc [MB]':>15} "
+          f"{'peak tree [MB]':>15} "
           f"{'runs':>5} {'failed':>6}  time per scale")
     for r in rows:
         shares = ", ".join(f"{k} {100 * v:.0f}%" for k, v in r["shares"].items())
-        print(f"{r['campaign']:<34} {r['mode']:<8} {r['wall_s']:>9.1f} {r['peak_process_MB']:>15.0f} "
+        print(f"{r['campaign']:<34} {r['mode']:<8} {r['wall_s']:>9.1f} "
+              f"{r['peak_process_MB']:>15.0f} "
               f"{r['peak_tree_MB']:>15.0f} {r['runs']:>5} {r['failed']:>6}  {shares}")
     serial = {r["campaign"]: r["wall_s"] for r in rows if r["mode"] == "serial"}
     for r in rows:
         if r["mode"] != "serial" and r["campaign"] in serial:
-            print(f"speed-up {r['campaign']}: {serial[r['campaign']] / r['wall_s']:.2f} with {r['mode']}")
+            print(f"speed-up {r['campaign']}: {serial[r['campaign']] / r['wall_s']:.2f} with "
+                  f"{r['mode']}")
     return 0 if all(r["exit"] in (0, 1) for r in rows) else 1
 
 

@@ -88,8 +88,8 @@ def build_scales(scene: Scene, n_samples: int) -> Scales:
         for i, (a, lam) in enumerate(zip(s.amplitudes, s.wavelengths)):
             L = s.block_lengths[i] if s.block_lengths else s.periods_per_block * lam
             if abs(L / lam - round(L / lam)) > 1e-9:
-                raise SceneError(f"{scene.source}: [surface].block_lengths[{i}] = {L:g}: expected a whole number "
-                                 f"of wavelengths {lam:g} mm (a periodic sample)")
+                raise SceneError(f"{scene.source}: [surface].block_lengths[{i}] = {L:g}: expected "
+                                 f"a whole number of wavelengths {lam:g} mm (a periodic sample)")
             band = (s.edges[i], s.edges[i + 1]) if s.edges else (lam, lam)
             smp = sine_sample([a], [lam], L, s.points_per_wavelength)
             sets.append(ScaleSet(names[i], band, tuple([smp] * n_samples)))
@@ -100,10 +100,16 @@ def build_scales(scene: Scene, n_samples: int) -> Scales:
                 break
         else:
             full = sine_sample(list(s.amplitudes), list(s.wavelengths), L0, s.points_per_wavelength)
-        desc = "sines: " + " + ".join(f"{a:g} sin(2 pi x / {lam:g})" for a, lam in zip(s.amplitudes, s.wavelengths))
+        desc = "sines: " + " + ".join(f"{a:g} sin(2 pi x / {lam:g})" for a,
+                                      lam in zip(s.amplitudes, s.wavelengths))
         return Scales(sets, full, desc, {"source": "sines", "amplitudes": list(s.amplitudes),
                                          "wavelengths": list(s.wavelengths)})
-    from rubberfriction.driver.surfaces import SurfaceError, default_road, load_profile, multiscale_from_measurements
+    from rubberfriction.driver.surfaces import (
+        SurfaceError,
+        default_road,
+        load_profile,
+        multiscale_from_measurements,
+    )
 
     try:
         if s.source == "default_road":
@@ -111,7 +117,8 @@ def build_scales(scene: Scene, n_samples: int) -> Scales:
         else:
             profiles = [load_profile(p) for p in s.files]
             road = multiscale_from_measurements(profiles, s.edges, names=list(s.names) or None,
-                                                block_lengths=list(s.block_lengths) or None, name=scene.name)
+                                                block_lengths=list(s.block_lengths) or None,
+                                                name=scene.name)
         if s.names:
             for sc, nm in zip(road.scales, s.names):
                 sc.name = nm
@@ -120,7 +127,8 @@ def build_scales(scene: Scene, n_samples: int) -> Scales:
                 sc.block_length = float(b)
         samples = road.extract_samples(n=n_samples, seed=s.seed, top_fraction=s.top_fraction)
     except SurfaceError as err:
-        raise SceneError(f"{scene.source}: [surface] (source = {s.source!r}, edges = {list(s.edges)}): {err}") from None
+        raise SceneError(f"{scene.source}: [surface] (source = {s.source!r}, edges = "
+                         f"{list(s.edges)}): {err}") from None
     sets = [ScaleSet(sc.name, tuple(sc.band), tuple(smp)) for sc, smp in zip(road.scales, samples)]
     full = None
     if scene.variant == "separated" and scene.separated is not None and scene.separated.reference:
@@ -134,7 +142,8 @@ def _full_sample(scene: Scene, road: Any) -> Any:
 
     a, b = road.scales
     if a.profile.x.shape != b.profile.x.shape or not np.allclose(a.profile.x, b.profile.x):
-        raise SceneError(f"{scene.source}: [separated].reference = true needs both scales cut from one "
+        raise SceneError(f"{scene.source}: [separated].reference = true needs both scales cut from "
+                         f"one "
                          "measurement (the full profile is their sum); set reference = false")
     full = a.profile.with_h(a.profile.h + b.profile.h)
     full.meta.update(a.profile.meta)
@@ -155,19 +164,23 @@ class SpecBuilder:
         self.scene = scene
         self.compounds = compounds
 
-    def __call__(self, point: Point, scale: int, sample: Any, pressure: float, friction: Any, role: str) -> Any:
+    def __call__(self, point: Point, scale: int, sample: Any, pressure: float, friction: Any,
+                 role: str) -> Any:
         from rubberfriction.driver.sliding import SlidingSpec, default_h_contact
 
         num = self.scene.numerics
         window, slide = num.window_start, num.slide_periods
         if role == "micro" and self.scene.separated is not None:
-            window, slide = self.scene.separated.micro_window_start, self.scene.separated.micro_slide_periods
-        x, h, period = np.asarray(sample.x, float), np.asarray(sample.h, float), float(sample.period)
+            sep = self.scene.separated
+            window, slide = sep.micro_window_start, sep.micro_slide_periods
+        x, h, period = np.asarray(sample.x, float), np.asarray(sample.h,
+                                                               float), float(sample.period)
         if x.size > 1 and abs(x[-1] - x[0] - period) < 1e-9 * period:
             x, h = x[:-1], h[:-1]  # one period given: the closing vertex repeats the first
         base = SlidingSpec(surface_x=x, surface_h=h, period=period, pressure=float(pressure),
                            velocity=float(point.velocity), compound=self.compounds[point.compound],
-                           temperature=self.scene.conditions.T0, friction=friction, element=num.element,
+                           temperature=self.scene.conditions.T0, friction=friction,
+                           element=num.element,
                            contact=num.contact, elements_per_wavelength=num.elements_per_wavelength,
                            grading=num.grading, compression_steps=num.compression_steps,
                            window_start=window, max_cutbacks=num.max_cutbacks)
@@ -181,11 +194,13 @@ def load_compounds(scene: Scene) -> dict[str, Any]:
     from rubberfriction.forms.materials import load_compound
 
     out = {}
-    for i, (name, path) in enumerate(zip(scene.conditions.compounds, scene.conditions.compound_paths)):
+    for i, (name, path) in enumerate(zip(scene.conditions.compounds,
+                                         scene.conditions.compound_paths)):
         try:
             c = load_compound(path)
         except ValueError as err:
-            raise SceneError(f"{scene.source}: [conditions].compounds[{i}] = {name!r}: {err}") from None
+            raise SceneError(f"{scene.source}: [conditions].compounds[{i}] = {name!r}: "
+                             f"{err}") from None
         if not scene.physics.hysteresis:
             c = dataclasses.replace(c, prony=None)  # no history variables are built
         out[name] = c
@@ -203,12 +218,17 @@ def make_planner(scene: Scene, scales: Scales, make_spec: Callable[..., Any]) ->
         sep = scene.separated
         assert sep is not None
         if sep.reference and scales.full_sample is None:
-            raise SceneError(f"{scene.source}: [separated].reference = true: the waves do not share the macro "
+            raise SceneError(f"{scene.source}: [separated].reference = true: the waves do not "
+                             "share the macro "
                              "period, so there is no periodic full profile; set reference = false")
-        planners = [SeparatedTwoScale(scene.name, pt, scales.sets[0], scales.sets[1], scales.full_sample, make_spec,
-                                      pressures=sep.pressures, pressure_factors=sep.pressure_factors,
-                                      velocities=sep.velocities, velocity_factors=sep.velocity_factors,
-                                      reference=sep.reference, degree=sep.spline_degree, smoothing=sep.smoothing)
+        planners = [SeparatedTwoScale(scene.name, pt, scales.sets[0], scales.sets[1],
+                                      scales.full_sample, make_spec,
+                                      pressures=sep.pressures,
+                                      pressure_factors=sep.pressure_factors,
+                                      velocities=sep.velocities,
+                                      velocity_factors=sep.velocity_factors,
+                                      reference=sep.reference, degree=sep.spline_degree,
+                                      smoothing=sep.smoothing)
                     for pt in points(scene)]
     else:
         adh = None
@@ -249,8 +269,10 @@ class CampaignResult:
         return sum(not o.ok for o in self.outcomes.values())
 
     def provenance(self) -> dict:
-        return {"scene": self.scene.name, "scene_source": self.scene.source, "variant": self.scene.variant,
-                "code_version": code_version(), "git_describe": git_describe(), "started": self.started,
+        return {"scene": self.scene.name, "scene_source": self.scene.source,
+                "variant": self.scene.variant,
+                "code_version": code_version(), "git_describe": git_describe(),
+                "started": self.started,
                 "wall_time_s": self.wall_time, "workers": self.workers, "runs": self.n_runs,
                 "runs_reused": self.n_reused, "runs_failed": self.n_failed,
                 "surface": self.scales.provenance if self.scales else {}}
@@ -285,8 +307,10 @@ def open_store(out: Path, comm: Any, fresh: bool = False) -> Store:
     return store if store is not None else Store(out / "store")
 
 
-def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = False, fresh: bool = False,
-              retry_failed: bool = False, runner: Callable[[Any], Any] | None = None, comm: Any = None,
+def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = False,
+              fresh: bool = False,
+              retry_failed: bool = False, runner: Callable[[Any], Any] | None = None,
+              comm: Any = None,
               report: bool = True) -> CampaignResult | None:
     """Run (or resume) a scene.  Every rank of ``comm`` calls this; rank 0 returns the result.
 
@@ -301,7 +325,8 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
     started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
     store = open_store(out, comm, fresh=fresh)
     try:
-        executor = Executor(store, runner, retry_failed=retry_failed, timeout=scene.numerics.run_timeout,
+        executor = Executor(store, runner, retry_failed=retry_failed,
+                            timeout=scene.numerics.run_timeout,
                             settings={"scene": scene.name, "scene_source": scene.source})
         progress = Progress(quiet=quiet) if rank == 0 else None
         holder: dict[str, Any] = {}
@@ -317,7 +342,8 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
             return None
         assert planner is not None
         result = CampaignResult(scene, out, planner.results, outcomes, holder.get("scales"),
-                                time.perf_counter() - t0, progress.workers if progress else 1, started, store)
+                                time.perf_counter() - t0, progress.workers if progress else 1,
+                                started, store)
         if report:
             from rubberfriction.driver.report import write_report
 
@@ -338,7 +364,8 @@ def campaign_json(result: CampaignResult) -> str:
     return json.dumps(result.provenance(), indent=2, default=default)
 
 
-def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 30, pressure: float | None = None,
+def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 30,
+                     pressure: float | None = None,
                      velocity: float | None = None, compound: str | None = None, orders: int = 1000,
                      output: str | Path | None = None, quiet: bool = False,
                      runner: Callable[[Any], Any] | None = None, comm: Any = None) -> dict | None:
@@ -365,12 +392,14 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
     elif scale in names:
         si = names.index(str(scale))
     else:
-        raise SceneError(f"--scale {scale!r}: expected a scale index 0..{scene.n_scales - 1} or one of {names}")
+        raise SceneError(f"--scale {scale!r}: expected a scale index 0..{scene.n_scales - 1} or "
+                         f"one of {names}")
     if not 0 <= si < scene.n_scales:
         raise SceneError(f"--scale {scale!r}: expected a scale index 0..{scene.n_scales - 1}")
     comp = compound or scene.conditions.compounds[0]
     if comp not in scene.conditions.compounds:
-        raise SceneError(f"--compound {comp!r}: expected one of the scene's compounds {list(scene.conditions.compounds)}")
+        raise SceneError(f"--compound {comp!r}: expected one of the scene's compounds "
+                         f"{list(scene.conditions.compounds)}")
     p = float(pressure if pressure is not None else scene.conditions.pressures[0])
     v = float(velocity if velocity is not None else scene.conditions.velocities[0])
     if n < 2:
@@ -391,8 +420,10 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
             tasks = []
             for k, smp in enumerate(sset.samples):
                 spec = make_spec(pt, si, smp, p, None, "study")
-                tasks.append(Task(run_key(spec), spec, {"campaign": scene.name, "point": pt.id, "branch": "study",
-                                                        "scale": si, "scale_name": sset.name, "sample": k,
+                tasks.append(Task(run_key(spec), spec,
+                                  {"campaign": scene.name, "point": pt.id, "branch": "study",
+                                                        "scale": si, "scale_name": sset.name,
+                                   "sample": k,
                                                         "pressure_in": p, "friction_in": 0.0}))
             return StaticPlanner(tasks)
 
@@ -410,13 +441,16 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
         stem = f"{holder['scale'].name}_p{p:g}_v{v:g}_{comp}"
         files = [_write_csv(folder / f"{stem}.csv", study_rows(study)),
                  _write_csv(folder / f"{stem}_samples.csv",
-                            [{"sample": k, "status": o.status, "reason": o.reason.splitlines()[0] if o.reason else "",
-                              "mu_force": o.value("mu_force"), "mean_pressure": o.value("mean_pressure"),
+                            [{"sample": k, "status": o.status,
+                              "reason": o.reason.splitlines()[0] if o.reason else "",
+                              "mu_force": o.value("mu_force"),
+                              "mean_pressure": o.value("mean_pressure"),
                               "contact_fraction": o.value("contact_fraction"), "key": o.key}
                              for k, o in enumerate(outcomes)]),
                  plot_sample_study(study, folder / f"{stem}.png",
-                                   f"{holder['scale'].name}, p = {p:g} MPa, v = {v:g} mm/s, {comp}: "
-                                   f"{study.values.size} samples ({study.n_failed} failed)")]
+                                   f"{holder['scale'].name}, p = {p:g} MPa, v = {v:g} mm/s, "
+                                   f"{comp}: {study.values.size} samples ({study.n_failed} "
+                                   f"failed)")]
         return {"study": study, "outcomes": outcomes, "files": files, "scale": holder["scale"].name,
                 "pressure": p, "velocity": v, "compound": comp}
     finally:

@@ -24,14 +24,21 @@ from importlib import resources
 # MPI_THREAD_FUNNELED): the farm's dispatcher thread on rank 0 needs MPI_THREAD_MULTIPLE.
 from mpi4py import MPI  # isort: skip
 
-from rubberfriction.driver.scene import SCENES_PACKAGE, SceneError, load_scene, schema_text, shipped_scenes
+from rubberfriction.driver.scene import (
+    SCENES_PACKAGE,
+    SceneError,
+    load_scene,
+    schema_text,
+    shipped_scenes,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("run", help="run a scene (default: the embedded default scene)",
                        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("scene", nargs="?", default=None,
-                   help="scene TOML file or shipped scene name (default: the embedded default scene)")
+                   help="scene TOML file or shipped scene name (default: the embedded default "
+                        "scene)")
     p.add_argument("--out", metavar="DIR", help="output folder (default: the scene's 'output')")
     p.add_argument("--quiet", action="store_true", help="no progress output (scripts)")
     mode = p.add_mutually_exclusive_group()
@@ -41,24 +48,34 @@ def register(sub: argparse._SubParsersAction) -> None:
                       help="move the existing store aside and compute everything again")
     p.add_argument("--retry-failed", action="store_true", help="recompute runs stored as failed")
     p.add_argument("--samples", nargs=2, type=int, metavar=("K", "J"),
-                   help="override samples per scale: K pressure-branch, J friction-branch (eq. 6.12, 6.13)")
-    p.add_argument("--check", action="store_true", help="validate the scene, print the plan, compute nothing")
-    p.add_argument("--schema", action="store_true", help="print every scene key with default and meaning")
+                   help="override samples per scale: K pressure-branch, J friction-branch (eq. "
+                        "6.12, 6.13)")
+    p.add_argument("--check", action="store_true",
+                   help="validate the scene, print the plan, compute nothing")
+    p.add_argument("--schema", action="store_true",
+                   help="print every scene key with default and meaning")
     p.add_argument("--show", metavar="NAME", nargs="?", const="default",
                    help=f"print a shipped scene ({', '.join(shipped_scenes())})")
     p.set_defaults(func=_run, fresh=False)
 
-    s = sub.add_parser("samples-study", help="what n surface samples buy: S(n) of the sample mean (thesis fig. 6.13)",
-                       description="Runs n frictionless samples of one scale at one (p, v) (thesis 6.4.2) and "
-                                   "reports the standard deviation S(n) of the n-sample mean over random "
-                                   "evaluation orders, with a histogram of mu.  Runs share the scene's store.")
-    s.add_argument("scene", nargs="?", default=None, help="scene TOML file or shipped name (default: default)")
+    s = sub.add_parser("samples-study", help="what n surface samples buy: S(n) of the sample mean "
+                       "(thesis fig. 6.13)",
+                       description="Runs n frictionless samples of one scale at one (p, v) (thesis "
+                                   "6.4.2) and reports the standard deviation S(n) of the n-sample "
+                                   "mean over random evaluation orders, with a histogram of mu.  "
+                                   "Runs share the scene's store.")
+    s.add_argument("scene", nargs="?", default=None,
+                   help="scene TOML file or shipped name (default: default)")
     s.add_argument("--scale", default=None, help="scale name or index (default: the finest)")
-    s.add_argument("--n", type=int, default=30, help="number of samples (default 30; the thesis used 300)")
-    s.add_argument("--pressure", type=float, default=None, help="pressure on that scale, MPa (default: scene's first)")
-    s.add_argument("--velocity", type=float, default=None, help="velocity, mm/s (default: scene's first)")
+    s.add_argument("--n", type=int, default=30,
+                   help="number of samples (default 30; the thesis used 300)")
+    s.add_argument("--pressure", type=float, default=None,
+                   help="pressure on that scale, MPa (default: scene's first)")
+    s.add_argument("--velocity", type=float, default=None,
+                   help="velocity, mm/s (default: scene's first)")
     s.add_argument("--compound", default=None, help="compound (default: the scene's first)")
-    s.add_argument("--orders", type=int, default=1000, help="random evaluation orders (default 1000)")
+    s.add_argument("--orders", type=int, default=1000,
+                   help="random evaluation orders (default 1000)")
     s.add_argument("--out", metavar="DIR", help="output folder (default: the scene's)")
     s.add_argument("--quiet", action="store_true", help="no progress output")
     s.set_defaults(func=_study)
@@ -89,7 +106,9 @@ def _plan(scene) -> str:
         npg = len(sep.pressures) or len(sep.pressure_factors)
         nvg = len(sep.velocities) or len(sep.velocity_factors)
         per = 2 + npg * nvg + (1 if sep.reference else 0)
-        how = f"frictionless macro + {npg}x{nvg} micro grid + macro with the law" + (" + reference" if sep.reference else "")
+        how = f"frictionless macro + {npg}x{nvg} micro grid + macro with the law"
+        if sep.reference:
+            how += " + reference"
     return (f"scene {scene.name!r} ({scene.variant}, {n} scales) from {scene.source}\n"
             f"  {len(pts)} point(s) x {per} runs ({how}) = {len(pts) * per} single-scale runs\n"
             f"  output: {scene.output}")
@@ -125,7 +144,8 @@ def _run(args: argparse.Namespace) -> int:
     from rubberfriction.driver.campaign import run_scene
 
     try:
-        result = run_scene(scene, quiet=args.quiet, fresh=args.fresh, retry_failed=args.retry_failed)
+        result = run_scene(scene, quiet=args.quiet, fresh=args.fresh,
+                           retry_failed=args.retry_failed)
     except SceneError as err:
         return _error(str(err))
     except ImportError as err:
@@ -144,7 +164,8 @@ def _study(args: argparse.Namespace) -> int:
             scene = scene.with_output(args.out)
         from rubberfriction.driver.campaign import run_sample_study
 
-        res = run_sample_study(scene, scale=args.scale, n=args.n, pressure=args.pressure, velocity=args.velocity,
+        res = run_sample_study(scene, scale=args.scale, n=args.n, pressure=args.pressure,
+                               velocity=args.velocity,
                                compound=args.compound, orders=args.orders, quiet=args.quiet)
     except (SceneError, ImportError) as err:
         return _error(str(err))
@@ -153,11 +174,14 @@ def _study(args: argparse.Namespace) -> int:
     if res is None:
         return 0
     st = res["study"]
-    print(f"sample-count study: scale {res['scale']}, p = {res['pressure']:g} MPa, v = {res['velocity']:g} mm/s, "
+    print(f"sample-count study: scale {res['scale']}, p = {res['pressure']:g} MPa, v = "
+          f"{res['velocity']:g} mm/s, "
           f"{res['compound']}: {st.values.size} samples used, {st.n_failed} failed")
-    print(f"  mean of all samples (reference) mu = {st.mean_ref:.4g}, std of one sample = {st.values.std(ddof=1):.3g}")
+    print(f"  mean of all samples (reference) mu = {st.mean_ref:.4g}, std of one sample = "
+          f"{st.values.std(ddof=1):.3g}")
     for n in sorted({1, 2, 5, 10, 20, st.values.size} & set(st.n.tolist())):
-        print(f"  S({n:>3}) = +-{st.S[n - 1]:.3g}   (exact without replacement: {st.S_exact[n - 1]:.3g})")
+        print(f"  S({n:>3}) = +-{st.S[n - 1]:.3g}   (exact without replacement: "
+              f"{st.S_exact[n - 1]:.3g})")
     for f in res["files"]:
         print(f"written: {f}")
     return 0

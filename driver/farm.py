@@ -121,8 +121,10 @@ def failure_result(reason: str) -> Any:
     """A SlidingResult-like failed result for a run that raised."""
     from types import SimpleNamespace
 
-    return SimpleNamespace(status="failed", reason=reason, series={}, stats={}, dissipation_by_depth=None,
-                           mu_force=float("nan"), mu_energy=float("nan"), mean_pressure=float("nan"),
+    return SimpleNamespace(status="failed", reason=reason, series={}, stats={},
+                           dissipation_by_depth=None,
+                           mu_force=float("nan"), mu_energy=float("nan"),
+                           mean_pressure=float("nan"),
                            contact_fraction=float("nan"), t_reached=0.0)
 
 
@@ -135,8 +137,9 @@ def default_runner() -> Callable[[Any], Any]:
 
     fn = getattr(sliding, "run_sliding", None)
     if fn is None:
-        raise ImportError("rubberfriction.driver.sliding.run_sliding is not available in this build "
-                          "(the single-scale run with its default mesh and contact factories)")
+        raise ImportError("rubberfriction.driver.sliding.run_sliding is not available in this "
+                          "build (the single-scale run with its default mesh and contact "
+                          "factories)")
     try:
         params = inspect.signature(fn).parameters
     except (TypeError, ValueError):
@@ -203,11 +206,14 @@ class Executor:
         def expire() -> None:
             reason = f"timeout: the run exceeded {self.timeout:g} s and was killed"
             try:
-                self.store.put(task.key, task.payload, failure_result(reason), wall_time=self.timeout,
+                self.store.put(task.key, task.payload, failure_result(reason),
+                               wall_time=self.timeout,
                                label=task.label, failure="timeout", settings=self.settings)
             finally:
-                print(f"farm: run {task.key[:12]} ({task.label}) exceeded {self.timeout:g} s: recorded as "
-                      "failed; exiting -- run the scene again to resume", file=sys.stderr, flush=True)
+                print(f"farm: run {task.key[:12]} ({task.label}) exceeded {self.timeout:g} s: "
+                      f"recorded as "
+                      "failed; exiting -- run the scene again to resume", file=sys.stderr,
+                      flush=True)
                 try:
                     from mpi4py import MPI
 
@@ -341,7 +347,8 @@ def _worker(comm: Any, execute: Callable[[Task], Outcome]) -> None:
 
 
 def _master(comm: Any, make_planner: Callable[[], Planner], execute: Callable[[Task], Outcome],
-            progress: ProgressLike | None, poll: float) -> tuple[Planner | None, dict[str, Outcome]]:
+            progress: ProgressLike | None, poll: float) -> tuple[Planner | None,
+                                                                 dict[str, Outcome]]:
     from mpi4py import MPI
 
     nworkers = comm.Get_size() - 1

@@ -129,6 +129,15 @@ def sample_stats(values: Sequence[float]) -> SampleStats:
     return SampleStats(tuple(float(x) for x in v), mean, std, ci, n, int(v.size - n))
 
 
+def _values(outcomes: Sequence[Outcome], name: str) -> SampleStats:
+    """Sample statistics of one result scalar (failed runs count as failed samples)."""
+    return sample_stats([o.value(name) if o.ok else math.nan for o in outcomes])
+
+
+def _first_line(reason: str) -> str:
+    return reason.splitlines()[0] if reason else "no reason"
+
+
 def mean_contact_pressure(outcomes: Sequence[Outcome]) -> SampleStats:
     """Pressure passed to the next scale, eq. (6.12), from each sample's eq. (6.11) value."""
     return sample_stats([o.value("mean_pressure") if o.ok else math.nan for o in outcomes])
@@ -144,7 +153,8 @@ def relative_contact_area(fractions: Sequence[float]) -> float:
     return float(np.prod(np.asarray(fractions, dtype=float)))
 
 
-def adhesion_mu(tau0: float, c: float, v0: float, alpha: float, v: float, p: float, area_ratio: float) -> float:
+def adhesion_mu(tau0: float, c: float, v0: float, alpha: float, v: float, p: float,
+                area_ratio: float) -> float:
     """alpha mu_A = alpha tau_A(v) A_r / p, eqs. (7.6), (7.7) (the share added in eq. 7.8)."""
     from rubberfriction.driver.theory.adhesion import BellLaw, mu_adhesion
 
@@ -173,7 +183,7 @@ class ScaleResult:
     index: int
     name: str
     band: tuple[float, float]
-    pressure: float = math.nan  # p_i applied on this scale (eq. 6.12 of the scale above; p on macro)
+    pressure: float = math.nan  # p_i applied on this scale (eq. 6.12 from above; p on macro)
     pressure_spread: SampleStats | None = None  # the samples of the scale above that gave p_i
     pressure_down: SampleStats | None = None  # this scale's eq. (6.11) values (-> p_{i+1})
     friction_in: float = math.nan  # Coulomb mu in this scale's friction runs (mu_{i+1}; 0 finest)
@@ -181,7 +191,7 @@ class ScaleResult:
     mu_energy: SampleStats | None = None  # the same from dissipated energy
     contact: SampleStats | None = None  # contact fraction A_i,c / A_i,0 (eq. 7.4)
     area_ratio: float = math.nan  # overall A_r of scales 0..i (eq. 7.5)
-    dissipation: SampleStats | None = None  # mu_energy x p_i: energy per sliding length per area, MPa
+    dissipation: SampleStats | None = None  # mu_energy x p_i: energy / sliding length / area
     flagged: bool = False
     notes: list[str] = field(default_factory=list)
 
@@ -213,8 +223,10 @@ class PointResult:
 class RoughCascade:
     """Planner of one point of the rough-surface cascade (see the module docstring)."""
 
-    def __init__(self, campaign: str, point: Point, scales: Sequence[ScaleSet], make_spec: SpecFactory,
-                 k: int, j: int, *, adhesion: AdhesionLaw | None = None, max_failed_fraction: float = 0.25,
+    def __init__(self, campaign: str, point: Point, scales: Sequence[ScaleSet],
+                 make_spec: SpecFactory,
+                 k: int, j: int, *, adhesion: AdhesionLaw | None = None,
+                 max_failed_fraction: float = 0.25,
                  mu_quantity: str = "mu_force"):
         n = len(scales)
         if n < 1:
@@ -222,13 +234,15 @@ class RoughCascade:
         for s in scales:
             need = j if s is scales[-1] else max(k, j)
             if len(s.samples) < need:
-                raise ValueError(f"scale {s.name}: {len(s.samples)} samples, the cascade needs {need}")
+                raise ValueError(f"scale {s.name}: {len(s.samples)} samples, the cascade needs "
+                                 f"{need}")
         self.campaign, self.point, self.scales = campaign, point, list(scales)
         self.make_spec, self.k, self.j = make_spec, k, j
         self.adhesion, self.max_failed = adhesion, max_failed_fraction
         self.mu_quantity = mu_quantity
         self.result = PointResult(point, "rough",
-                                  scales=[ScaleResult(i, s.name, tuple(s.band)) for i, s in enumerate(scales)])
+                                  scales=[ScaleResult(i, s.name, tuple(s.band)) for i,
+                                          s in enumerate(scales)])
         self.result.scales[0].pressure = point.pressure
         self.n = n
         # down stages 0..n-2 (and stage 0 for the macro contact area when adhesion is on)
@@ -252,11 +266,15 @@ class RoughCascade:
         friction = float(sc.friction_in) if branch == "up" and sc.friction_in > 0 else None
         tasks = []
         for s in range(count):
-            spec = self.make_spec(self.point, i, self.scales[i].samples[s], sc.pressure, friction, branch)
-            label = {"campaign": self.campaign, "point": self.point.id, "compound": self.point.compound,
-                     "pressure": self.point.pressure, "velocity": self.point.velocity, "branch": branch,
+            spec = self.make_spec(self.point, i, self.scales[i].samples[s], sc.pressure, friction,
+                                  branch)
+            label = {"campaign": self.campaign, "point": self.point.id,
+                     "compound": self.point.compound,
+                     "pressure": self.point.pressure, "velocity": self.point.velocity,
+                     "branch": branch,
                      "scale": i, "scale_name": self.scales[i].name, "sample": s,
-                     "pressure_in": sc.pressure, "friction_in": 0.0 if friction is None else float(friction)}
+                     "pressure_in": sc.pressure,
+                     "friction_in": 0.0 if friction is None else float(friction)}
             tasks.append(Task(run_key(spec), spec, label))
         self._collected = [None] * count
         self._issued = True
@@ -296,11 +314,11 @@ class RoughCascade:
         sc = self.result.scales[i]
         st = mean_contact_pressure(outcomes)  # eq. (6.11) per sample, (6.12) over samples
         sc.pressure_down = st
-        sc.contact = sample_stats([o.value("contact_fraction") if o.ok else math.nan for o in outcomes])
+        sc.contact = _values(outcomes, "contact_fraction")
         self._flag(sc, st, "pressure branch")
         if st.n_used == 0:
             return self._fail(f"scale {sc.name}: all {st.n_total} pressure samples failed "
-                              f"({outcomes[0].reason.splitlines()[0] if outcomes[0].reason else 'no reason'})")
+                              f"({_first_line(outcomes[0].reason)})")
         if i + 1 < self.n:
             nxt = self.result.scales[i + 1]
             nxt.pressure, nxt.pressure_spread = st.mean, st
@@ -313,10 +331,12 @@ class RoughCascade:
         """Friction branch on scale i: Coulomb mu of the scale below (0 on the finest scale),
         plus the adhesive share on the macro scale when adhesion is on (eq. 7.5-7.8)."""
         sc = self.result.scales[i]
-        sc.friction_in = 0.0 if i == self.n - 1 else self.result.scales[i + 1].mu.mean  # type: ignore[union-attr]
+        below = self.result.scales[i + 1].mu if i < self.n - 1 else None
+        sc.friction_in = below.mean if below is not None else 0.0
         if i == 0 and self.adhesion is not None:
             a = self.adhesion
-            A_r = relative_contact_area([s.contact.mean for s in self.result.scales])  # type: ignore[union-attr]
+            A_r = relative_contact_area([s.contact.mean if s.contact else math.nan
+                                         for s in self.result.scales])
             self.result.mu_adhesion = adhesion_mu(a.tau0, a.c, a.v0, a.alpha, self.point.velocity,
                                                   self.point.pressure, A_r)
             sc.friction_in += self.result.mu_adhesion  # eq. (7.8)
@@ -328,12 +348,13 @@ class RoughCascade:
         sc.mu = st
         sc.mu_energy = friction_average(outcomes, "mu_energy")
         if i > 0 or sc.contact is None:  # macro contact area from its frictionless runs (7.5)
-            sc.contact = sample_stats([o.value("contact_fraction") if o.ok else math.nan for o in outcomes])
-        sc.dissipation = sample_stats([o.value("mu_energy") * sc.pressure if o.ok else math.nan for o in outcomes])
+            sc.contact = _values(outcomes, "contact_fraction")
+        sc.dissipation = sample_stats([o.value("mu_energy") * sc.pressure if o.ok else math.nan
+                                       for o in outcomes])
         self._flag(sc, st, "friction branch")
         if st.n_used == 0:
             return self._fail(f"scale {sc.name}: all {st.n_total} friction samples failed "
-                              f"({outcomes[0].reason.splitlines()[0] if outcomes[0].reason else 'no reason'})")
+                              f"({_first_line(outcomes[0].reason)})")
         if i == 0:
             self._finish()
         else:
@@ -397,7 +418,8 @@ def fit_friction_law(p: np.ndarray, v: np.ndarray, mu: np.ndarray, *, degree: in
         if ok.sum() < (kmax + 1) ** 2:
             kmax = max(1, int(math.isqrt(int(ok.sum()))) - 1)
         if ok.sum() < (kmax + 1) ** 2:
-            raise ValueError(f"only {int(ok.sum())} of {mu.size} micro runs succeeded: too few for a spline law")
+            raise ValueError(f"only {int(ok.sum())} of {mu.size} micro runs succeeded: too few for "
+                             f"a spline law")
         law = fit_mu_pv(P[ok], V[ok], mu[ok], degree=kmax, smoothing=smoothing or None)
     return _law_from_dict(law.to_dict())
 
@@ -405,8 +427,10 @@ def fit_friction_law(p: np.ndarray, v: np.ndarray, mu: np.ndarray, *, degree: in
 class SeparatedTwoScale:
     """Planner of one point of the separated-scale variant (thesis 6.2, fig. 6.1, 6.4)."""
 
-    def __init__(self, campaign: str, point: Point, macro: ScaleSet, micro: ScaleSet, full_sample: Any,
-                 make_spec: SpecFactory, *, pressures: Sequence[float] = (), pressure_factors: Sequence[float] = (),
+    def __init__(self, campaign: str, point: Point, macro: ScaleSet, micro: ScaleSet,
+                 full_sample: Any,
+                 make_spec: SpecFactory, *, pressures: Sequence[float] = (),
+                 pressure_factors: Sequence[float] = (),
                  velocities: Sequence[float] = (), velocity_factors: Sequence[float] = (),
                  reference: bool = True, degree: int = 3, smoothing: float = 0.0):
         self.campaign, self.point, self.macro, self.micro = campaign, point, macro, micro
@@ -438,7 +462,8 @@ class SeparatedTwoScale:
     def _task(self, role: str, idx: int, spec: Any, **extra: Any) -> Task:
         label = {"campaign": self.campaign, "point": self.point.id, "compound": self.point.compound,
                  "pressure": self.point.pressure, "velocity": self.point.velocity, "branch": role,
-                 "scale": 1 if role == "micro" else 0, "scale_name": self.micro.name if role == "micro" else
+                 "scale": 1 if role == "micro" else 0,
+                 "scale_name": self.micro.name if role == "micro" else
                  (self.macro.name if role != "reference" else "full"), "sample": idx, **extra}
         return Task(run_key(spec), spec, label)
 
@@ -458,7 +483,8 @@ class SeparatedTwoScale:
                 for b, vi in enumerate(self.v_grid):
                     pt = Point(self.point.compound, float(pi), float(vi))
                     spec = self.make_spec(pt, 1, self.micro.samples[0], float(pi), None, "micro")
-                    tasks.append(self._task("micro", a * len(self.v_grid) + b, spec, pressure_in=float(pi),
+                    tasks.append(self._task("micro", a * len(self.v_grid) + b, spec,
+                                            pressure_in=float(pi),
                                             velocity_in=float(vi), friction_in=0.0))
         elif self._stage == "macro":
             spec = self.make_spec(self.point, 0, self.macro.samples[0], p, self.law, "macro")
@@ -491,7 +517,8 @@ class SeparatedTwoScale:
             sc.contact = sample_stats([o.value("contact_fraction") if o.ok else math.nan])
             if not o.ok:
                 self._stage = None
-                self.result.status, self.result.reason = "failed", f"frictionless macro run failed: {o.reason}"
+                self.result.status = "failed"
+                self.result.reason = f"frictionless macro run failed: {o.reason}"
                 return
             pm = o.value("mean_pressure")
             self.result.extra["macro_mean_pressure"] = pm
@@ -509,7 +536,8 @@ class SeparatedTwoScale:
             sc.mu = sample_stats(mu.ravel())
             sc.flagged = bool(np.isnan(mu).any())
             try:
-                self.law = fit_friction_law(self.p_grid, self.v_grid, mu, degree=self.degree,  # eq. (6.6)
+                self.law = fit_friction_law(self.p_grid, self.v_grid, mu,
+                                            degree=self.degree,  # eq. (6.6)
                                             smoothing=self.smoothing)
             except ValueError as err:
                 self._stage = None
@@ -524,7 +552,8 @@ class SeparatedTwoScale:
             sc.mu_energy = sample_stats([o.value("mu_energy") if o.ok else math.nan])
             self._stage = None
             if not o.ok:
-                self.result.status, self.result.reason = "failed", f"macro run with the micro law failed: {o.reason}"
+                self.result.status = "failed"
+                self.result.reason = f"macro run with the micro law failed: {o.reason}"
             self._maybe_finish()
 
     def _maybe_finish(self) -> None:
@@ -533,12 +562,14 @@ class SeparatedTwoScale:
         r = self.result
         r.mu = r.scales[0].mu
         r.status = "ok"
-        t_multi = sum(o.wall_time for role in ("macro0", "micro", "macro") for _, o in r.runs.get(role, []))
+        t_multi = sum(o.wall_time for role in ("macro0", "micro", "macro") for _,
+                      o in r.runs.get(role, []))
         r.extra["time_multiscale"] = t_multi
         if "mu_reference" in r.extra and r.mu is not None:
             ref = r.extra["mu_reference"]
             r.extra["relative_difference"] = (r.mu.mean - ref) / ref if ref else math.nan
-            r.extra["time_ratio"] = t_multi / r.extra["time_reference"] if r.extra["time_reference"] else math.nan
+            t_ref = r.extra["time_reference"]
+            r.extra["time_ratio"] = t_multi / t_ref if t_ref else math.nan
 
 
 # ----------------------------------------------------------------------------------------------
@@ -598,7 +629,8 @@ class SampleCountStudy:
     n_failed: int = 0
 
 
-def sample_count_study(values: Sequence[float], orders: int = 1000, seed: int = 0) -> SampleCountStudy:
+def sample_count_study(values: Sequence[float], orders: int = 1000,
+                       seed: int = 0) -> SampleCountStudy:
     """S(n), n = 1..N, of the sample mean over ``orders`` random orders (failed = NaN dropped)."""
     v = np.asarray(values, dtype=float)
     ok = v[np.isfinite(v)]
@@ -611,5 +643,6 @@ def sample_count_study(values: Sequence[float], orders: int = 1000, seed: int = 
     n = np.arange(1, N + 1)
     sigma = ok.std(ddof=0)
     S_exact = sigma / np.sqrt(n) * np.sqrt((N - n) / (N - 1))
-    return SampleCountStudy(ok, n, running.std(axis=0, ddof=1), S_exact, float(ok.mean()), running[:3],
+    return SampleCountStudy(ok, n, running.std(axis=0, ddof=1), S_exact, float(ok.mean()),
+                            running[:3],
                             int(v.size - N))

@@ -49,7 +49,8 @@ class Progress:
         self.total, self.workers = int(total), max(1, int(workers))
         self.t0 = self.clock()
         if not self.quiet:
-            print(f"campaign: {self.total} single-scale runs on {self.workers} worker(s)", file=self.stream,
+            print(f"campaign: {self.total} single-scale runs on {self.workers} worker(s)",
+                  file=self.stream,
                   flush=True)
 
     def eta(self) -> float:
@@ -79,17 +80,20 @@ class Progress:
     def line(self, task: Any = None) -> str:
         w = len(str(max(self.total, 1)))
         pct = 100.0 * self.done / self.total if self.total else 100.0
-        text = (f"[{self.done:>{w}}/{self.total:>{w}}] {pct:4.0f}%  computed {self.computed}  reused {self.reused}"
+        text = (f"[{self.done:>{w}}/{self.total:>{w}}] {pct:4.0f}%  computed {self.computed}  "
+                f"reused {self.reused}"
                 f"  failed {self.failed}  elapsed {format_seconds(self.clock() - self.t0)}"
                 f"  left ~{format_seconds(self.eta())}")
         label = getattr(task, "label", None)
         if label:
-            text += "  | " + " ".join(str(label[k]) for k in ("point", "branch", "scale_name", "sample")
+            text += "  | " + " ".join(str(label[k]) for k in ("point", "branch", "scale_name",
+                                                              "sample")
                                       if k in label)
         return text
 
     def finish(self) -> None:
         if not self.quiet:
-            print(f"campaign done: {self.done} runs ({self.computed} computed, {self.reused} reused, "
-                  f"{self.failed} failed) in {format_seconds(self.clock() - self.t0)}", file=self.stream,
+            print(f"campaign done: {self.done} runs ({self.computed} computed, {self.reused} "
+                  f"reused, {self.failed} failed) in {format_seconds(self.clock() - self.t0)}",
+                  file=self.stream,
                   flush=True)

@@ -84,15 +84,18 @@ def _write_csv(path: Path, rows: list[dict[str, Any]]) -> Path:
 def point_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
     rows = []
     for r in points:
-        row: dict[str, Any] = {"variant": r.variant, "compound": r.point.compound, "pressure_MPa": r.point.pressure,
-                               "velocity_mm_s": r.point.velocity, "status": r.status, "reason": r.reason}
+        row: dict[str, Any] = {"variant": r.variant, "compound": r.point.compound,
+                               "pressure_MPa": r.point.pressure,
+                               "velocity_mm_s": r.point.velocity, "status": r.status,
+                               "reason": r.reason}
         row.update(_stats("mu", r.mu))
         if r.variant == "rough":
             row["mu_adhesion"] = r.mu_adhesion
             row["area_ratio"] = r.area_ratio
             row["flagged_scales"] = " ".join(s.name for s in r.scales if s.flagged)
         else:
-            for k in ("mu_reference", "relative_difference", "time_multiscale", "time_reference", "time_ratio",
+            for k in ("mu_reference", "relative_difference", "time_multiscale", "time_reference",
+                      "time_ratio",
                       "macro_mean_pressure"):
                 row[k] = r.extra.get(k, math.nan)
         row["runs"] = sum(len(v) for v in r.runs.values())
@@ -107,12 +110,15 @@ def scale_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
     for r in points:
         for s in r.scales:
             row: dict[str, Any] = {"compound": r.point.compound, "pressure_MPa": r.point.pressure,
-                                   "velocity_mm_s": r.point.velocity, "scale": s.index, "name": s.name,
+                                   "velocity_mm_s": r.point.velocity, "scale": s.index,
+                                   "name": s.name,
                                    "lambda_long_mm": s.band[0], "lambda_short_mm": s.band[1],
                                    "pressure": s.pressure}
             sp = s.pressure_spread
-            row.update({"pressure_std": sp.std if sp else math.nan, "pressure_ci95": sp.ci95 if sp else math.nan,
-                        "pressure_n_used": sp.n_used if sp else 0, "pressure_n_failed": sp.n_failed if sp else 0})
+            row.update({"pressure_std": sp.std if sp else math.nan,
+                        "pressure_ci95": sp.ci95 if sp else math.nan,
+                        "pressure_n_used": sp.n_used if sp else 0,
+                        "pressure_n_failed": sp.n_failed if sp else 0})
             row.update(_stats("mean_contact_pressure", s.pressure_down))
             row["friction_in"] = s.friction_in
             row.update(_stats("mu", s.mu))
@@ -132,14 +138,18 @@ def sample_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
         for stage, runs in r.runs.items():
             for t, o in runs:
                 lab = t.label
-                rows.append({"point": r.point.id, "branch": lab.get("branch"), "scale": lab.get("scale"),
+                rows.append({"point": r.point.id, "branch": lab.get("branch"),
+                             "scale": lab.get("scale"),
                              "scale_name": lab.get("scale_name"), "sample": lab.get("sample"),
-                             "pressure_in": lab.get("pressure_in"), "velocity_in": lab.get("velocity_in",
-                                                                                         r.point.velocity),
-                             "friction_in": lab.get("friction_in"), "status": o.status, "failure": o.failure,
+                             "pressure_in": lab.get("pressure_in"),
+                             "velocity_in": lab.get("velocity_in", r.point.velocity),
+                             "friction_in": lab.get("friction_in"), "status": o.status,
+                             "failure": o.failure,
                              "reason": o.reason.splitlines()[0] if o.reason else "",
-                             "mean_pressure": o.value("mean_pressure"), "mu_force": o.value("mu_force"),
-                             "mu_energy": o.value("mu_energy"), "contact_fraction": o.value("contact_fraction"),
+                             "mean_pressure": o.value("mean_pressure"),
+                             "mu_force": o.value("mu_force"),
+                             "mu_energy": o.value("mu_energy"),
+                             "contact_fraction": o.value("contact_fraction"),
                              "wall_time_s": o.wall_time, "reused": o.reused, "key": o.key})
     return rows
 
@@ -163,7 +173,10 @@ def time_by_scale(points: Sequence[PointResult]) -> dict[str, float]:
 def _pm(st: SampleStats | None) -> str:
     if st is None or math.isnan(st.mean):
         return "n/a"
-    spread = f" +- {st.ci95:.3g} (95% CI, std {st.std:.3g})" if st.n_used > 1 else " (one sample: no spread)"
+    if st.n_used > 1:
+        spread = f" +- {st.ci95:.3g} (95% CI, std {st.std:.3g})"
+    else:
+        spread = " (one sample: no spread)"
     fail = f", {st.n_failed} failed" if st.n_failed else ""
     return f"{st.mean:.4g}{spread} [{st.n_used} samples{fail}]"
 
@@ -171,8 +184,8 @@ def _pm(st: SampleStats | None) -> str:
 def summary_text(result: Any) -> str:
     sc = result.scene
     lines = [f"scene {sc.name!r} ({sc.variant}) from {sc.source}: {len(result.points)} point(s), "
-             f"{result.n_runs} single-scale runs ({result.n_reused} reused, {result.n_failed} failed), "
-             f"{result.wall_time:.1f} s on {result.workers} worker(s)"]
+             f"{result.n_runs} single-scale runs ({result.n_reused} reused, {result.n_failed} "
+             f"failed), {result.wall_time:.1f} s on {result.workers} worker(s)"]
     for r in result.points:
         head = f"  {r.point.id}: "
         if not r.ok:
@@ -184,18 +197,22 @@ def summary_text(result: Any) -> str:
                 lines.append(f"      adhesive share alpha mu_A = {r.mu_adhesion:.4g} (eq. 7.8)")
             for s in r.scales:
                 flag = "  FLAGGED: too many failed samples" if s.flagged else ""
-                lines.append(f"      {s.name:<8} p = {s.pressure:.4g} MPa  mu = {_pm(s.mu)}  A/A0 = "
-                             f"{s.contact.mean if s.contact else math.nan:.3g}  A_r = {s.area_ratio:.3g}{flag}")
+                lines.append(f"      {s.name:<8} p = {s.pressure:.4g} MPa  mu = {_pm(s.mu)}  A/A0 "
+                             f"= {s.contact.mean if s.contact else math.nan:.3g}  A_r = "
+                             f"{s.area_ratio:.3g}{flag}")
         else:
             e = r.extra
-            lines.append(f"      reference (single scale, full profile): mu = {e.get('mu_reference', math.nan):.4g}; "
+            lines.append(f"      reference (single scale, full profile): mu = "
+                         f"{e.get('mu_reference', math.nan):.4g}; "
                          f"difference {100 * e.get('relative_difference', math.nan):+.2f} %")
-            lines.append(f"      wall time: multiscale {e.get('time_multiscale', math.nan):.1f} s, reference "
-                         f"{e.get('time_reference', math.nan):.1f} s (ratio {e.get('time_ratio', math.nan):.3g})")
+            lines.append(f"      wall time: multiscale {e.get('time_multiscale', math.nan):.1f} s, "
+                         f"reference {e.get('time_reference', math.nan):.1f} s (ratio "
+                         f"{e.get('time_ratio', math.nan):.3g})")
     shares = time_by_scale(result.points)
     total = sum(shares.values())
     if total > 0:
-        lines.append("  run time per scale: " + ", ".join(f"{k} {100 * v / total:.0f} %" for k, v in shares.items()))
+        lines.append("  run time per scale: " + ", ".join(f"{k} {100 * v / total:.0f} %" for k,
+                                                          v in shares.items()))
     return "\n".join(lines)
 
 
@@ -214,8 +231,10 @@ def plot_curves(points: Sequence[PointResult], out: Path) -> list[Path]:
     """mu(v) per (compound, p) and mu(p) per (compound, v), 95 % CI error bars."""
     plt = _plt()
     files = []
-    for axis, other, fname, xlabel in (("velocity", "pressure", "mu_v.png", "sliding velocity v (mm/s)"),
-                                       ("pressure", "velocity", "mu_p.png", "nominal pressure p (MPa)")):
+    for axis, other, fname, xlabel in (("velocity", "pressure", "mu_v.png",
+                                        "sliding velocity v (mm/s)"),
+                                       ("pressure", "velocity", "mu_p.png",
+                                        "nominal pressure p (MPa)")):
         fig, ax = plt.subplots(figsize=(6, 4))
         groups: dict[tuple[str, float], list[PointResult]] = {}
         for r in points:
@@ -224,7 +243,8 @@ def plot_curves(points: Sequence[PointResult], out: Path) -> list[Path]:
             rs = sorted(rs, key=lambda r: getattr(r.point, axis))
             x = [getattr(r.point, axis) for r in rs]
             unit = "MPa" if other == "pressure" else "mm/s"
-            _errorbar(ax, x, [r.mu if r.ok else None for r in rs], label=f"{comp}, {other[0]} = {val:g} {unit}")
+            _errorbar(ax, x, [r.mu if r.ok else None for r in rs],
+                      label=f"{comp}, {other[0]} = {val:g} {unit}")
             for r in rs:
                 if r.ok and r.mu is not None:
                     ax.annotate(f"n={r.mu.n_used}", (getattr(r.point, axis), r.mu.mean), fontsize=7,
@@ -251,7 +271,8 @@ def plot_scales(r: PointResult, out: Path) -> list[Path]:
     fig, axs = plt.subplots(1, 3, figsize=(11, 3.5))
     p_stats = [s.pressure_spread for s in r.scales]
     axs[0].errorbar(idx, [s.pressure for s in r.scales],
-                    yerr=[st.ci95 if st and st.n_used > 1 else 0.0 for st in p_stats], marker="o", capsize=3)
+                    yerr=[st.ci95 if st and st.n_used > 1 else 0.0 for st in p_stats], marker="o",
+                    capsize=3)
     axs[0].set_ylabel("pressure p (MPa)")
     _errorbar(axs[1], idx, [s.mu for s in r.scales])
     axs[1].set_ylabel("overall mu (eq. 6.13)")
@@ -271,17 +292,20 @@ def plot_scales(r: PointResult, out: Path) -> list[Path]:
     fig, axs = plt.subplots(1, 3, figsize=(11, 3.5))
     for s in r.scales:
         if s.pressure_down is not None:
-            axs[0].plot(np.arange(1, s.pressure_down.n_total + 1), s.pressure_down.values, "o-", label=s.name)
+            axs[0].plot(np.arange(1, s.pressure_down.n_total + 1), s.pressure_down.values, "o-",
+                        label=s.name)
         if s.mu is not None:
             axs[1].plot(np.arange(1, s.mu.n_total + 1), s.mu.values, "o-", label=s.name)
         if s.contact is not None:
             axs[2].plot(np.arange(1, s.contact.n_total + 1), s.contact.values, "o-", label=s.name)
-    for ax, lab in zip(axs, ("mean contact pressure (eq. 6.11)", "mu per sample", "contact fraction")):
+    for ax, lab in zip(axs, ("mean contact pressure (eq. 6.11)", "mu per sample",
+                             "contact fraction")):
         ax.set_xlabel("surface sample k / j")
         ax.set_ylabel(lab)
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7)
-    fig.suptitle(f"{r.point.id}: per-sample values (thesis fig. 6.29 b; failed samples missing)", fontsize=10)
+    fig.suptitle(f"{r.point.id}: per-sample values (thesis fig. 6.29 b; failed samples missing)",
+                 fontsize=10)
     fig.tight_layout()
     f = out / f"samples_{_slug(r.point.id)}.png"
     fig.savefig(f, dpi=120)
@@ -350,12 +374,15 @@ def plot_separated(points: Sequence[PointResult], out: Path) -> list[Path]:
         fig, axs = plt.subplots(1, 2, figsize=(9, 3.5))
         lab = [r.point.id for r in ok]
         x = np.arange(len(ok))
-        axs[0].bar(x - 0.2, [r.extra["mu_reference"] for r in ok], 0.4, label="reference (single scale)")
-        axs[0].bar(x + 0.2, [r.mu.mean for r in ok], 0.4, label="multiscale")  # type: ignore[union-attr]
+        axs[0].bar(x - 0.2, [r.extra["mu_reference"] for r in ok], 0.4,
+                   label="reference (single scale)")
+        axs[0].bar(x + 0.2, [r.mu.mean for r in ok], 0.4,
+                   label="multiscale")  # type: ignore[union-attr]
         axs[0].set_ylabel("mu")
         axs[0].legend(fontsize=8)
         axs[1].bar(x - 0.2, [1.0 for _ in ok], 0.4, label="reference")
-        axs[1].bar(x + 0.2, [r.extra.get("time_ratio", math.nan) for r in ok], 0.4, label="multiscale")
+        axs[1].bar(x + 0.2, [r.extra.get("time_ratio", math.nan) for r in ok], 0.4,
+                   label="multiscale")
         axs[1].set_ylabel("relative wall time")
         axs[1].legend(fontsize=8)
         for ax in axs:
@@ -373,14 +400,16 @@ def plot_sample_study(study: SampleCountStudy, path: Path, title: str = "") -> P
     """Thesis fig. 6.13: (a) histogram of mu, (b) running means of three orders and +-S(n)."""
     plt = _plt()
     fig, axs = plt.subplots(1, 2, figsize=(10, 3.8))
-    axs[0].hist(study.values, bins=max(5, int(np.sqrt(study.values.size))), color="0.6", edgecolor="k")
+    axs[0].hist(study.values, bins=max(5, int(np.sqrt(study.values.size))), color="0.6",
+                edgecolor="k")
     axs[0].set_xlabel("mu of one sample")
     axs[0].set_ylabel("frequency m(mu)")
     n = study.n
     for k, run in enumerate(study.examples, start=1):
         axs[1].plot(n, run, lw=1, label=f"order k = {k}")
     axs[1].axhline(study.mean_ref, color="k", lw=1, label=f"reference mean of {n[-1]}")
-    axs[1].fill_between(n, study.mean_ref - study.S, study.mean_ref + study.S, color="C0", alpha=0.15,
+    axs[1].fill_between(n, study.mean_ref - study.S, study.mean_ref + study.S, color="C0",
+                        alpha=0.15,
                         label="+- S(n) (random orders)")
     axs[1].set_xlabel("number of samples n")
     axs[1].set_ylabel("sample mean of mu")

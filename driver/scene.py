@@ -63,101 +63,130 @@ SCHEMA: dict[str, dict[str, Key]] = {
     "": {
         "name": Key("str", "scene", "name of the scene (labels the runs and the report)"),
         "description": Key("str", "", "free text"),
-        "variant": Key("str", "rough", "rough: rough-surface cascade (thesis 6.3.2); separated: two "
-                       "separated scales with a spline law mu(p, v) (thesis 6.2)", choices=("rough", "separated")),
-        "output": Key("str", "rf-results/{name}", "output folder (relative to the current directory); "
+        "variant": Key("str", "rough", "rough: rough-surface cascade (thesis 6.3.2); separated: "
+                                       "two separated scales with a spline law mu(p, v) (thesis "
+                                       "6.2)",
+                       choices=("rough", "separated")),
+        "output": Key("str", "rf-results/{name}",
+                      "output folder (relative to the current directory); "
                       "{name} is replaced by the scene name; the command line --out wins"),
     },
     "surface": {
-        "source": Key("str", "default_road", "default_road: CAPTIF chipseal + self-affine fine extension "
+        "source": Key("str", "default_road",
+                      "default_road: CAPTIF chipseal + self-affine fine extension "
                       "(driver.surfaces.default_road); files: measured profiles listed in 'files'; "
                       "sines: one sine wave per scale (amplitudes, wavelengths)",
                       choices=("default_road", "files", "sines")),
-        "files": Key("strs", [], "source = files: profile files (relative to the scene file), one or "
-                     "more resolutions of one road; each band is cut from the coarsest file resolving it"),
-        "edges": Key("floats", [20.0, 3.0, 0.3, 0.04, 0.003], "scale edges in mm, descending: scale i is "
-                     "the band edges[i]..edges[i+1] (eq. 6.10, 6.14); source = sines: optional, each "
-                     "wavelength must lie in its band"),
+        "files": Key("strs", [], "source = files: profile files (relative to the scene file), one "
+                                 "or more resolutions of one road; each band is cut from the "
+                                 "coarsest file resolving it"),
+        "edges": Key("floats", [20.0, 3.0, 0.3, 0.04, 0.003],
+                     "scale edges in mm, descending: scale i is the band edges[i]..edges[i+1] (eq. "
+                     "6.10, 6.14); source = sines: optional, each wavelength must lie in its band"),
         "names": Key("strs", [], "scale names (default: macro, meso, micro1, micro2 / scale0..)"),
-        "block_lengths": Key("floats", [], "rubber block length per scale in mm (default: the long edge "
+        "block_lengths": Key("floats", [],
+                             "rubber block length per scale in mm (default: the long edge "
                              "of each band, thesis 6.5.1; sines: periods_per_block x wavelength)"),
         "top_fraction": Key("float", 0.2, "sample centres lie on the top fraction of the carrier "
-                            "(thesis 6.5.1: contact happens on the top asperities)", above=0.0, maximum=1.0),
+                            "(thesis 6.5.1: contact happens on the top asperities)", above=0.0,
+                            maximum=1.0),
         "seed": Key("int", 1, "seed of the sample positions (same seed, same samples)", minimum=0),
-        "amplitudes": Key("floats", [], "source = sines: amplitude of each wave in mm (scale order)"),
-        "wavelengths": Key("floats", [], "source = sines: wavelength of each wave in mm, descending"),
-        "periods_per_block": Key("int", 1, "source = sines: block length in wavelengths", minimum=1),
-        "points_per_wavelength": Key("int", 64, "source = sines: vertices of the rigid polyline per "
-                                     "wavelength", minimum=8),
+        "amplitudes": Key("floats", [], "source = sines: amplitude of each wave in mm (scale "
+                                        "order)"),
+        "wavelengths": Key("floats", [], "source = sines: wavelength of each wave in mm, "
+                                         "descending"),
+        "periods_per_block": Key("int", 1, "source = sines: block length in wavelengths",
+                                 minimum=1),
+        "points_per_wavelength": Key("int", 64,
+                                     "source = sines: vertices of the rigid polyline "
+                                     "per wavelength", minimum=8),
     },
     "samples": {
-        "pressure": Key("int", 2, "k: surface samples per scale on the frictionless pressure branch "
-                        "(eq. 6.11, 6.12); the thesis argues k < j suffices", minimum=1),
+        "pressure": Key("int", 2, "k: surface samples per scale on the frictionless pressure "
+                                  "branch (eq. 6.11, 6.12); the thesis argues k < j "
+                                  "suffices", minimum=1),
         "friction": Key("int", 2, "j: surface samples per scale on the friction branch (eq. 6.13); "
                         "the thesis uses 10 (6.4.2: S(10) ~ S(1)/3)", minimum=1),
         "max_failed_fraction": Key("float", 0.25, "a scale on which more than this fraction of the "
-                                   "samples failed is flagged in the report", minimum=0.0, maximum=1.0),
+                                   "samples failed is flagged in the report", minimum=0.0,
+                                   maximum=1.0),
     },
     "conditions": {
         "compounds": Key("strs", ["tread_default"], "compound names (forms/data) or TOML files "
                          "(relative to the scene file)", nonempty=True),
-        "pressures": Key("floats", [0.3], "global nominal pressures p in MPa", nonempty=True, above=0.0),
-        "velocities": Key("floats", [1.0, 10.0, 100.0], "global sliding velocities v in mm/s (full slip: "
+        "pressures": Key("floats", [0.3], "global nominal pressures p in MPa", nonempty=True,
+                         above=0.0),
+        "velocities": Key("floats", [1.0, 10.0, 100.0],
+                          "global sliding velocities v in mm/s (full slip: "
                           "the same v on every scale, thesis 6.3.2)", nonempty=True, above=0.0),
         "T0": Key("opt_float", None, "temperature T0 (unit: T0_unit); omitted: the compound's WLF "
                   "reference temperature"),
         "T0_unit": Key("str", "K", "unit of T0", choices=("K", "degC")),
     },
     "physics": {
-        "hysteresis": Key("bool", True, "viscoelastic rubber (Prony series, history variables); false: "
-                          "long-term elastic rubber, no history variables are built"),
-        "adhesion": Key("bool", False, "bell-law adhesion on the macro scale with the multiscale real "
-                        "contact area (thesis 7.3, eq. 7.5-7.8); needs the [adhesion] table"),
-        "thermal": Key("bool", False, "thermomechanical macro scale (thesis ch. 8): not available in "
-                       "this version"),
+        "hysteresis": Key("bool", True, "viscoelastic rubber (Prony series, history variables); "
+                                        "false: long-term elastic rubber, no history variables are "
+                                        "built"),
+        "adhesion": Key("bool", False, "bell-law adhesion on the macro scale with the multiscale "
+                                       "real contact area (thesis 7.3, eq. 7.5-7.8); needs the "
+                                       "[adhesion] table"),
+        "thermal": Key("bool", False, "thermomechanical macro scale (thesis ch. 8): not available "
+                                      "in this version"),
     },
     "adhesion": {
         "tau0": Key("float", 3.0, "peak adhesive shear stress in MPa (eq. 7.6)", minimum=0.0),
         "c": Key("float", 0.15, "width of the bell (eq. 7.6, decadic log)", above=0.0),
         "v0": Key("float", 20.0, "velocity of the peak in mm/s (eq. 7.6)", above=0.0),
-        "alpha": Key("float", 1.0, "share of adhesion, 1 dry .. 0 lubricated (eq. 7.8)", minimum=0.0,
+        "alpha": Key("float", 1.0, "share of adhesion, 1 dry .. 0 lubricated (eq. 7.8)",
+                     minimum=0.0,
                      maximum=1.0),
     },
     "numerics": {
-        "elements_per_wavelength": Key("int", 8, "contact-face elements per shortest wavelength of a "
+        "elements_per_wavelength": Key("int", 8,
+                                       "contact-face elements per shortest wavelength of a "
                                        "sample (the run's element size rule)", minimum=2),
         "grading": Key("float", 1.2, "growth ratio of element height away from the contact face",
                        minimum=1.0, maximum=3.0),
         "slide_periods": Key("float", 2.0, "sliding distance in block lengths", above=0.0),
         "window_start": Key("float", 1.0 / 3.0, "fraction of the sliding distance before the time "
                             "average of eq. (6.2) starts (run-in)", minimum=0.0, maximum=0.9),
-        "step_per_element": Key("float", 0.5, "sliding step / contact element size", above=0.0, maximum=4.0),
+        "step_per_element": Key("float", 0.5, "sliding step / contact element size", above=0.0,
+                                maximum=4.0),
         "compression_steps": Key("int", 10, "steps of the compression phase", minimum=1),
         "contact": Key("str", "mortar", "contact formulation (falls back to nts when a run fails)",
                        choices=("mortar", "nts")),
         "element": Key("str", "Q1P0", "rubber element", choices=("Q1P0", "Q1")),
         "max_cutbacks": Key("int", 8, "step halvings before a step counts as failed", minimum=0),
-        "run_timeout": Key("float", 0.0, "seconds after which a single run counts as hung: it is stored "
-                           "as failed and the campaign exits (rerun to resume past it); 0: no limit",
+        "run_timeout": Key("float", 0.0, "seconds after which a single run counts as hung: it is "
+                                         "stored as failed and the campaign exits (rerun to resume "
+                                         "past it); 0: no limit",
                            minimum=0.0),
     },
     "separated": {
-        "pressures": Key("floats", [], "micro grid pressures in MPa; empty: pressure_factors x the mean "
-                         "contact pressure of the frictionless macro run (thesis 6.2.1 step C)", above=0.0),
+        "pressures": Key("floats", [], "micro grid pressures in MPa; empty: pressure_factors x the "
+                                       "mean contact pressure of the frictionless macro run "
+                                       "(thesis 6.2.1 step C)",
+                         above=0.0),
         "pressure_factors": Key("floats", [0.25, 0.5, 1.0, 2.0, 4.0], "see pressures", above=0.0),
-        "velocities": Key("floats", [], "micro grid velocities in mm/s; empty: velocity_factors x v",
+        "velocities": Key("floats", [], "micro grid velocities in mm/s; empty: velocity_factors x "
+                                        "v",
                           above=0.0),
         "velocity_factors": Key("floats", [0.5, 1.0, 2.0], "see velocities", above=0.0),
-        "micro_window_start": Key("float", 0.0, "window start of the micro time average; 0 includes the "
-                                  "micro run-in, which the thesis finds necessary (6.2.3)", minimum=0.0,
+        "micro_window_start": Key("float", 0.0,
+                                  "window start of the micro time average; 0 includes the "
+                                  "micro run-in, which the thesis finds necessary (6.2.3)",
+                                  minimum=0.0,
                                   maximum=0.9),
-        "micro_slide_periods": Key("float", 1.5, "micro sliding distance in block lengths (thesis 6.2.3: "
+        "micro_slide_periods": Key("float", 1.5,
+                                   "micro sliding distance in block lengths (thesis 6.2.3: "
                                    "1.5 wavelengths)", above=0.0),
-        "reference": Key("bool", True, "also run the single-scale reference on the full profile and "
-                         "compare mu and wall time (thesis fig. 6.4)"),
-        "spline_degree": Key("int", 3, "highest spline degree per axis (eq. 6.6); lowered to the grid",
+        "reference": Key("bool", True, "also run the single-scale reference on the full profile "
+                                       "and compare mu and wall time (thesis fig. 6.4)"),
+        "spline_degree": Key("int", 3, "highest spline degree per axis (eq. 6.6); lowered to the "
+                                       "grid",
                              minimum=1, maximum=5),
-        "smoothing": Key("float", 0.0, "FITPACK smoothing factor of the spline fit (0: interpolate)",
+        "smoothing": Key("float", 0.0, "FITPACK smoothing factor of the spline fit (0: "
+                                       "interpolate)",
                          minimum=0.0),
     },
 }
@@ -300,7 +329,8 @@ class Scene:
 
     def with_samples(self, pressure: int | None = None, friction: int | None = None) -> Scene:
         s = self.samples
-        return replace(self, samples=replace(s, pressure=pressure or s.pressure, friction=friction or s.friction))
+        return replace(self, samples=replace(s, pressure=pressure or s.pressure,
+                                             friction=friction or s.friction))
 
 
 # ----------------------------------------------------------------------------------------------
@@ -379,7 +409,8 @@ def _table(origin: str, doc: dict, section: str) -> dict[str, Any]:
     for name in table:
         if name not in allowed:
             what = "section" if not section and isinstance(table[name], dict) else "key"
-            raise SceneError(f"{origin}: unknown {what} {_where(section, name)!s}{_suggest(name, allowed)} "
+            raise SceneError(f"{origin}: unknown {what} "
+                             f"{_where(section, name)!s}{_suggest(name, allowed)} "
                              f"(allowed: {', '.join(allowed)})")
     out = {}
     for name, key in keys.items():
@@ -410,21 +441,24 @@ def _compound_path(origin: str, base: Path | None, i: int, text: str) -> str:
         resolve_data_path(text)
     except ValueError:
         names = available("compound")
-        raise SceneError(f"{origin}: {where} = {text!r}: no shipped compound of that name and no such "
-                         f"file{_suggest(text, names)} (shipped: {', '.join(names)})") from None
+        raise SceneError(f"{origin}: {where} = {text!r}: no shipped compound of that name and no "
+                         f"such file{_suggest(text, names)} (shipped: "
+                         f"{', '.join(names)})") from None
     return text
 
 
 def _check_edges(origin: str, edges: tuple[float, ...]) -> None:
     where = f"{origin}: [surface].edges = {list(edges)}"
     if len(edges) < 2:
-        raise SceneError(f"{where}: expected at least two wavelengths (lambda_max, lambda_min) in mm")
+        raise SceneError(f"{where}: expected at least two wavelengths (lambda_max, lambda_min) in "
+                         f"mm")
     if any(e <= 0 for e in edges):
         raise SceneError(f"{where}: expected positive wavelengths in mm")
     for i in range(len(edges) - 1):
         if edges[i + 1] >= edges[i]:
-            raise SceneError(f"{where}: expected strictly descending wavelengths (lambda_max first), but "
-                             f"edges[{i + 1}] = {edges[i + 1]:g} >= edges[{i}] = {edges[i]:g}")
+            raise SceneError(f"{where}: expected strictly descending wavelengths (lambda_max "
+                             f"first), but edges[{i + 1}] = {edges[i + 1]:g} >= edges[{i}] = "
+                             f"{edges[i]:g}")
 
 
 def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) -> Scene:
@@ -443,13 +477,15 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
     if s["source"] == "sines":
         amps, lams = s["amplitudes"], s["wavelengths"]
         if not lams:
-            raise SceneError(f"{origin}: [surface].wavelengths = []: source = \"sines\" needs one wavelength "
+            raise SceneError(f"{origin}: [surface].wavelengths = []: source = \"sines\" needs one "
+                             f"wavelength "
                              "(mm) per scale")
         if len(amps) != len(lams):
-            raise SceneError(f"{origin}: [surface].amplitudes = {list(amps)}: expected one amplitude per "
-                             f"wavelength ({len(lams)} wavelengths given)")
+            raise SceneError(f"{origin}: [surface].amplitudes = {list(amps)}: expected one "
+                             f"amplitude per wavelength ({len(lams)} wavelengths given)")
         if any(v <= 0 for v in lams) or any(a < 0 for a in amps):
-            raise SceneError(f"{origin}: [surface].wavelengths/amplitudes: expected wavelengths > 0 and "
+            raise SceneError(f"{origin}: [surface].wavelengths/amplitudes: expected wavelengths "
+                             "> 0 and "
                              "amplitudes >= 0 (mm)")
         if any(lams[i + 1] >= lams[i] for i in range(len(lams) - 1)):
             raise SceneError(f"{origin}: [surface].wavelengths = {list(lams)}: expected strictly "
@@ -457,33 +493,39 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
         if "edges" in given:
             _check_edges(origin, s["edges"])
             if len(s["edges"]) != len(lams) + 1:
-                raise SceneError(f"{origin}: [surface].edges = {list(s['edges'])}: {len(lams)} waves need "
-                                 f"{len(lams) + 1} edges (or omit edges)")
+                raise SceneError(f"{origin}: [surface].edges = {list(s['edges'])}: {len(lams)} "
+                                 f"waves need {len(lams) + 1} edges (or omit edges)")
             for i, lam in enumerate(lams):
                 if not s["edges"][i + 1] < lam <= s["edges"][i]:
-                    raise SceneError(f"{origin}: [surface].edges = {list(s['edges'])}: wavelength {lam:g} mm "
-                                     f"of scale {i} is outside its band {s['edges'][i]:g}-{s['edges'][i + 1]:g} mm")
+                    raise SceneError(f"{origin}: [surface].edges = {list(s['edges'])}: wavelength "
+                                     f"{lam:g} mm of scale {i} is outside its band "
+                                     f"{s['edges'][i]:g}-{s['edges'][i + 1]:g} mm")
         else:
             s["edges"] = ()
     else:
         _check_edges(origin, s["edges"])
         for k in ("amplitudes", "wavelengths"):
             if k in given:
-                raise SceneError(f"{origin}: [surface].{k}: only for source = \"sines\" (source is {s['source']!r})")
+                raise SceneError(f"{origin}: [surface].{k}: only for source = \"sines\" (source is "
+                                 f"{s['source']!r})")
     if s["source"] == "files":
         if not s["files"]:
-            raise SceneError(f"{origin}: [surface].files = []: source = \"files\" needs at least one profile file")
-        s["files"] = tuple(_resolve_file(origin, base, f"[surface].files[{i}]", f) for i, f in enumerate(s["files"]))
+            raise SceneError(f"{origin}: [surface].files = []: source = \"files\" needs at least "
+                             f"one profile file")
+        s["files"] = tuple(_resolve_file(origin, base, f"[surface].files[{i}]", f) for i,
+                           f in enumerate(s["files"]))
     elif s["files"]:
-        raise SceneError(f"{origin}: [surface].files: only for source = \"files\" (source is {s['source']!r})")
+        raise SceneError(f"{origin}: [surface].files: only for source = \"files\" (source is "
+                         f"{s['source']!r})")
     surface = SurfaceConfig(**s)
     n = surface.n_scales
     for k in ("names", "block_lengths"):
         if surface.__dict__[k] and len(surface.__dict__[k]) != n:
-            raise SceneError(f"{origin}: [surface].{k} = {list(surface.__dict__[k])}: expected {n} entries, "
-                             f"one per scale (the edges give {n} scales)")
+            raise SceneError(f"{origin}: [surface].{k} = {list(surface.__dict__[k])}: expected {n} "
+                             f"entries, one per scale (the edges give {n} scales)")
     if any(b <= 0 for b in surface.block_lengths):
-        raise SceneError(f"{origin}: [surface].block_lengths = {list(surface.block_lengths)}: expected "
+        raise SceneError(f"{origin}: [surface].block_lengths = {list(surface.block_lengths)}: "
+                         f"expected "
                          "positive lengths in mm")
 
     # --- conditions -------------------------------------------------------------------------------
@@ -493,22 +535,26 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
     if T0 is not None and c["T0_unit"] == "degC":
         T0 = T0 + 273.15
     if T0 is not None and T0 <= 0:
-        raise SceneError(f"{origin}: [conditions].T0 = {c['T0']!r} {c['T0_unit']}: expected a temperature "
+        raise SceneError(f"{origin}: [conditions].T0 = {c['T0']!r} {c['T0_unit']}: expected a "
+                         f"temperature "
                          "above absolute zero")
     conditions = ConditionsConfig(c["compounds"], paths, c["pressures"], c["velocities"], T0)
 
     # --- physics ---------------------------------------------------------------------------------
     physics = PhysicsConfig(**vals["physics"])
     if physics.thermal:
-        raise SceneError(f"{origin}: [physics].thermal = true: the thermomechanical macro scale (thesis "
+        raise SceneError(f"{origin}: [physics].thermal = true: the thermomechanical macro scale "
+                         f"(thesis "
                          "ch. 8) is not available in this version; expected false")
     if not physics.hysteresis and not physics.adhesion:
-        raise SceneError(f"{origin}: [physics]: hysteresis = false and adhesion = false leave nothing to "
+        raise SceneError(f"{origin}: [physics]: hysteresis = false and adhesion = false leave "
+                         f"nothing to "
                          "compute; expected at least one of them true")
     adhesion = None
     if physics.adhesion:
         if "adhesion" not in doc:
-            raise SceneError(f"{origin}: [physics].adhesion = true: expected an [adhesion] table with tau0 "
+            raise SceneError(f"{origin}: [physics].adhesion = true: expected an [adhesion] table "
+                             f"with tau0 "
                              "(MPa), c, v0 (mm/s) and alpha (eq. 7.6-7.8)")
         adhesion = AdhesionConfig(**vals["adhesion"])
     elif "adhesion" in doc:
@@ -518,11 +564,14 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
     separated = None
     if top["variant"] == "separated":
         if n != 2:
-            raise SceneError(f"{origin}: variant = \"separated\": expected exactly two scales (macro, micro), "
+            raise SceneError(f"{origin}: variant = \"separated\": expected exactly two scales "
+                             f"(macro, micro), "
                              f"the surface gives {n}")
         if physics.adhesion:
-            raise SceneError(f"{origin}: variant = \"separated\" with [physics].adhesion = true: adhesion is "
-                             "coupled in the rough-surface variant only (thesis 7.3); expected variant = \"rough\"")
+            raise SceneError(f"{origin}: variant = \"separated\" with [physics].adhesion = true: "
+                             f"adhesion is "
+                             "coupled in the rough-surface variant only (thesis 7.3); expected "
+                             "variant = \"rough\"")
         separated = SeparatedConfig(**vals["separated"])
         if not separated.pressures and not separated.pressure_factors:
             raise SceneError(f"{origin}: [separated]: expected pressures or pressure_factors")
@@ -531,7 +580,8 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
         for axis, plural in (("pressure", "pressures"), ("velocity", "velocities")):
             grid = getattr(separated, plural) or getattr(separated, axis + "_factors")
             if len(set(grid)) != len(grid) or len(grid) < 2:
-                raise SceneError(f"{origin}: [separated].{plural}/{axis}_factors = {list(grid)}: expected at "
+                raise SceneError(f"{origin}: [separated].{plural}/{axis}_factors = {list(grid)}: "
+                                 f"expected at "
                                  "least two distinct values (a spline needs two points per axis)")
     elif "separated" in doc:
         warnings.append("[separated] is ignored: variant = \"rough\"")
@@ -546,7 +596,8 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
 
 def shipped_scenes() -> list[str]:
     """Names of the scenes shipped in ``driver/scenes``."""
-    return sorted(p.name[:-5] for p in resources.files(SCENES_PACKAGE).iterdir() if p.name.endswith(".toml"))
+    files = resources.files(SCENES_PACKAGE).iterdir()
+    return sorted(p.name[:-5] for p in files if p.name.endswith(".toml"))
 
 
 def load_scene(path: str | Path | None = None) -> Scene:

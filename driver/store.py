@@ -16,13 +16,15 @@ A single-scale run is a pure function of its :class:`~rubberfriction.driver.slid
 
   and inside a run file::
 
-      /                 attrs: key, status ("ok" | "failed"), failure ("" | "physics" | "error" | "timeout"),
+      /                 attrs: key, status ("ok" | "failed"),
+                        failure ("" | "physics" | "error" | "timeout"),
                         reason, schema, code_version, git_describe, host, pid, created, wall_time,
                         label (JSON: campaign, point, branch, scale, sample)
       /inputs           attrs: spec (canonical JSON, arrays as sha256), pressure, velocity, ...
         surface_x, surface_h
       /results          attrs: mu_force, mu_energy, mean_pressure, contact_fraction, t_reached
-        series/<name>   time series (t, s, Fx, Fz, contact_length, energies, mean_pressure, mu_force)
+        series/<name>   time series (t, s, Fx, Fz, contact_length, energies, mean_pressure,
+                        mu_force)
         stats           attrs: cutbacks, newton_iterations, steps, wall_time, ...
         dissipation_by_depth/z, /d   (when the run gives it)
 
@@ -128,7 +130,8 @@ def canonical(obj: Any) -> Any:
         return {"__type__": _qualname(obj), **dict(sorted(fields.items()))}
     if hasattr(obj, "to_dict"):
         return {"__type__": _qualname(obj), "state": canonical(obj.to_dict())}
-    raise TypeError(f"cannot serialise {type(obj).__qualname__} canonically for the store key; give it a "
+    raise TypeError(f"cannot serialise {type(obj).__qualname__} canonically for the store key; "
+                    "give it a "
                     "canonical_state() or to_dict() method (or make it a dataclass)")
 
 
@@ -299,7 +302,8 @@ class Store:
             fh.seek(0)
             holder = fh.read().strip()
             fh.close()
-            raise StoreError(f"store {self.root} is in use by another campaign ({holder or 'unknown'}); "
+            raise StoreError(f"store {self.root} is in use by another campaign "
+                             f"({holder or 'unknown'}); "
                              "wait for it or use another output folder") from None
         fh.seek(0)
         fh.truncate()
@@ -337,9 +341,12 @@ class Store:
             with h5py.File(tmp, "w") as f:
                 f.attrs.update({
                     "key": key, "status": status, "reason": reason, "failure": failure,
-                    "schema": STORE_SCHEMA, "code_version": code_version(), "git_describe": git_describe(),
-                    "host": socket.gethostname(), "pid": os.getpid(), "created": _dt.datetime.now(_dt.timezone.utc).isoformat(),
-                    "wall_time": float(wall_time), "label": json.dumps(canonical(label or {}), sort_keys=True),
+                    "schema": STORE_SCHEMA, "code_version": code_version(),
+                                "git_describe": git_describe(),
+                    "host": socket.gethostname(), "pid": os.getpid(),
+                                "created": _dt.datetime.now(_dt.timezone.utc).isoformat(),
+                    "wall_time": float(wall_time),
+                                "label": json.dumps(canonical(label or {}), sort_keys=True),
                     "settings": json.dumps(canonical(settings or {}), sort_keys=True),
                 })
                 g = f.create_group("inputs")
@@ -349,7 +356,8 @@ class Store:
                         g.attrs[k] = v
                     for name in ("surface_x", "surface_h"):
                         if hasattr(spec, name):
-                            g.create_dataset(name, data=np.asarray(getattr(spec, name), dtype=float))
+                            g.create_dataset(name,
+                                             data=np.asarray(getattr(spec, name), dtype=float))
                 r = f.create_group("results")
                 for k, v in values.items():
                     r.attrs[k] = v
@@ -386,7 +394,8 @@ class Store:
         try:
             return h5py.File(p, "r")
         except OSError as err:
-            raise StoreError(f"run file {p} is unreadable ({err}); delete it to recompute the run") from None
+            raise StoreError(f"run file {p} is unreadable ({err}); delete it to "
+                             f"recompute the run") from None
 
     def outcome(self, key: str) -> Outcome | None:
         """Status, reason and scalar results of a stored run (None if absent)."""
@@ -410,16 +419,19 @@ class Store:
             stats = {k: _decode(v) for k, v in res["stats"].attrs.items()}
             dd = None
             if "dissipation_by_depth" in res:
-                dd = (np.asarray(res["dissipation_by_depth/z"][()]), np.asarray(res["dissipation_by_depth/d"][()]))
+                dd = (np.asarray(res["dissipation_by_depth/z"][()]),
+                      np.asarray(res["dissipation_by_depth/d"][()]))
             inputs = {k: _decode(v) for k, v in f["inputs"].attrs.items()}
             for name in ("surface_x", "surface_h"):
                 if name in f["inputs"]:
                     inputs[name] = np.asarray(f["inputs"][name][()])
         label = json.loads(a.pop("label", "{}"))
-        prov = {k: a[k] for k in ("schema", "code_version", "git_describe", "host", "pid", "created", "wall_time")
+        prov = {k: a[k] for k in ("schema", "code_version", "git_describe", "host", "pid",
+                                  "created", "wall_time")
                 if k in a}
         prov["settings"] = json.loads(a.get("settings", "{}"))
-        return StoredRun(key, a["status"], a.get("reason", ""), a.get("failure", ""), values, series, stats,
+        return StoredRun(key, a["status"], a.get("reason", ""), a.get("failure", ""), values,
+                         series, stats,
                          prov, label, inputs, dd)
 
     def iter_runs(self) -> Iterator[StoredRun]:

@@ -55,9 +55,11 @@ def _compound():
     return COMPOUND
 
 
-def make_spec(point: Point, scale: int, sample, pressure: float, friction, role: str) -> SlidingSpec:
+def make_spec(point: Point, scale: int, sample, pressure: float, friction,
+              role: str) -> SlidingSpec:
     return SlidingSpec(surface_x=np.asarray(sample.x[:-1]), surface_h=np.asarray(sample.h[:-1]),
-                       period=float(sample.period), pressure=float(pressure), velocity=float(point.velocity),
+                       period=float(sample.period), pressure=float(pressure),
+                       velocity=float(point.velocity),
                        compound=_compound(), friction=friction)
 
 
@@ -72,8 +74,9 @@ def toy(spec: SlidingSpec) -> SlidingResult:
     mu0 = float(spec.friction or 0.0)
     if s > 0.5:
         return SlidingResult("failed", reason="sliding: element inversion (det F <= 0)")
-    return SlidingResult("ok", mu_force=mu0 + 0.5 * s * math.log10(spec.velocity + 1.0) / spec.pressure ** 0.25,
-                         mu_energy=mu0 + 0.4 * s, mean_pressure=spec.pressure * (1.0 + 4.0 * s),
+    mu = mu0 + 0.5 * s * math.log10(spec.velocity + 1.0) / spec.pressure ** 0.25
+    return SlidingResult("ok", mu_force=mu, mu_energy=mu0 + 0.4 * s,
+                         mean_pressure=spec.pressure * (1.0 + 4.0 * s),
                          contact_fraction=1.0 / (1.0 + 4.0 * s))
 
 
@@ -112,19 +115,23 @@ def test_cascade_passes_pressure_down_and_friction_up(tmp_path: Path):
         mp = [o.value("mean_pressure") for o in outcomes(f"down:{i}")]
         assert len(mp) == 2 and r.scales[i + 1].pressure == pytest.approx(np.mean(mp), rel=1e-15)
         assert all(t.label["pressure_in"] == r.scales[i].pressure for t, _ in r.runs[f"down:{i}"])
-        assert all(t.payload.friction is None for t, _ in r.runs[f"down:{i}"])  # frictionless branch
+        assert all(t.payload.friction is None for t,
+                   _ in r.runs[f"down:{i}"])  # frictionless branch
     assert r.scales[0].pressure == 0.3
     # eq. (6.13): scale i's friction runs use the sample mean of scale i+1 as Coulomb mu
-    assert all(t.payload.friction is None for t, _ in r.runs["up:2"])  # the finest scale: frictionless
+    assert all(t.payload.friction is None for t,
+               _ in r.runs["up:2"])  # the finest scale: frictionless
     for i in (1, 0):
         mu_below = np.mean([o.value("mu_force") for o in outcomes(f"up:{i + 1}")])
         assert r.scales[i].friction_in == pytest.approx(mu_below, rel=1e-15)
-        assert all(t.payload.friction == pytest.approx(mu_below, rel=1e-15) for t, _ in r.runs[f"up:{i}"])
+        assert all(t.payload.friction == pytest.approx(mu_below, rel=1e-15) for t,
+                   _ in r.runs[f"up:{i}"])
         assert all(t.payload.pressure == r.scales[i].pressure for t, _ in r.runs[f"up:{i}"])
         assert len(r.runs[f"up:{i}"]) == 3
-    assert r.mu.mean == pytest.approx(np.mean([o.value("mu_force") for o in outcomes("up:0")]), rel=1e-15)
+    assert r.mu.mean == pytest.approx(np.mean([o.value("mu_force") for o in outcomes("up:0")]),
+                                      rel=1e-15)
     assert r.mu.n_used == 3 and r.mu.n_failed == 0
-    # eq. (7.5): A_r is the product of the per-scale contact fractions (macro from frictionless runs)
+    # eq. (7.5): A_r is the product of the per-scale contact fractions (macro: frictionless runs)
     fr = [np.mean([o.value("contact_fraction") for o in outcomes("down:0")])] + \
          [np.mean([o.value("contact_fraction") for o in outcomes(f"up:{i}")]) for i in (1, 2)]
     assert r.area_ratio == pytest.approx(np.prod(fr), rel=1e-12)
@@ -173,8 +180,10 @@ def test_adhesion_enters_on_the_macro_scale(tmp_path: Path):
     A_r = np.prod([r.scales[0].contact.mean, r.scales[1].contact.mean, r.scales[2].contact.mean])
     mu_A = float(BellLaw(3.0, 0.15, 20.0).tau(100.0)) * A_r / 0.3  # eq. (7.7)
     assert r.mu_adhesion == pytest.approx(0.7 * mu_A, rel=1e-12)
-    assert r.scales[0].friction_in == pytest.approx(r.scales[1].mu.mean + 0.7 * mu_A, rel=1e-12)  # eq. (7.8)
-    assert r.scales[1].friction_in == pytest.approx(r.scales[2].mu.mean, rel=1e-15)  # no adhesion below
+    assert r.scales[0].friction_in == pytest.approx(r.scales[1].mu.mean + 0.7 * mu_A,
+                                                    rel=1e-12)  # eq. (7.8)
+    assert r.scales[1].friction_in == pytest.approx(r.scales[2].mu.mean,
+                                                    rel=1e-15)  # no adhesion below
 
 
 def test_sample_statistics():
@@ -190,8 +199,10 @@ def test_sample_count_study_matches_drawing_without_replacement():
     rng = np.random.default_rng(3)
     mu = 0.3 + 0.05 * rng.standard_gamma(2.0, 40)  # skewed, like fig. 6.13 a
     study = sample_count_study(np.append(mu, np.nan), orders=4000, seed=1)
-    assert study.n_failed == 1 and study.values.size == 40 and study.mean_ref == pytest.approx(mu.mean())
-    assert study.S[-1] == pytest.approx(0.0, abs=1e-12)  # all samples: every order gives the same mean
+    assert study.n_failed == 1 and study.values.size == 40
+    assert study.mean_ref == pytest.approx(mu.mean())
+    assert study.S[-1] == pytest.approx(0.0,
+                                        abs=1e-12)  # all samples: every order gives the same mean
     # Monte Carlo S(n) vs sigma/sqrt(n) sqrt((N-n)/(N-1)); the std of a std estimate over 4000
     # orders is ~1.1 % -> 5 % is > 4 sigma
     np.testing.assert_allclose(study.S[:-1], study.S_exact[:-1], rtol=0.05)
@@ -210,23 +221,28 @@ def test_separated_variant_fits_the_law_and_hands_it_to_the_macro_run(tmp_path: 
 
     def runner(spec: SlidingSpec) -> SlidingResult:
         if spec.period == 0.5:  # micro: a smooth made-up mu(p, v)
-            return SlidingResult("ok", mu_force=micro_law(spec.pressure, spec.velocity), mu_energy=0.0,
+            return SlidingResult("ok", mu_force=micro_law(spec.pressure, spec.velocity),
+                                 mu_energy=0.0,
                                  mean_pressure=spec.pressure, contact_fraction=0.5)
         mu = 0.0 if spec.friction is None else float(spec.friction(spec.pressure, spec.velocity))
-        return SlidingResult("ok", mu_force=mu + 0.01, mu_energy=0.0, mean_pressure=0.6, contact_fraction=0.4)
+        return SlidingResult("ok", mu_force=mu + 0.01, mu_energy=0.0, mean_pressure=0.6,
+                             contact_fraction=0.4)
 
-    sep = SeparatedTwoScale("t", pt, macro, micro, full, make_spec, pressure_factors=(0.25, 0.5, 1.0, 2.0, 4.0),
+    sep = SeparatedTwoScale("t", pt, macro, micro, full, make_spec,
+                            pressure_factors=(0.25, 0.5, 1.0, 2.0, 4.0),
                             velocity_factors=(0.5, 1.0, 2.0), reference=True)
     assert sep.total() == 1 + 15 + 1 + 1
     run(CampaignPlanner([sep]), Store(tmp_path / "s"), runner)
     r = sep.result
     assert r.ok
-    np.testing.assert_allclose(r.extra["grid_p"], 0.6 * np.array([0.25, 0.5, 1.0, 2.0, 4.0]))  # around p_macro
+    np.testing.assert_allclose(r.extra["grid_p"],
+                               0.6 * np.array([0.25, 0.5, 1.0, 2.0, 4.0]))  # around p_macro
     np.testing.assert_allclose(r.extra["grid_v"], [250.0, 500.0, 1000.0])
     macro_task = r.runs["macro"][0][0]
     law = macro_task.payload.friction
     P, V = np.meshgrid(r.extra["grid_p"], r.extra["grid_v"], indexing="ij")
-    np.testing.assert_allclose(law(P, V), micro_law(P, V), rtol=1e-10)  # the spline interpolates its data
+    np.testing.assert_allclose(law(P, V), micro_law(P, V),
+                               rtol=1e-10)  # the spline interpolates its data
     assert r.mu.mean == pytest.approx(micro_law(0.3, 500.0) + 0.01, rel=1e-6)
     assert pickle.loads(pickle.dumps(law)).to_dict() == law.to_dict()  # MPI sends laws to workers
     assert r.extra["relative_difference"] == pytest.approx((r.mu.mean - 0.01) / 0.01)
@@ -268,17 +284,22 @@ def full_contact_scene(tmp_path: Path) -> tuple[Path, float]:
     """Two waves, lambda 2 and 0.2 mm, slope amplitude k h0 = 0.1 each, v = 10 mm/s (omega tau
     = 0.31 and 3.1: both waves dissipate), p = 2 x the larger full-contact pressure, and the sum
     of the closed-form contributions mu_i = (k_i h_i)^2 E''(k_i v) / (4 (1 - nu^2) p)."""
-    from rubberfriction.driver.theory.persson import full_contact_pressure_sinusoid, mu_full_contact_sinusoid
+    from rubberfriction.driver.theory.persson import (
+        full_contact_pressure_sinusoid,
+        mu_full_contact_sinusoid,
+    )
     from rubberfriction.forms.materials import load_compound
 
     (tmp_path / "toy_soft.toml").write_text(TOY_COMPOUND)
     c = load_compound(tmp_path / "toy_soft.toml")
     nu, v = c.hyperelastic.nu, 10.0
     waves = [(2.0, 0.1 / (2 * np.pi / 2.0)), (0.2, 0.1 / (2 * np.pi / 0.2))]
-    p_full = max(full_contact_pressure_sinusoid(2 * np.pi / lam, h0, complex(c.complex_modulus(2 * np.pi / lam * v)), nu)
+    p_full = max(full_contact_pressure_sinusoid(2 * np.pi / lam, h0,
+                                                complex(c.complex_modulus(2 * np.pi / lam * v)), nu)
                  for lam, h0 in waves)
     p = 2.0 * p_full
-    mu_sum = sum(mu_full_contact_sinusoid(2 * np.pi / lam, h0, complex(c.complex_modulus(2 * np.pi / lam * v)), p, nu)
+    mu_sum = sum(mu_full_contact_sinusoid(2 * np.pi / lam, h0,
+                                          complex(c.complex_modulus(2 * np.pi / lam * v)), p, nu)
                  for lam, h0 in waves)
     (tmp_path / "fc.toml").write_text(textwrap.dedent(f"""
         name = "full_contact"
@@ -331,7 +352,8 @@ def test_two_sine_multiscale_agrees_with_the_reference_and_is_cheaper(tmp_path: 
     assert r.ok, r.reason
     e = r.extra
     print(f"two-sine: mu multiscale = {r.mu.mean:.5g}, reference = {e['mu_reference']:.5g} "
-          f"({100 * e['relative_difference']:+.2f} %); wall time multiscale {e['time_multiscale']:.1f} s, "
+          f"({100 * e['relative_difference']:+.2f} %); wall time multiscale "
+          f"{e['time_multiscale']:.1f} s, "
           f"reference {e['time_reference']:.1f} s")
     assert abs(e["relative_difference"]) < 0.05  # thesis fig. 6.4 b
     assert e["time_multiscale"] < e["time_reference"]  # thesis fig. 6.4 c
@@ -362,10 +384,12 @@ SMALL_SCENE = textwrap.dedent("""
 @pytest.mark.mpi
 def test_serial_and_two_rank_runs_of_a_small_scene_store_identical_results(tmp_path: Path):
     (tmp_path / "small.toml").write_text(SMALL_SCENE)
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1")
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMP_NUM_THREADS="1")
     env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
     cmd = [sys.executable, "-m", "rubberfriction", "run", str(tmp_path / "small.toml"), "--quiet"]
-    serial = subprocess.run(cmd + ["--out", str(tmp_path / "serial")], env=env, capture_output=True, text=True,
+    serial = subprocess.run(cmd + ["--out", str(tmp_path / "serial")], env=env, capture_output=True,
+                            text=True,
                             timeout=1800)
     assert serial.returncode == 0, serial.stderr[-3000:]
     par = subprocess.run(["mpirun", "-n", "2"] + cmd + ["--out", str(tmp_path / "mpi")], env=env,
@@ -387,5 +411,5 @@ def test_serial_and_two_rank_runs_of_a_small_scene_store_identical_results(tmp_p
 def test_sine_samples_are_exact_periods():
     s = sine_sample([0.01, 0.002], [1.0, 0.25], 1.0, 16)
     assert isinstance(s, PeriodicSample) and s.x.size == 16 * 4 + 1 and s.h[0] == s.h[-1]
-    np.testing.assert_allclose(s.h, 0.01 * np.sin(2 * np.pi * s.x) + 0.002 * np.sin(2 * np.pi * s.x / 0.25),
-                               atol=1e-15)
+    exact = 0.01 * np.sin(2 * np.pi * s.x) + 0.002 * np.sin(2 * np.pi * s.x / 0.25)
+    np.testing.assert_allclose(s.h, exact, atol=1e-15)

@@ -8,7 +8,14 @@ from pathlib import Path
 
 import pytest
 
-from rubberfriction.driver.scene import SCHEMA, SceneError, load_scene, parse_scene, schema_text, shipped_scenes
+from rubberfriction.driver.scene import (
+    SCHEMA,
+    SceneError,
+    load_scene,
+    parse_scene,
+    schema_text,
+    shipped_scenes,
+)
 
 
 def scene_text(extra: str = "", surface: str = 'source = "sines"\namplitudes = [0.02, 0.002]\n'
@@ -35,12 +42,14 @@ def test_shipped_scenes_load_and_are_consistent():
     d = load_scene(None)
     assert d.name == "default" and d.variant == "rough"
     assert d.surface.source == "default_road" and d.surface.edges == (20.0, 3.0, 0.3, 0.04, 0.003)
-    assert d.n_scales == 4 and d.conditions.pressures == (0.3,) and len(d.conditions.velocities) >= 2
+    assert d.n_scales == 4 and d.conditions.pressures == (0.3,)
+    assert len(d.conditions.velocities) >= 2
     assert d.conditions.T0 == pytest.approx(293.15)
     assert d.source == "embedded:default" and "[surface]" in d.text
     t = load_scene("two_sine")
     assert t.variant == "separated" and t.n_scales == 2
-    assert t.surface.amplitudes == (0.075, 0.01) and t.surface.wavelengths == (5.0, 0.5)  # eq. (6.8)
+    assert t.surface.amplitudes == (0.075, 0.01) and t.surface.wavelengths == (5.0,
+                                                                               0.5)  # eq. (6.8)
     assert t.conditions.pressures == (0.3,) and t.conditions.velocities == (500.0,)  # thesis 6.2.3
     assert t.separated is not None and t.separated.reference
 
@@ -52,7 +61,8 @@ def test_defaults_come_from_the_schema():
             continue
         obj = getattr(s, section)
         for name, key in keys.items():
-            assert getattr(obj, name) == (tuple(key.default) if isinstance(key.default, list) else key.default)
+            assert getattr(obj, name) == (tuple(key.default) if isinstance(key.default,
+                                                                           list) else key.default)
     assert s.conditions.T0 is None  # WLF reference temperature
     assert s.output == Path("rf-results/t")
     text = schema_text()
@@ -63,7 +73,8 @@ def test_defaults_come_from_the_schema():
 
 def test_unknown_key_and_section_get_a_did_you_mean():
     msg = error_of(scene_text("[numerics]\nelements_per_wavelenght = 8\n"))
-    assert "[numerics].elements_per_wavelenght" in msg and "did you mean 'elements_per_wavelength'" in msg
+    assert "[numerics].elements_per_wavelenght" in msg
+    assert "did you mean 'elements_per_wavelength'" in msg
     msg = error_of(scene_text("[numeric]\ngrading = 1.2\n"))
     assert "unknown section numeric" in msg and "did you mean 'numerics'" in msg
     msg = error_of("nmae = 'x'\n")
@@ -88,9 +99,11 @@ def test_type_and_range_errors_name_key_value_and_expectation():
 def test_missing_files_are_reported_with_their_key(tmp_path: Path):
     text = scene_text(surface='source = "files"\nfiles = ["nowhere.dat"]\nedges = [2.0, 0.2]\n')
     msg = error_of(text, tmp_path)
-    assert "[surface].files[0] = 'nowhere.dat'" in msg and "file not found" in msg and str(tmp_path) in msg
+    assert "[surface].files[0] = 'nowhere.dat'" in msg and "file not found" in msg
+    assert str(tmp_path) in msg
     msg = error_of(scene_text('[conditions]\ncompounds = ["tread_defualt"]\n'))
-    assert "[conditions].compounds[0] = 'tread_defualt'" in msg and "did you mean 'tread_default'" in msg
+    assert "[conditions].compounds[0] = 'tread_defualt'" in msg
+    assert "did you mean 'tread_default'" in msg
     msg = error_of(scene_text('[conditions]\ncompounds = ["my/compound.toml"]\n'), tmp_path)
     assert "[conditions].compounds[0]" in msg and "file not found" in msg
 
@@ -102,10 +115,12 @@ def test_inconsistent_scale_edges():
     assert "at least two" in msg
     msg = error_of(scene_text(surface="edges = [20.0, 3.0, 0.3]\nblock_lengths = [20.0]\n"))
     assert "[surface].block_lengths" in msg and "2 entries, one per scale" in msg
-    msg = error_of(scene_text(surface='source = "sines"\namplitudes = [0.02, 0.002]\nwavelengths = [2.0, 0.2]\n'
+    msg = error_of(scene_text(surface='source = "sines"\namplitudes = [0.02, 0.002]\nwavelengths = '
+                              '[2.0, 0.2]\n'
                               "edges = [4.0, 1.0, 0.5]\n"))
     assert "wavelength 0.2 mm of scale 1 is outside its band 1-0.5 mm" in msg
-    msg = error_of(scene_text(surface='source = "sines"\namplitudes = [0.02]\nwavelengths = [2.0, 0.2]\n'))
+    msg = error_of(scene_text(surface='source = "sines"\namplitudes = [0.02]\nwavelengths = [2.0, '
+                                      '0.2]\n'))
     assert "[surface].amplitudes" in msg and "one amplitude per wavelength" in msg
     msg = error_of('name = "t"\nvariant = "separated"\n[surface]\nedges = [20.0, 3.0, 0.3, 0.04]\n')
     assert 'variant = "separated"' in msg and "exactly two scales" in msg and "gives 3" in msg
@@ -128,7 +143,8 @@ def test_physics_switches():
     assert "nothing" in msg
     msg = error_of(scene_text("[physics]\nadhesion = true\n"))
     assert "[adhesion] table" in msg
-    s = parse("[physics]\nadhesion = true\n[adhesion]\ntau0 = 2.0\nc = 0.12\nv0 = 110.0\nalpha = 0.5\n")
+    s = parse("[physics]\nadhesion = true\n[adhesion]\ntau0 = 2.0\nc = 0.12\nv0 = 110.0\nalpha = "
+              "0.5\n")
     assert s.adhesion is not None and s.adhesion.tau0 == 2.0 and s.adhesion.alpha == 0.5
     s = parse("[adhesion]\ntau0 = 2.0\n")
     assert s.adhesion is None and any("[adhesion] is ignored" in w for w in s.warnings)
@@ -145,7 +161,8 @@ def test_cli_reports_scene_errors_and_plans(tmp_path: Path, capsys):
     assert main(["run", str(tmp_path / "missing.toml")]) == 2
     assert "no such file" in capsys.readouterr().err
     good = tmp_path / "good.toml"
-    good.write_text(scene_text("[samples]\npressure = 2\nfriction = 3\n[conditions]\nvelocities = [1.0, 10.0]\n"))
+    good.write_text(scene_text("[samples]\npressure = 2\nfriction = 3\n[conditions]\nvelocities = "
+                               "[1.0, 10.0]\n"))
     assert main(["run", str(good), "--check"]) == 0
     out = capsys.readouterr().out
     # two scales: 1 scale x k=2 pressure runs + 2 scales x j=3 friction runs = 8 per point, 2 points

@@ -24,13 +24,15 @@ from rubberfriction.forms.materials import load_compound
 @pytest.fixture(scope="module")
 def spec() -> SlidingSpec:
     x = np.linspace(0.0, 1.0, 32, endpoint=False)
-    return SlidingSpec(surface_x=x, surface_h=0.01 * np.sin(2 * np.pi * x), period=1.0, pressure=0.3,
+    return SlidingSpec(surface_x=x, surface_h=0.01 * np.sin(2 * np.pi * x), period=1.0,
+                       pressure=0.3,
                        velocity=100.0, compound=load_compound("tread_default"))
 
 
 def result(mu: float = 0.1, status: str = "ok") -> SlidingResult:
     t = np.linspace(0.0, 1.0, 7)
-    return SlidingResult(status, reason="" if status == "ok" else "sliding: no convergence after 8 cut-backs",
+    return SlidingResult(status, reason="" if status == "ok" else "sliding: no convergence after 8 "
+                                                                  "cut-backs",
                          t_reached=1.0, series={"t": t, "Fx": -mu * np.ones(7), "Fz": np.ones(7)},
                          mu_force=mu if status == "ok" else float("nan"), mu_energy=0.9 * mu,
                          mean_pressure=0.41, contact_fraction=0.7,
@@ -80,7 +82,8 @@ def test_put_and_load_round_trip_with_provenance(tmp_path: Path, spec: SlidingSp
     assert out.ok and out.values["mu_force"] == 0.123 and not out.reused
     assert store.has(key) and store.keys() == [key] and len(store) == 1
     run = store.load(key)
-    assert run.status == "ok" and run.values["mean_pressure"] == 0.41 and run.values["contact_fraction"] == 0.7
+    assert run.status == "ok" and run.values["mean_pressure"] == 0.41
+    assert run.values["contact_fraction"] == 0.7
     np.testing.assert_array_equal(run.series["Fx"], -0.123 * np.ones(7))
     assert run.stats["cutbacks"] == 2 and run.stats["contact_formulation"] == "mortar"
     assert run.label == label
