@@ -184,7 +184,13 @@ class SpecBuilder:
                            contact=num.contact, elements_per_wavelength=num.elements_per_wavelength,
                            grading=num.grading, compression_steps=num.compression_steps,
                            window_start=window, max_cutbacks=num.max_cutbacks)
+        # contact element size: the shortest wavelength of the sample / elements_per_wavelength;
+        # the shortest wavelength is the band's short edge where the sample knows its band
+        # (thesis 6.5.1), else (or if shorter) the run's estimate from slope sign changes
         hc = float(default_h_contact(base))
+        band = getattr(sample, "band", None)
+        if band is not None and np.isfinite(band[1]) and band[1] > 0:
+            hc = min(hc, float(band[1]) / num.elements_per_wavelength)
         return dataclasses.replace(base, h_contact=hc, step_length=num.step_per_element * hc,
                                    slide_distance=slide * period)
 

@@ -9,6 +9,7 @@ tested in test_multiscale.py with the real FE runs.
 
 from __future__ import annotations
 
+import math
 import os
 import signal
 import subprocess
@@ -259,3 +260,32 @@ def test_a_hung_run_is_recorded_and_the_campaign_exits_for_resume(tmp_path: Path
     assert out.status == "failed" and out.failure == "timeout" and "timeout" in out.reason
     calls = []
     assert Executor(store, calls.append)(Task("ab" * 32, {}, {})).reused and calls == []
+
+
+def test_progress_counts_and_estimates_time_left():
+    import io
+    from types import SimpleNamespace
+
+    from rubberfriction.driver.progress import Progress, format_seconds
+
+    now = [0.0]
+    out = io.StringIO()
+    p = Progress(stream=out, min_interval=0.0, clock=lambda: now[0])
+    p.start(10, 2)
+    assert math.isnan(p.eta())  # nothing computed yet: unknown
+    task = SimpleNamespace(label={"point": "c/p=0.3/v=10", "branch": "up", "scale_name": "meso", "sample": 1})
+    now[0] = 10.0
+    p.update(task, SimpleNamespace(status="ok", reused=False, wall_time=10.0))
+    p.update(task, SimpleNamespace(status="failed", reused=False, wall_time=10.0))
+    p.update(task, SimpleNamespace(status="ok", reused=True, wall_time=99.0))  # reused: costs nothing
+    assert (p.done, p.computed, p.reused, p.failed) == (3, 2, 1, 1)
+    assert p.eta() == pytest.approx(7 * 10.0 / 2)
+    line = out.getvalue().splitlines()[-1]
+    assert "[ 3/10]" in line and "failed 1" in line and "left ~35s" in line and "up meso 1" in line
+    assert format_seconds(3725) == "1h02m" and format_seconds(250) == "4m10s"
+    quiet = io.StringIO()
+    q = Progress(quiet=True, stream=quiet)
+    q.start(1, 1)
+    q.update(task, SimpleNamespace(status="ok", reused=False, wall_time=1.0))
+    q.finish()
+    assert quiet.getvalue() == ""
