@@ -191,6 +191,10 @@ class Executor:
                 watchdog.cancel()
         wall = time.perf_counter() - t0
         stats = getattr(result, "stats", None)
+        if failure is None and getattr(result, "status", "ok") != "ok" and not stats:
+            # run_sliding turns exceptions into failed results without run statistics: such a
+            # failure says nothing about the inputs (bug, memory, environment), so it is retried
+            failure = "error"
         if isinstance(stats, dict) and "wall_time" in stats:
             wall = float(stats["wall_time"])
         return self.store.put(task.key, task.payload, result, wall_time=wall, label=task.label,

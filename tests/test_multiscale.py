@@ -326,7 +326,6 @@ def full_contact_scene(tmp_path: Path) -> tuple[Path, float]:
     return tmp_path / "fc.toml", mu_sum
 
 
-@pytest.mark.slow
 def test_full_contact_cascade_reproduces_the_sum_of_closed_form_contributions(tmp_path: Path):
     from rubberfriction.driver.campaign import run_scene
     from rubberfriction.driver.scene import load_scene

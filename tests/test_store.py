@@ -170,3 +170,12 @@ def test_unreadable_run_file_is_reported(tmp_path: Path, spec: SlidingSpec):
     store.path(key).write_bytes(b"not hdf5")
     with pytest.raises(StoreError, match="unreadable"):
         store.load(key)
+
+
+def test_a_failed_result_without_run_statistics_counts_as_an_error(tmp_path: Path, spec: SlidingSpec):
+    """run_sliding returns exceptions as failed results with empty stats: retried on resume."""
+    store = Store(tmp_path / "store")
+    t = Task(run_key(spec), spec, {})
+    o = Executor(store, lambda s: SlidingResult("failed", reason="RuntimeError: PETSc error 76"))(t)
+    assert o.failure == "error"
+    assert not Executor(store, lambda s: result())(t).reused  # retried, now ok
