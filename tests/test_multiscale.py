@@ -379,7 +379,6 @@ SMALL_SCENE = textwrap.dedent("""
 """)
 
 
-@pytest.mark.slow
 @pytest.mark.mpi
 def test_serial_and_two_rank_runs_of_a_small_scene_store_identical_results(tmp_path: Path):
     (tmp_path / "small.toml").write_text(SMALL_SCENE)
