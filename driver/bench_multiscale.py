@@ -1,12 +1,12 @@
 """Benchmark: wall time and peak memory of multiscale campaigns, serial vs MPI ranks.
 
-    rubberfriction bench multiscale [--ranks 2] [--out DIR] [--skip-default] [--skip-point]
-                                    [--point-samples 10] [--point-velocity 100]
+    rubberfriction bench multiscale [--ranks 2] [--out DIR] [--scene default] [--skip-default]
+                                    [--skip-point] [--point-samples 10] [--point-velocity 100]
 
 Two campaigns, each run from scratch (``--fresh``) once serially and once with
 ``mpirun -n RANKS`` (the same command a user types):
 
-1. the default scene (``rubberfriction run``);
+1. the default scene (``rubberfriction run``; ``--scene`` picks another);
 2. one full four-scale point with ten samples per scale (k = j = 10, thesis 6.4.2) of the default
    road at p = 0.3 MPa and one velocity.
 
@@ -176,7 +176,9 @@ def main(argv: list[str] | None = None) -> int:
                     help="MPI ranks for the parallel runs (default 2)")
     ap.add_argument("--out", default="rf-bench/multiscale",
                     help="work folder (default rf-bench/multiscale)")
-    ap.add_argument("--skip-default", action="store_true", help="skip the default scene")
+    ap.add_argument("--scene", default="default",
+                    help="scene of the first campaign (default: the default scene)")
+    ap.add_argument("--skip-default", action="store_true", help="skip the first campaign")
     ap.add_argument("--skip-point", action="store_true",
                     help="skip the ten-sample four-scale point")
     ap.add_argument("--point-samples", type=int, default=10,
@@ -193,7 +195,7 @@ def main(argv: list[str] | None = None) -> int:
     env["PYTHONPATH"] = str(root) + os.pathsep + env.get("PYTHONPATH", "")
     rows: list[dict] = []
     if not args.skip_default:
-        rows += campaign("default scene", "default", out / "default", args.ranks, env)
+        rows += campaign(f"scene {Path(args.scene).stem}", args.scene, out / "scene", args.ranks, env)
     if not args.skip_point:
         scene = out / "point.toml"
         scene.write_text(point_scene(args.point_samples, args.point_velocity))
