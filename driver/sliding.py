@@ -411,10 +411,12 @@ class SlidingContact:
         else:
             self.ci.set_auto_penalty(penalty_modulus(spec, sp), PENALTY_ALPHA, 0.1)
         if spec.friction is not None:
+            from rubberfriction.driver.friction_law import as_cpp_law
+
             law = spec.friction
             if isinstance(law, (int, float)):
                 law = _contact.ConstantFriction(float(law))
-            self.ci.set_friction(law)
+            self.ci.set_friction(as_cpp_law(law))
         self.offset = (0.0, 0.0)
         self.dt = 0.0
         self.ci.reset_history(sp.w.x.array, self.offset)
