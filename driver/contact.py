@@ -342,15 +342,22 @@ class Contact:
 
 def sliding_contact(sp, spec, formulation: str) -> Contact:
     """Contact for ``driver.sliding.SlidingRun``: the block's facets tagged 1 against the rigid
-    (periodic) surface of a SlidingSpec, automatic penalty from the instantaneous plane-strain
-    modulus unless ``spec.penalty`` > 0 (then c_N = spec.penalty)."""
+    (periodic) surface of a SlidingSpec.  Automatic penalty c_N = alpha |E*_eff(omega)| / h from the
+    modulus at the run's excitation frequency (``sliding.penalty_modulus``) unless ``spec.penalty``
+    > 0; history referenced to the current state."""
+    from rubberfriction.driver.sliding import PENALTY_ALPHA, penalty_modulus
+
     slave = SlaveSurface.from_boundary(sp.boundary(1))
     master = RigidMaster(np.column_stack([np.asarray(spec.surface_x, float), np.asarray(spec.surface_h, float)]),
                          float(spec.period))
-    pen = PenaltySettings(c_N=float(spec.penalty)) if getattr(spec, "penalty", 0.0) > 0 else PenaltySettings()
-    contact = Contact(slave, master, method=formulation, friction=spec.friction,
-                      E_eff=sp.plane_strain_modulus(instantaneous=True), penalty=pen,
+    if getattr(spec, "penalty", 0.0) > 0:
+        pen = PenaltySettings(c_N=float(spec.penalty))
+        E_eff = None
+    else:
+        pen, E_eff = PenaltySettings(alpha=PENALTY_ALPHA), penalty_modulus(spec, sp)
+    contact = Contact(slave, master, method=formulation, friction=spec.friction, E_eff=E_eff, penalty=pen,
                       comm=sp.mesh.comm)
     if getattr(spec, "temperature", None) is not None:
         contact.set_temperature(float(spec.temperature))
+    contact.reset_history(sp.w.x.array)
     return contact

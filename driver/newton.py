@@ -74,16 +74,20 @@ class ConstrainedNonlinearProblem:
         self.w = w
         self.F_form = fem.form(residual)
         self.J_form = fem.form(jacobian)
-        self.constraints = constraints
         self.hooks = list(hooks or [])
         self.external_force = external_force
         self.A = self._create_matrix(extra_couplings or [])
         self.b = fem_petsc.create_vector(self.F_form)
+        self.set_constraints(constraints)
+        self.du = self.P.createVecLeft()
+
+    def set_constraints(self, constraints: ConstraintMap) -> None:
+        """Use new constraints (e.g. a prescribed dof becomes free); the reduced system is rebuilt."""
+        self.constraints = constraints
         self.P = constraints.P
         self.Ar: PETSc.Mat | None = None
         self.br = self.P.createVecRight()
         self.dur = self.P.createVecRight()
-        self.du = self.P.createVecLeft()
 
     def _create_matrix(self, couplings) -> PETSc.Mat:
         """Bulk sparsity plus every (row, col) pair in `couplings` (list of (rows, cols) arrays)."""

@@ -107,7 +107,8 @@ def default_h_contact(spec: SlidingSpec) -> float:
 
 
 class ContactLike:
-    """What a sliding run needs from the contact module (``rubberfriction.driver.contact``)."""
+    """What a sliding run needs from its contact (``rubberfriction.driver.contact.Contact``,
+    built by ``contact.sliding_contact``)."""
 
     def hook(self, x, A, b) -> None: ...  # assemble into the full-space system
     def set_master_offset(self, dx: float, dz: float) -> None: ...
@@ -188,15 +189,9 @@ class SlidingRun:
     def _switch_to_force_control(self) -> None:
         """The tied top u_z becomes an unknown loaded by F_ext (compression phase)."""
         self.cspec.fixed.pop(self.top_z_dof)
-        x = self.sp.w.x.array.copy()
         self.cmap = ConstraintMap(self.cspec)
-        self.problem.constraints = self.cmap
-        self.problem.P = self.cmap.P
-        self.problem.Ar = None
-        self.problem.br = self.cmap.P.createVecRight()
-        self.problem.dur = self.cmap.P.createVecRight()
-        self.sp.w.x.array[:] = x
-        self.newton.reset()
+        self.problem.set_constraints(self.cmap)
+        self.newton.reset()  # the reduced size changed
 
     # --- one step with cut-backs ---------------------------------------------------------------
     def _solve_step(self, t: float, dt: float, apply_load, predict=None) -> tuple[bool, str, int]:
@@ -394,60 +389,6 @@ class SlidingRun:
         return res
 
 
-class SlidingContact:
-    """The C++ contact interface set up for a sliding run: the block's contact face (tag 1) as the
-    slave, the surface sample as a rigid (periodic) master moved by a rigid offset."""
-
-    def __init__(self, sp: SolidProblem, spec: SlidingSpec, formulation: str):
-        from rubberfriction import _contact
-
-        bnd = sp.boundary(1)
-        self.ci = _contact.ContactInterface(bnd.X, bnd.dofs.astype(np.int64), bnd.segments,
-                                            method=formulation)
-        verts = np.column_stack([np.asarray(spec.surface_x, float), np.asarray(spec.surface_h, float)])
-        self.ci.set_rigid_master(verts, spec.period)
-        if spec.penalty > 0:
-            self.ci.set_penalty(spec.penalty, 0.1 * spec.penalty)
-        else:
-            self.ci.set_auto_penalty(penalty_modulus(spec, sp), PENALTY_ALPHA, 0.1)
-        if spec.friction is not None:
-            from rubberfriction.driver.friction_law import as_cpp_law
-
-            law = spec.friction
-            if isinstance(law, (int, float)):
-                law = _contact.ConstantFriction(float(law))
-            self.ci.set_friction(as_cpp_law(law))
-        self.offset = (0.0, 0.0)
-        self.dt = 0.0
-        self.ci.reset_history(sp.w.x.array, self.offset)
-
-    def hook(self, x, A, b) -> None:
-        self.ci.assemble(x, A, b, offset=self.offset, dt=self.dt)
-
-    def set_master_offset(self, dx: float, dz: float) -> None:
-        self.offset = (float(dx), float(dz))
-
-    def set_time_step(self, dt: float) -> None:
-        self.dt = float(dt)
-
-    def commit(self) -> None:
-        self.ci.commit()
-
-    def state(self) -> dict:
-        st = self.ci.state()
-        p = np.asarray(st["pressure"])
-        active = p > 0.0
-        return {"Fx": st["force_x"], "Fz": st["force_z"], "contact_length": st["contact_length"],
-                "dissipation": st["dissipation"],
-                "mean_pressure": float(p[active].mean()) if active.any() else 0.0}
-
-    def couplings(self) -> list:
-        return [self.ci.sparsity_pairs()]
-
-    def report(self) -> dict:
-        return self.ci.report()
-
-
 #: automatic normal penalty c_N = alpha |E*_eff(omega)| / h_contact (ContactInterface::set_auto_penalty):
 #: the contact compliance h/(alpha E) is then ~1/alpha of the rubber's compliance at the element scale
 PENALTY_ALPHA = 100.0
@@ -480,6 +421,8 @@ def block_mesh(L: float, H: float, hc: float, grading: float, z0: float):
 def run_sliding(spec: SlidingSpec, progress=None) -> SlidingResult:
     """Run one sliding run with the default mesh and contact; never raises for a failed run."""
     try:
-        return SlidingRun(spec, block_mesh, SlidingContact, progress=progress).run()
+        from rubberfriction.driver.contact import sliding_contact
+
+        return SlidingRun(spec, block_mesh, sliding_contact, progress=progress).run()
     except Exception as err:  # a campaign never dies of one run; the reason is recorded
         return SlidingResult("failed", reason=f"{type(err).__name__}: {err}")

@@ -72,12 +72,13 @@ def test_velocity_extremes_give_elastic_westergaard(velocity, limit):
 
 def test_periodic_cell_and_structured_failure():
     """The periodic cell's edges move together; an absurd pressure returns a failure record."""
-    from rubberfriction.driver.sliding import SlidingRun, SlidingContact, block_mesh
+    from rubberfriction.driver.contact import sliding_contact
+    from rubberfriction.driver.sliding import SlidingRun, block_mesh
 
     x, h = sinusoid(0.005)
     spec = SlidingSpec(surface_x=x, surface_h=h, period=1.0, pressure=0.5, velocity=10.0,
                        compound=elastic(), slide_distance=0.5)
-    run = SlidingRun(spec, block_mesh, SlidingContact)
+    run = SlidingRun(spec, block_mesh, sliding_contact)
     res = run.run()
     assert res.ok, res.reason
     X, u = run.sp.node_X, run.sp.nodal_displacement()
