@@ -26,6 +26,7 @@ from mpi4py import MPI  # isort: skip
 
 from rubberfriction.driver.scene import (
     SCENES_PACKAGE,
+    Scene,
     SceneError,
     load_scene,
     schema_text,
@@ -52,6 +53,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "6.12, 6.13)")
     p.add_argument("--check", action="store_true",
                    help="validate the scene, print the plan, compute nothing")
+    p.add_argument("--no-theory", dest="theory", action="store_false",
+                   help="leave the analytical mu(v) baselines (Persson 1D/2D) out of the report")
     p.add_argument("--schema", action="store_true",
                    help="print every scene key with default and meaning")
     p.add_argument("--show", metavar="NAME", nargs="?", const="default",
@@ -91,11 +94,9 @@ def _error(msg: str) -> int:
     return 2
 
 
-def _plan(scene) -> str:
-    from rubberfriction.driver.campaign import points
-
+def runs_per_point(scene: Scene) -> tuple[int, str]:
+    """Single-scale runs one (compound, p, v) point of the scene needs, and how they add up."""
     n = scene.n_scales
-    pts = points(scene)
     if scene.variant == "rough":
         k, j = scene.samples.pressure, scene.samples.friction
         down = (n - 1) if n > 1 else (1 if scene.physics.adhesion else 0)
@@ -109,6 +110,15 @@ def _plan(scene) -> str:
         how = f"frictionless macro + {npg}x{nvg} micro grid + macro with the law"
         if sep.reference:
             how += " + reference"
+    return per, how
+
+
+def _plan(scene) -> str:
+    from rubberfriction.driver.campaign import points
+
+    n = scene.n_scales
+    pts = points(scene)
+    per, how = runs_per_point(scene)
     return (f"scene {scene.name!r} ({scene.variant}, {n} scales) from {scene.source}\n"
             f"  {len(pts)} point(s) x {per} runs ({how}) = {len(pts) * per} single-scale runs\n"
             f"  output: {scene.output}")
@@ -145,13 +155,17 @@ def _run(args: argparse.Namespace) -> int:
 
     try:
         result = run_scene(scene, quiet=args.quiet, fresh=args.fresh,
-                           retry_failed=args.retry_failed)
+                           retry_failed=args.retry_failed, report=args.theory)
     except SceneError as err:
         return _error(str(err))
     except ImportError as err:
         return _error(str(err))
     if result is None:  # a worker rank
         return 0
+    if not args.theory:
+        from rubberfriction.driver.report import write_report
+
+        write_report(result, quiet=args.quiet, theory=False)
     if args.quiet:
         print(result.output / "results.csv")
     return 0 if all(r.ok for r in result.points) else 1

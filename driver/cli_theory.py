@@ -55,7 +55,7 @@ import sys
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -71,6 +71,9 @@ from rubberfriction.driver.theory.errors import TheoryInputError
 from rubberfriction.driver.theory.persson import PerssonOptions
 from rubberfriction.driver.theory.rubber import Rubber, rubber_from_compound
 from rubberfriction.driver.theory.spectrum import line_spectrum
+
+if TYPE_CHECKING:
+    from rubberfriction.driver.scene import Scene
 
 DEFAULT_COMPOUND = "tread_default"
 DEFAULT_N = 50
@@ -317,6 +320,63 @@ def load_rubber(compound: str, nu: float | None = None) -> tuple[Rubber, str]:
     return rubber, comp.name
 
 
+def scene_inputs(scene: Scene) -> SceneInputs:
+    """The theory keys of an already-loaded multiscale scene (``driver.scene.Scene``).
+
+    Same meaning as :func:`read_scene` on the scene's file, but from the validated object, so
+    the report of a finished campaign needs neither the file nor its folder: surface source,
+    edges (analysis range edges[0] .. edges[-1]) and files (already resolved), the first compound
+    (as resolved for ``load_compound``) and pressure, the velocities, T0 (kelvin) and the
+    adhesion table when ``[physics] adhesion`` is on.
+    """
+    surf, cond = scene.surface, scene.conditions
+    out = SceneInputs()
+    edges = tuple(float(e) for e in surf.edges)
+    if surf.source == "default_road":
+        out.surface = "default"
+    elif surf.source == "files":
+        out.files = [str(f) for f in surf.files]
+    elif surf.source == "sines":
+        out.sines = [(float(a), float(lam)) for a, lam in zip(surf.amplitudes, surf.wavelengths)]
+    else:
+        raise TheoryInputError(f"scene {scene.name!r}: surface source {surf.source!r}: expected "
+                               "default_road, files or sines")
+    if edges:
+        out.edges = edges
+        out.lambda_max, out.lambda_min = edges[0], edges[-1]
+    out.compound = str(cond.compound_paths[0])
+    if len(cond.compounds) > 1:
+        out.notes.append(f"scene lists {len(cond.compounds)} compounds; using "
+                         f"{cond.compounds[0]!r} (--compound picks another)")
+    out.pressure = float(cond.pressures[0])
+    if len(cond.pressures) > 1:
+        out.notes.append(f"scene lists {len(cond.pressures)} pressures; using "
+                         f"{cond.pressures[0]:g} MPa (--pressure picks another)")
+    out.velocities = [float(v) for v in cond.velocities]
+    out.T0 = None if cond.T0 is None else float(cond.T0)
+    if scene.adhesion is not None:
+        a = scene.adhesion
+        out.adhesion = {"tau0": a.tau0, "c": a.c, "v0": a.v0, "alpha": a.alpha}
+    if not scene.physics.hysteresis:
+        out.notes.append("scene has [physics] hysteresis = false (elastic FE rubber); the "
+                         "theory curves are viscoelastic")
+    return out
+
+
+def _scene_of(scene: str | Path | Scene | SceneInputs | None) -> SceneInputs:
+    """Theory inputs of a scene given as a path, a loaded ``Scene``, ``SceneInputs`` or None."""
+    if scene is None:
+        return SceneInputs()
+    if isinstance(scene, SceneInputs):
+        return scene
+    if isinstance(scene, (str, Path)):
+        return read_scene(scene)
+    if hasattr(scene, "surface") and hasattr(scene, "conditions"):
+        return scene_inputs(scene)
+    raise TheoryInputError(f"scene {scene!r}: expected a file path, a loaded Scene or "
+                           "SceneInputs")
+
+
 def _velocities(args: argparse.Namespace, scene: SceneInputs) -> np.ndarray:
     if args.velocities:
         return np.asarray(args.velocities, dtype=float)
@@ -335,7 +395,7 @@ def _velocities(args: argparse.Namespace, scene: SceneInputs) -> np.ndarray:
 
 def run_theory(args: argparse.Namespace) -> dict[str, Any]:
     """Evaluate the theories for parsed arguments; returns the JSON-ready result."""
-    scene = read_scene(args.scene) if args.scene else SceneInputs()
+    scene = _scene_of(args.scene or None)
     compound = args.compound or scene.compound or DEFAULT_COMPOUND
     pressure = args.pressure if args.pressure is not None else scene.pressure
     if pressure is None:
@@ -363,7 +423,10 @@ def run_theory(args: argparse.Namespace) -> dict[str, Any]:
         raise TheoryInputError(f"adhesion needs tau0, c and v0; got {sorted(adh)}")
     rubber, comp_name = load_rubber(compound, args.nu)
     options = PerssonOptions(gamma=args.gamma)
-    notes = list(scene.notes)
+    # "scene lists N ...; using the first (--X picks another)" is moot when --X was given
+    given = {"--compound": bool(args.compound), "--pressure": args.pressure is not None}
+    notes = [n for n in scene.notes if not any(on and f"({opt} picks another)" in n
+                                               for opt, on in given.items())]
     if not args.surface and scene.sines:
         k = np.array([2 * math.pi / lam for _, lam in scene.sines])
         amp = np.array([abs(a) for a, _ in scene.sines])
@@ -403,13 +466,20 @@ def run_theory(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
-def theory_args(scene: str | Path | None = None, **options: Any) -> argparse.Namespace:
+def theory_args(scene: str | Path | Scene | SceneInputs | None = None,
+                **options: Any) -> argparse.Namespace:
     """Arguments of ``rubberfriction theory`` as a namespace, for calling :func:`run_theory`
-    from Python (e.g. the multiscale report): keyword names are the option names with ``_``."""
+    from Python (e.g. the multiscale report): keyword names are the option names with ``_``.
+
+    ``scene`` is a scene file, an already-loaded multiscale ``driver.scene.Scene`` (read with
+    :func:`scene_inputs`), a :class:`SceneInputs` or None."""
     parser = argparse.ArgumentParser()
     sub = parser.add_subparsers()
     register(sub)
-    args = parser.parse_args(["theory"] + ([str(scene)] if scene is not None else []))
+    by_path = scene is None or isinstance(scene, (str, Path))
+    args = parser.parse_args(["theory"] + ([str(scene)] if by_path and scene is not None else []))
+    if not by_path:
+        args.scene = scene
     for key, val in options.items():
         if not hasattr(args, key):
             raise TheoryInputError(f"unknown theory option {key!r}")
@@ -417,7 +487,7 @@ def theory_args(scene: str | Path | None = None, **options: Any) -> argparse.Nam
     return args
 
 
-def scene_theory_curves(scene: str | Path | None = None,
+def scene_theory_curves(scene: str | Path | Scene | SceneInputs | None = None,
                         **options: Any) -> tuple[list[TheoryCurve], dict]:
     """Theory curves for a scene (the multiscale report draws them beside the FE curve with
     :func:`rubberfriction.driver.theory.curves.add_to_axes`).  Returns the curves and the
@@ -427,16 +497,18 @@ def scene_theory_curves(scene: str | Path | None = None,
     return curves, result
 
 
-def draw_beside_fe(ax_mu: Any, scene: str | Path | None, *, v_fe: Any, compound: str | None = None,
+def draw_beside_fe(ax_mu: Any, scene: str | Path | Scene | SceneInputs | None, *, v_fe: Any,
+                   compound: str | None = None,
                    pressure: float | None = None, T0: float | None = None,
                    models: tuple[str, ...] = ("persson-1d", "persson-2d"),
                    ax_area: Any | None = None, n: int = 40) -> tuple[list[TheoryCurve], list[str]]:
     """Draw the theory curves of a scene on the multiscale report's mu(v) axes (and A/A0 axes).
 
     The curves span the FE speeds ``v_fe`` (mm/s) with a factor 3 margin on a log grid of ``n``
-    speeds, for the FE's compound, pressure and temperature.  A failure (e.g. a surface the
-    theories cannot read) never breaks the report: it is returned as a note and nothing is
-    drawn.  Returns (curves, notes).
+    speeds, for the FE's compound, pressure and temperature.  ``scene`` is anything
+    :func:`theory_args` accepts (a file or the loaded ``Scene`` of the campaign).  A failure
+    (e.g. a surface the theories cannot read) never breaks the report: it is returned as a note
+    and nothing is drawn.  Returns (curves, notes).
     """
     from rubberfriction.driver.theory.curves import add_to_axes
 

@@ -13,7 +13,12 @@ Files written into the campaign's output folder:
   area, mJ/mm^3 = MPa), flags and notes.
 * ``samples.csv`` -- every single-scale run (thesis fig. 6.29 b): branch, scale, sample, status,
   failure reason, inputs and results, wall time, whether it was reused, store key.
-* ``mu_v.png``, ``mu_p.png`` -- the curves with 95 % CI error bars.
+* ``mu_v.png``, ``mu_p.png`` -- the curves with 95 % CI error bars.  ``mu_v.png`` also shows,
+  per (compound, p), the analytical baselines of the same surface PSD and compound (Persson line
+  roughness = plane strain and isotropic eq. 2.10, at the scene's T0; ``driver/cli_theory.py``)
+  in the colour of the FE points; the summary lists them at the FE speeds (``theory:`` lines),
+  or why they are missing.  ``write_report(..., theory=False)`` or ``rubberfriction run
+  --no-theory`` leaves them out.
 * ``scales_<point>.png`` -- fig. 6.29 a (p, mu, A_r over scales with spread);
   ``samples_<point>.png`` -- fig. 6.29 b (per-sample values per scale);
   ``dissipation_<point>.png`` -- fig. 6.29 c (dissipation over depth) when the runs provide it.
@@ -221,14 +226,62 @@ def summary_text(result: Any) -> str:
 # ----------------------------------------------------------------------------------------------
 
 
-def _errorbar(ax, x, sts: list[SampleStats | None], **kw) -> None:
+def _errorbar(ax, x, sts: list[SampleStats | None], **kw) -> Any:
     y = np.array([s.mean if s else math.nan for s in sts])
     e = np.array([s.ci95 if s and s.n_used > 1 else 0.0 for s in sts])
-    ax.errorbar(x, y, yerr=e, capsize=3, marker="o", **kw)
+    return ax.errorbar(x, y, yerr=e, capsize=3, marker="o", **kw)
 
 
-def plot_curves(points: Sequence[PointResult], out: Path) -> list[Path]:
-    """mu(v) per (compound, p) and mu(p) per (compound, v), 95 % CI error bars."""
+def _theory_summary(curves: Sequence[Any], v_fe: Sequence[float]) -> str:
+    """Theory mu at the FE speeds (log-v interpolation of the drawn curves)."""
+    v = sorted({float(x) for x in v_fe if x > 0})
+    parts = []
+    for c in curves:
+        mu = np.interp(np.log(v), np.log(np.asarray(c.v, float)), np.asarray(c.mu, float))
+        parts.append(f"{c.model} mu = " + ", ".join(f"{m:.4g}" for m in mu))
+    return f"at v = {', '.join(f'{x:g}' for x in v)} mm/s: " + "; ".join(parts)
+
+
+def draw_theory(ax: Any, scene: Any, compound: str, pressure: float, v_fe: Sequence[float],
+                color: Any = None, suffix: str = "") -> list[str]:
+    """Analytical mu(v) curves of ``scene`` for one FE (compound, p) group on the mu(v) axes.
+
+    Persson line roughness (plane strain, as the FE) and isotropic (eq. 2.10) from the scene's
+    surface PSD and compound at its T0 (kelvin; None = the compound's WLF reference, as in the
+    FE runs), drawn in ``color`` (the group's FE colour) with ``suffix`` added to the labels.
+    Never raises: a failure is returned as a note.  Returns the summary lines.
+    """
+    head = f"{compound}, p = {pressure:g} MPa"
+    try:
+        from rubberfriction.driver.cli_theory import draw_beside_fe
+
+        cond = scene.conditions
+        path = dict(zip(cond.compounds, cond.compound_paths)).get(compound, compound)
+        n_before = len(ax.lines)
+        curves, notes = draw_beside_fe(ax, scene, v_fe=list(v_fe), compound=str(path),
+                                       pressure=float(pressure), T0=cond.T0)
+        for line in ax.lines[n_before:]:
+            if color is not None:
+                line.set_color(color)
+            line.set_label(f"theory: {line.get_label()}{suffix}")
+    except Exception as err:  # noqa: BLE001 -- the baseline must never break the report
+        return [f"{head}: theory curves not drawn: {type(err).__name__}: {err}"]
+    lines = []
+    if curves:
+        T0 = scene.conditions.T0
+        T = "WLF reference T" if T0 is None else f"T0 = {T0:g} K"
+        lines.append(f"{head}, {T}: {_theory_summary(curves, v_fe)}")
+    return lines + [f"{head}: {n}" for n in notes]
+
+
+def plot_curves(points: Sequence[PointResult], out: Path, *, scene: Any | None = None,
+                notes: list[str] | None = None) -> list[Path]:
+    """mu(v) per (compound, p) and mu(p) per (compound, v), 95 % CI error bars.
+
+    With ``scene`` (the campaign's loaded ``Scene``) the mu(v) plot also shows the analytical
+    curves of :func:`draw_theory` per (compound, p); their summary lines and notes are appended
+    to ``notes``.
+    """
     plt = _plt()
     files = []
     for axis, other, fname, xlabel in (("velocity", "pressure", "mu_v.png",
@@ -243,8 +296,14 @@ def plot_curves(points: Sequence[PointResult], out: Path) -> list[Path]:
             rs = sorted(rs, key=lambda r: getattr(r.point, axis))
             x = [getattr(r.point, axis) for r in rs]
             unit = "MPa" if other == "pressure" else "mm/s"
-            _errorbar(ax, x, [r.mu if r.ok else None for r in rs],
-                      label=f"{comp}, {other[0]} = {val:g} {unit}")
+            fe = _errorbar(ax, x, [r.mu if r.ok else None for r in rs],
+                           label=f"{comp}, {other[0]} = {val:g} {unit}")
+            if axis == "velocity" and scene is not None:
+                color = fe.lines[0].get_color()
+                suffix = f" ({comp}, p = {val:g} MPa)" if len(groups) > 1 else ""
+                found = draw_theory(ax, scene, comp, val, x, color=color, suffix=suffix)
+                if notes is not None:
+                    notes.extend(found)
             for r in rs:
                 if r.ok and r.mu is not None:
                     ax.annotate(f"n={r.mu.n_used}", (getattr(r.point, axis), r.mu.mean), fontsize=7,
@@ -433,8 +492,12 @@ def study_rows(study: SampleCountStudy) -> list[dict[str, Any]]:
 # ----------------------------------------------------------------------------------------------
 
 
-def write_report(result: Any, quiet: bool = False) -> list[Path]:
-    """Write every table and plot of a finished campaign into its output folder."""
+def write_report(result: Any, quiet: bool = False, theory: bool = True) -> list[Path]:
+    """Write every table and plot of a finished campaign into its output folder.
+
+    ``theory``: draw the analytical baselines beside the FE mu(v) points (see the module
+    docstring); their figures and notes go into the summary as ``theory:`` lines.
+    """
     from rubberfriction.driver.campaign import campaign_json
 
     out = Path(result.output)
@@ -443,7 +506,8 @@ def write_report(result: Any, quiet: bool = False) -> list[Path]:
     files = [_write_csv(out / "results.csv", point_rows(pts)),
              _write_csv(out / "scales.csv", scale_rows(pts)),
              _write_csv(out / "samples.csv", sample_rows(pts))]
-    files += plot_curves(pts, out)
+    theory_notes: list[str] = []
+    files += plot_curves(pts, out, scene=result.scene if theory else None, notes=theory_notes)
     for r in pts:
         if r.variant == "rough" and r.ok:
             files += plot_scales(r, out)
@@ -451,6 +515,8 @@ def write_report(result: Any, quiet: bool = False) -> list[Path]:
     if result.scene.variant == "separated":
         files += plot_separated(pts, out)
     text = summary_text(result)
+    if theory_notes:
+        text += "\n" + "\n".join(f"  theory: {n}" for n in theory_notes)
     (out / "summary.txt").write_text(text + "\n")
     (out / "scene.toml").write_text(result.scene.text)
     (out / "campaign.json").write_text(campaign_json(result) + "\n")
