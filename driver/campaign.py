@@ -183,7 +183,8 @@ class SpecBuilder:
                            element=num.element,
                            contact=num.contact, elements_per_wavelength=num.elements_per_wavelength,
                            grading=num.grading, compression_steps=num.compression_steps,
-                           window_start=window, max_cutbacks=num.max_cutbacks)
+                           window_start=window, max_cutbacks=num.max_cutbacks,
+                           penalty_alpha=num.penalty_alpha)
         # contact element size: the shortest wavelength of the sample / elements_per_wavelength;
         # the shortest wavelength is the band's short edge where the sample knows its band
         # (thesis 6.5.1), else (or if shorter) the run's estimate from slope sign changes

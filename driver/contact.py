@@ -354,7 +354,8 @@ def sliding_contact(sp, spec, formulation: str) -> Contact:
         pen = PenaltySettings(c_N=float(spec.penalty))
         E_eff = None
     else:
-        pen, E_eff = PenaltySettings(alpha=PENALTY_ALPHA), penalty_modulus(spec, sp)
+        alpha = float(getattr(spec, "penalty_alpha", PENALTY_ALPHA))
+        pen, E_eff = PenaltySettings(alpha=alpha), penalty_modulus(spec, sp)
     contact = Contact(slave, master, method=formulation, friction=spec.friction, E_eff=E_eff, penalty=pen,
                       comm=sp.mesh.comm)
     if getattr(spec, "temperature", None) is not None:

@@ -206,8 +206,10 @@ class NewtonSolver:
             x += du
             small_step = np.linalg.norm(du) <= s.stol * max(np.linalg.norm(x), 1e-300)
             res.time_solve += time.perf_counter() - t0
+            # residual only (no matrix) while line searching and testing convergence: the
+            # tangent is assembled once the iterate is accepted and another iteration follows
             t0 = time.perf_counter()
-            pb.assemble()
+            pb.assemble(need_matrix=False)
             r_prev, alpha = res.residuals[-1], 1.0
             for _ in range(s.max_backtracks if s.line_search else 0):
                 r_try = pb.br.norm()
@@ -216,18 +218,20 @@ class NewtonSolver:
                 x -= 0.5 * alpha * du  # halve the step
                 alpha *= 0.5
                 res.backtracks += 1
-                pb.assemble()
-            res.time_assemble += time.perf_counter() - t0
+                pb.assemble(need_matrix=False)
             r = pb.br.norm()
             res.residuals.append(r)
             res.iterations = it
             if self.on_iteration:
                 self.on_iteration(it, r)
             if r <= s.atol + s.rtol * ref or (small_step and r <= 1e3 * (s.atol + s.rtol * ref)):
+                res.time_assemble += time.perf_counter() - t0
                 res.converged = True
                 return res
             if not np.isfinite(r) or r > s.divergence_factor * ref:
                 res.reason = f"diverged: residual {r:.3e} after {it} iterations"
                 return res
+            pb.assemble()
+            res.time_assemble += time.perf_counter() - t0
         res.reason = f"no convergence in {s.max_iterations} iterations (residual {res.residuals[-1]:.3e})"
         return res

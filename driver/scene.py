@@ -157,6 +157,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
                        choices=("mortar", "nts")),
         "element": Key("str", "Q1P0", "rubber element", choices=("Q1P0", "Q1")),
         "max_cutbacks": Key("int", 8, "step halvings before a step counts as failed", minimum=0),
+        "penalty_alpha": Key("float", 100.0, "normal penalty c_N = alpha |E*(omega)| / h_contact: "
+                             "contact compliance ~1/alpha of an element's; lower is faster on "
+                             "steep surfaces and softer (more contact area)", above=0.0),
         "run_timeout": Key("float", 0.0, "seconds after which a single run counts as hung: it is "
                                          "stored as failed and the campaign exits (rerun to resume "
                                          "past it); 0: no limit",
@@ -285,6 +288,7 @@ class NumericsConfig:
     contact: str
     element: str
     max_cutbacks: int
+    penalty_alpha: float
     run_timeout: float
 
 

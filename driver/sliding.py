@@ -64,7 +64,8 @@ class SlidingSpec:
     compression_time: float = 0.0  # 0: one step of the sliding time scale x 10
     compression_steps: int = 10
     window_start: float = 1.0 / 3.0  # fraction of the sliding distance before averaging (run-in)
-    penalty: float = 0.0  # 0: automatic
+    penalty: float = 0.0  # 0: automatic, c_N = penalty_alpha |E*_eff(omega)| / h_contact
+    penalty_alpha: float = 100.0  # see PENALTY_ALPHA
     max_cutbacks: int = 8
 
 
@@ -118,6 +119,10 @@ class ContactLike:
     def couplings(self) -> list: ...  # (rows, cols) the contact may write
 
 
+#: a sub-step converging in at most this many Newton iterations lets the next one double
+EASY_ITERATIONS = 8
+
+
 @dataclass
 class _Phase:
     name: str
@@ -128,9 +133,13 @@ class _Phase:
 class SlidingRun:
     """Set-up and time loop of one sliding run; `run()` returns a SlidingResult."""
 
-    def __init__(self, spec: SlidingSpec, mesh_factory=None, contact_factory=None, progress=None):
+    def __init__(self, spec: SlidingSpec, mesh_factory=None, contact_factory=None, progress=None,
+                 observers=()):
         self.spec = spec
         self.progress = progress
+        # observers: objects with optional on_start(run), on_step(run, k, t), on_finish(run,
+        # result) methods (outputs such as fields and time series; see driver.sliding_output)
+        self.observers = list(observers)
         self._mesh_factory = mesh_factory
         self._contact_factory = contact_factory
 
@@ -194,20 +203,27 @@ class SlidingRun:
         self.newton.reset()  # the reduced size changed
 
     # --- one step with cut-backs ---------------------------------------------------------------
-    def _solve_step(self, t: float, dt: float, apply_load, predict=None) -> tuple[bool, str, int]:
+    def _solve_step(self, t: float, dt: float, apply_load, predict=None,
+                    adaptive: bool = False) -> tuple[bool, str, int]:
         """Advance from t to t + dt (sub-stepping on failure). Returns (ok, reason, cutbacks).
 
-        predict(h), if given, moves the start iterate of a sub-step of length h (not the result).
+        predict(h), if given, moves the start iterate of a sub-step of length h (not the result);
+        it is kept only where it lowers the start residual (see :meth:`_start_iterate`).
+        ``adaptive``: the sub-step length is remembered from step to step (sliding phase): a step
+        that needed cut-backs is followed by steps of the reduced length, which grows again by
+        a factor 2 after each sub-step that converged in at most EASY_ITERATIONS iterations.
+        Without it every step would first repeat the failed attempts of the previous one.
         """
-        cutbacks, t_cur, h = 0, t, dt
+        cutbacks, t_cur = 0, t
+        h = min(dt, self._h_next) if adaptive else dt
         while t_cur < t + dt - 1e-12 * dt:
             h = min(h, t + dt - t_cur)
             x_saved = self.sp.w.x.array.copy()
-            if predict is not None:
-                predict(h)
             apply_load(t_cur + h)
             self.sp.prepare_step(h)
             self.contact.set_time_step(h)
+            if predict is not None:
+                self._start_iterate(predict, h, x_saved)
             res = self.newton.solve()
             self.newton_iterations += res.iterations
             ok, reason = res.converged, res.reason
@@ -218,6 +234,9 @@ class SlidingRun:
                 self.contact.commit()
                 self.step_friction_energy += float(self.contact.state().get("dissipation", 0.0))
                 t_cur += h
+                if adaptive:
+                    easy = res.iterations <= EASY_ITERATIONS
+                    self._h_next = min(dt, 2.0 * h) if easy else h
                 continue
             self.sp.w.x.array[:] = x_saved
             cutbacks += 1
@@ -225,7 +244,27 @@ class SlidingRun:
             if cutbacks > self.spec.max_cutbacks:
                 return False, reason, cutbacks
             h *= 0.5
+            if adaptive:
+                self._h_next = h
         return True, "", cutbacks
+
+    def _start_iterate(self, predict, h: float, x_saved: np.ndarray) -> None:
+        """Newton start of a sliding sub-step: the translation prediction if its residual is lower
+        than that of the last converged state, else the last state.  On coarse contact meshes of
+        steep surfaces the interpolated field can sit far from equilibrium (a tip between two
+        slave nodes), so the prediction is checked, at the price of two residual assemblies."""
+        pb = self.problem
+        pb.constraints.set_prescribed(self.sp.w.x.array)
+        pb.assemble(need_matrix=False)
+        r_plain = pb.br.norm()
+        predict(h)
+        pb.constraints.set_prescribed(self.sp.w.x.array)
+        pb.assemble(need_matrix=False)
+        r_pred = pb.br.norm()
+        self.predictor_used += 1
+        if not (np.isfinite(r_pred) and r_pred < r_plain):
+            self.sp.w.x.array[:] = x_saved
+            self.predictor_used -= 1
 
     def _translation_predictor(self):
         """Start iterate for a sliding step of a periodic cell: steady sliding carries the
@@ -254,6 +293,12 @@ class SlidingRun:
                     x[d[nodes, c]] = np.interp(xe, xd, x[d[data, c]], period=L)
 
         return predict
+
+    def _notify(self, event: str, *args) -> None:
+        for obs in self.observers:
+            fn = getattr(obs, event, None)
+            if fn is not None:
+                fn(self, *args)
 
     def _inverted(self) -> bool:
         if self._detF is None:
@@ -286,6 +331,7 @@ class SlidingRun:
             result.stats["fallback_level"] = i
             result.stats["contact_formulation"] = formulation
             result.stats["wall_time"] = time.perf_counter() - wall0
+            self._notify("on_finish", result)
             if result.ok:
                 return result
             last = result
@@ -293,7 +339,7 @@ class SlidingRun:
 
     def _attempt(self, formulation: str, step_factor: float) -> SlidingResult:
         s = self.spec
-        self.cutbacks, self.newton_iterations = 0, 0
+        self.cutbacks, self.newton_iterations, self.predictor_used = 0, 0, 0
         self._detF = None
         self.step_energy = self.step_friction_energy = 0.0
         try:
@@ -346,6 +392,8 @@ class SlidingRun:
         t_s = t
         keep = self.fext.copy()
         predict = self._translation_predictor() if s.period > 0 else None
+        self._notify("on_start")
+        self._h_next = dt_slide
         for k in range(1, nsteps + 1):
             self.step_energy = self.step_friction_energy = 0.0
 
@@ -353,7 +401,7 @@ class SlidingRun:
                 self.fext[:] = keep
                 self.contact.set_master_offset(-s.velocity * (tk - t_s), 0.0)
 
-            ok, reason, _ = self._solve_step(t, dt_slide, load, predict)
+            ok, reason, _ = self._solve_step(t, dt_slide, load, predict, adaptive=True)
             if not ok:
                 res = self._result(rows, distance, "failed", f"sliding: {reason}", t)
                 return res
@@ -361,6 +409,7 @@ class SlidingRun:
             st = self.contact.state()
             rows.append((t, s.velocity * (t - t_s), st["Fx"], st["Fz"], st["contact_length"],
                          self.step_energy, self.step_friction_energy, st["mean_pressure"]))
+            self._notify("on_step", k, t)
             if self.progress:
                 self.progress(k, nsteps)
         return self._result(rows, distance, "ok", "", t)
@@ -372,6 +421,7 @@ class SlidingRun:
         series = {c: arr[:, i] for i, c in enumerate(cols)}
         res = SlidingResult(status, reason=reason, t_reached=t, series=series)
         res.stats = {"cutbacks": self.cutbacks, "newton_iterations": self.newton_iterations,
+                     "predictor_used": self.predictor_used,
                      "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size)}
         if len(rows) == 0:
             return res
@@ -418,11 +468,12 @@ def block_mesh(L: float, H: float, hc: float, grading: float, z0: float):
     return body
 
 
-def run_sliding(spec: SlidingSpec, progress=None) -> SlidingResult:
+def run_sliding(spec: SlidingSpec, progress=None, observers=()) -> SlidingResult:
     """Run one sliding run with the default mesh and contact; never raises for a failed run."""
     try:
         from rubberfriction.driver.contact import sliding_contact
 
-        return SlidingRun(spec, block_mesh, sliding_contact, progress=progress).run()
+        return SlidingRun(spec, block_mesh, sliding_contact, progress=progress,
+                          observers=observers).run()
     except Exception as err:  # a campaign never dies of one run; the reason is recorded
         return SlidingResult("failed", reason=f"{type(err).__name__}: {err}")
