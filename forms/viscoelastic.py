@@ -115,6 +115,9 @@ class ViscoelasticHistory:
         self._dt = None
         self._D_n = np.zeros(nq)  # dissipation density at the last converged step
         self.dissipated = 0.0  # total dissipated energy (per unit depth), mJ/mm
+        # the same per quadrature point (sums to `dissipated`): where the energy went (eq. 2.7),
+        # for dissipation fields and depth profiles (driver.sliding_output)
+        self.dissipated_points = np.zeros(nq)
 
     # --- temperature -------------------------------------------------------------------------
     def set_temperature(self, T_cell) -> None:
@@ -169,6 +172,7 @@ class ViscoelasticHistory:
         D = self.dissipation_density()
         w = self._point_weights()
         dE = 0.5 * self._dt * float(np.dot(w, D + self._D_n))  # trapezoidal rule in time
+        self.dissipated_points += (0.5 * self._dt) * w * (D + self._D_n)
         self._D_n = D
         self.dissipated += dE
         return dE
