@@ -15,6 +15,7 @@ wavelength (thesis 6.2.2), so the finite-height correction ~exp(-2 pi) is below 
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 import numpy as np
 
@@ -53,16 +54,19 @@ def full_contact_pressure(compound: Compound, wavelength: float, amplitude: floa
 def simulate(compound: Compound, *, wavelength: float = 1.0, amplitude: float = 0.002,
              pressure: float = 0.1, velocity: float = 10.0, temperature: float | None = None,
              elements_per_wavelength: int = 16, segments: int = 128, periods: float = 3.0,
-             step_fraction: float = 0.5, contact: str = "mortar") -> dict:
-    """FE run and closed form; returns both mu estimates and the analytical value."""
+             step_fraction: float = 0.5, contact: str = "mortar", observers=()) -> dict:
+    """FE run and closed form; returns both mu estimates and the analytical value.
+
+    observers: passed to ``run_sliding`` (outputs such as ``driver.sliding_output.FieldWriter``).
+    """
     x = np.linspace(0.0, wavelength, segments + 1)[:-1]
     h = amplitude * np.cos(2.0 * np.pi * x / wavelength)
     hc = wavelength / elements_per_wavelength
     spec = SlidingSpec(surface_x=x, surface_h=h, period=wavelength, pressure=pressure, velocity=velocity,
                        compound=compound, temperature=temperature, h_contact=hc, contact=contact,
                        slide_distance=periods * wavelength, step_length=step_fraction * hc)
-    res = run_sliding(spec)
-    return {"result": res, "mu_force": res.mu_force, "mu_energy": res.mu_energy,
+    res = run_sliding(spec, observers=observers)
+    return {"result": res, "spec": spec, "mu_force": res.mu_force, "mu_energy": res.mu_energy,
             "mu_exact": closed_form_mu(compound, wavelength, amplitude, pressure, velocity, temperature),
             "p_full_contact": full_contact_pressure(compound, wavelength, amplitude, velocity)}
 
@@ -77,19 +81,37 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mesh", type=int, default=16, help="elements per wavelength on the contact face")
     p.add_argument("--periods", type=float, default=3.0, help="sliding distance in wavelengths")
     p.add_argument("--contact", default="mortar", choices=["mortar", "nts"])
+    p.add_argument("--out", metavar="DIR", default=None,
+                   help="write the run's outputs to DIR: fields/ (XDMF for ParaView, contact "
+                        "pressure CSV), series.csv, mu.png, dissipation_by_depth.csv, summary.json")
 
 
 def run(args: argparse.Namespace) -> dict:
     comp = load_compound(args.compound)
+    folder = getattr(args, "out", None)
+    observers = []
+    if folder:
+        from rubberfriction.driver.sliding_output import DissipationByDepth, FieldWriter
+
+        observers = [FieldWriter(Path(folder) / "fields"), DissipationByDepth()]
     out = simulate(comp, wavelength=args.wavelength, amplitude=args.amplitude, pressure=args.pressure,
                    velocity=args.velocity, temperature=args.temperature,
-                   elements_per_wavelength=args.mesh, periods=args.periods, contact=args.contact)
+                   elements_per_wavelength=args.mesh, periods=args.periods, contact=args.contact,
+                   observers=observers)
     res = out["result"]
     notes = [f"run status: {res.status} {res.reason}", f"wall time {res.stats.get('wall_time', 0):.2f} s",
              f"full contact needs p > {out['p_full_contact']:.4g} MPa"]
+    if folder:
+        from rubberfriction.driver.sliding_output import write_run_outputs
+
+        written = write_run_outputs(res, out["spec"], folder)
+        notes.append(f"outputs in {folder}: fields/{observers[0].xdmf_path.name}, "
+                     + ", ".join(p.name for p in written.values()))
     checks = [check("mu (force, eq. 6.2)", out["mu_force"], out["mu_exact"], 0.03),
               check("mu (energy, eq. 2.8)", out["mu_energy"], out["mu_exact"], 0.03),
               check("mu force vs energy", out["mu_force"], out["mu_energy"], 0.02)]
     params = {k: getattr(args, k) for k in ("compound", "wavelength", "amplitude", "pressure", "velocity",
                                            "temperature", "mesh", "periods", "contact")}
+    if folder:
+        params["out"] = str(folder)
     return {"case": "viscoelastic-sinusoid", "parameters": params, "checks": checks, "notes": notes}
