@@ -45,7 +45,8 @@ def _run_case(module):
     return run
 
 
-def print_result(result: dict, out=sys.stdout) -> None:
+def print_result(result: dict, out=None) -> None:
+    out = out if out is not None else sys.stdout  # looked up per call (redirected streams)
     print(f"verification case: {result.get('case')}", file=out)
     for k, v in result.get("parameters", {}).items():
         print(f"  {k} = {v}", file=out)

@@ -245,13 +245,16 @@ class _Book:
         self.in_flight = 0
 
     def pull(self) -> None:
-        for t in self.planner.next_tasks():
-            if t.key in self.done:
-                self._record(t, self.done[t.key])
-            elif t.key in self.waiting:
-                self.waiting[t.key].append(t)
-            else:
-                self.ready.append(t)
+        """Take the planner's new tasks; a task already done in this campaign is recorded at once,
+        which may advance its planner, so ask again until nothing new comes."""
+        while tasks := self.planner.next_tasks():
+            for t in tasks:
+                if t.key in self.done:
+                    self._record(t, self.done[t.key])
+                elif t.key in self.waiting:
+                    self.waiting[t.key].append(t)
+                else:
+                    self.ready.append(t)
 
     def take(self) -> Task | None:
         while self.ready:

@@ -205,6 +205,9 @@ def summary_text(result: Any) -> str:
                 lines.append(f"      {s.name:<8} p = {s.pressure:.4g} MPa  mu = {_pm(s.mu)}  A/A0 "
                              f"= {s.contact.mean if s.contact else math.nan:.3g}  A_r = "
                              f"{s.area_ratio:.3g}{flag}")
+        elif "mu_reference" not in r.extra:
+            lines.append(f"      multiscale wall time {r.extra.get('time_multiscale', math.nan):.1f}"
+                         " s (no single-scale reference: [separated].reference = false)")
         else:
             e = r.extra
             lines.append(f"      reference (single scale, full profile): mu = "

@@ -28,6 +28,7 @@ and its average (7.4), dissipation by depth.
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -138,7 +139,12 @@ class SlidingRun:
         self.spec = spec
         self.progress = progress
         # observers: objects with optional on_start(run), on_step(run, k, t), on_finish(run,
-        # result) methods (outputs such as fields and time series; see driver.sliding_output)
+        # result) methods (outputs such as fields and time series; see driver.sliding_output).
+        # on_start comes when sliding begins (run.t_start, run.slide_distance, run.dt_slide and
+        # run.n_slide_steps are set), on_step after each converged sliding step, on_finish after
+        # every attempt, also one that failed in set-up (then run.sp may be missing). An observer
+        # that raises is reported with a warning and dropped for the rest of the run: outputs never
+        # fail a run.
         self.observers = list(observers)
         self._mesh_factory = mesh_factory
         self._contact_factory = contact_factory
@@ -295,10 +301,16 @@ class SlidingRun:
         return predict
 
     def _notify(self, event: str, *args) -> None:
-        for obs in self.observers:
+        for obs in list(self.observers):
             fn = getattr(obs, event, None)
-            if fn is not None:
+            if fn is None:
+                continue
+            try:
                 fn(self, *args)
+            except Exception as err:  # noqa: BLE001 -- an output must not fail the physics
+                warnings.warn(f"sliding observer {type(obs).__name__}.{event} failed and is "
+                              f"dropped for this run: {type(err).__name__}: {err}", stacklevel=2)
+                self.observers.remove(obs)
 
     def _inverted(self) -> bool:
         if self._detF is None:
@@ -392,6 +404,8 @@ class SlidingRun:
         t_s = t
         keep = self.fext.copy()
         predict = self._translation_predictor() if s.period > 0 else None
+        self.t_start, self.slide_distance, self.dt_slide, self.n_slide_steps = (
+            t_s, distance, dt_slide, nsteps)
         self._notify("on_start")
         self._h_next = dt_slide
         for k in range(1, nsteps + 1):
@@ -422,7 +436,8 @@ class SlidingRun:
         res = SlidingResult(status, reason=reason, t_reached=t, series=series)
         res.stats = {"cutbacks": self.cutbacks, "newton_iterations": self.newton_iterations,
                      "predictor_used": self.predictor_used,
-                     "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size)}
+                     "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size),
+                     "window_start": s.window_start * distance, "window_end": distance}
         if len(rows) == 0:
             return res
         Fz = series["Fz"]

@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from rubberfriction.driver.farm import Executor, StaticPlanner, Task, run_serial
-from rubberfriction.driver.store import Store, run_key
+from rubberfriction.driver.store import Outcome, Store, run_key
 
 ROOT = Path(__file__).resolve().parents[1]
 MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
@@ -131,6 +131,42 @@ def test_serial_farm_records_failures_and_runs_each_key_once(tmp_path: Path, toy
     assert len(failed) == 2 and all(o.failure == "error" and "solver "
                                                              "exploded" in o.reason for o in failed)
     assert all(o.ok for o in res if o not in failed)
+
+
+class _StagedPlanner:
+    """Stage 2 repeats the run of stage 1 (as the separated variant's macro0 and a later run with the
+    same spec may), stage 3 is new: the repeat is answered from the campaign's own results."""
+
+    def __init__(self) -> None:
+        self.stages = [["a"], ["a"], ["c"]]
+        self.recorded: list[str] = []
+        self._issued = False
+
+    def total(self) -> int:
+        return 3
+
+    def next_tasks(self) -> list[Task]:
+        if self._issued or not self.stages:
+            return []
+        self._issued = True
+        return [Task(k, k) for k in self.stages[0]]
+
+    def record(self, task: Task, outcome: Outcome) -> None:
+        self.recorded.append(task.key)
+        self.stages.pop(0)
+        self._issued = False
+
+
+def test_serial_farm_advances_a_planner_whose_next_run_is_already_done():
+    executed: list[str] = []
+
+    def execute(task: Task) -> Outcome:
+        executed.append(task.key)
+        return Outcome(task.key, "ok")
+
+    planner = _StagedPlanner()
+    run_serial(planner, execute)
+    assert planner.recorded == ["a", "a", "c"] and executed == ["a", "c"]
 
 
 @pytest.mark.mpi

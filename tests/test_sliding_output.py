@@ -42,16 +42,50 @@ def coarse_spec() -> SlidingSpec:
                        slide_distance=WAVELENGTH, step_length=0.5 * hc)
 
 
+class StartRecorder:
+    """Keeps what an observer sees of the run when sliding starts."""
+
+    def on_start(self, run) -> None:
+        self.seen = (run.t_start, run.slide_distance, run.dt_slide, run.n_slide_steps)
+
+
+class BrokenObserver:
+    """An output that fails at the third sliding step."""
+
+    calls = 0
+
+    def on_step(self, run, k: int, t: float) -> None:
+        self.calls += 1
+        if k == 3:
+            raise OSError("disk full")
+
+
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
     folder = tmp_path_factory.mktemp("sliding_output")
     spec = coarse_spec()
     fields = FieldWriter(folder / "fields", every=EVERY)
     depth = DissipationByDepth()
-    res = run_sliding(spec, observers=[fields, depth])
+    start, broken = StartRecorder(), BrokenObserver()
+    with pytest.warns(UserWarning, match="BrokenObserver.on_step failed.*disk full"):
+        res = run_sliding(spec, observers=[broken, fields, depth, start])
     assert res.ok, res.reason
     assert res.stats["steps"] == 16
-    return {"spec": spec, "result": res, "fields": fields, "depth": depth, "folder": folder}
+    return {"spec": spec, "result": res, "fields": fields, "depth": depth, "folder": folder,
+            "start": start, "broken": broken}
+
+
+def test_a_failing_observer_is_dropped_and_the_others_see_the_run(run):
+    """The broken output is called until it raises, then dropped; the run and the observers after
+    it go on (their outputs are checked by the tests below). on_start sees the sliding phase."""
+    res, spec = run["result"], run["spec"]
+    assert run["broken"].calls == 3
+    t_start, distance, dt, n = run["start"].seen
+    assert distance == pytest.approx(WAVELENGTH) and n == 16
+    assert dt == pytest.approx(spec.step_length / spec.velocity)
+    assert res.series["t"][0] == pytest.approx(t_start + dt)
+    assert res.stats["window_start"] == pytest.approx(spec.window_start * WAVELENGTH)
+    assert res.stats["window_end"] == pytest.approx(WAVELENGTH)
 
 
 def _h5_steps(h5: h5py.File, name: str) -> list[str]:
