@@ -10,6 +10,9 @@
 
 namespace rf {
 
+// search boxes wider than this many master periods only come from diverged iterates
+constexpr double kMaxImageSpan = 64.0;
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -209,6 +212,12 @@ void ContactInterface::candidates(const V2<double>& lo, const V2<double>& hi, st
     const SegmentGrid& g = rigid_->grid();
     if (rigid_->periodic()) {
       const double L = rigid_->period();
+      // a diverged Newton iterate can fling a slave node far away (or to NaN): such a box has no
+      // meaningful candidates, and looping over its images would not end; the bulk residual of
+      // that iterate reports the divergence
+      if (!std::isfinite(l.x) || !std::isfinite(h.x) || !std::isfinite(l.y) || !std::isfinite(h.y) ||
+          h.x - l.x > kMaxImageSpan * L)
+        return;
       const long k0 = static_cast<long>(std::floor((l.x - g.upper().x) / L));
       const long k1 = static_cast<long>(std::ceil((h.x - g.lower().x) / L));
       for (long k = k0; k <= k1; ++k) {

@@ -42,6 +42,10 @@ class NewtonSettings:
     # in penalty contact make moderate growth normal; halving those steps only slows Newton down)
     stol: float = 1e-12  # converged when ||du|| <= stol ||u|| (residual stalled at round-off)
     divergence_factor: float = 1e6  # stop if the residual grows by this factor
+    # stop early when the last `stagnation` iterations did not halve the best residual before
+    # them (active-set cycling in penalty contact): a cut-back is cheaper than the remaining
+    # iterations; 0 = never
+    stagnation: int = 8
     linear_solver: str = "mumps"
 
 
@@ -125,8 +129,16 @@ class ConstrainedNonlinearProblem:
         return A
 
     def assemble(self, need_matrix: bool = True) -> None:
-        """Assemble R (and A) in the full space, then the reduced system."""
+        """Assemble R (and A) in the full space, then the reduced system.
+
+        A non-finite iterate (a diverged Newton step) gets a NaN residual without calling the
+        forms or hooks: the solver's finiteness checks then reject it (line search, divergence).
+        """
         x = self.w.x.array
+        if not np.isfinite(x).all():
+            self.b.set(np.nan)
+            self.br.set(np.nan)
+            return
         with self.b.localForm() as bl:
             bl.set(0.0)
         fem_petsc.assemble_vector(self.b, self.F_form)
@@ -230,6 +242,12 @@ class NewtonSolver:
                 return res
             if not np.isfinite(r) or r > s.divergence_factor * ref:
                 res.reason = f"diverged: residual {r:.3e} after {it} iterations"
+                return res
+            w = s.stagnation
+            if 0 < w < len(res.residuals) and min(res.residuals[-w:]) > 0.5 * min(res.residuals[:-w]):
+                res.time_assemble += time.perf_counter() - t0
+                res.reason = (f"stagnated: residual {r:.3e} not halved in {w} iterations "
+                              f"(best {min(res.residuals):.3e})")
                 return res
             pb.assemble()
             res.time_assemble += time.perf_counter() - t0

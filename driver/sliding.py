@@ -120,8 +120,10 @@ class ContactLike:
     def couplings(self) -> list: ...  # (rows, cols) the contact may write
 
 
-#: a sub-step converging in at most this many Newton iterations lets the next one double
-EASY_ITERATIONS = 8
+#: a sub-step converging in at most this many Newton iterations counts as easy; EASY_STREAK easy
+#: sub-steps in a row double the sub-step length (one would make it oscillate: double, fail, halve)
+EASY_ITERATIONS = 6
+EASY_STREAK = 2
 
 
 @dataclass
@@ -131,12 +133,24 @@ class _Phase:
     dt: float
 
 
+class _WallLimit(Exception):
+    """The run's wall-time limit passed (raised between sub-steps, caught in SlidingRun.run)."""
+
+    def __init__(self, t: float):
+        super().__init__(t)
+        self.t = t
+
+
 class SlidingRun:
     """Set-up and time loop of one sliding run; `run()` returns a SlidingResult."""
 
     def __init__(self, spec: SlidingSpec, mesh_factory=None, contact_factory=None, progress=None,
-                 observers=()):
+                 observers=(), wall_limit: float = 0.0):
         self.spec = spec
+        # wall_limit > 0: seconds after which the run stops with a structured failure (failure
+        # kind "wall_limit"; no further fallbacks). A machine-dependent control, so not in the spec.
+        self.wall_limit = float(wall_limit)
+        self._deadline = float("inf")
         self.progress = progress
         # observers: objects with optional on_start(run), on_step(run, k, t), on_finish(run,
         # result) methods (outputs such as fields and time series; see driver.sliding_output).
@@ -215,14 +229,17 @@ class SlidingRun:
 
         predict(h), if given, moves the start iterate of a sub-step of length h (not the result);
         it is kept only where it lowers the start residual (see :meth:`_start_iterate`).
-        ``adaptive``: the sub-step length is remembered from step to step (sliding phase): a step
-        that needed cut-backs is followed by steps of the reduced length, which grows again by
-        a factor 2 after each sub-step that converged in at most EASY_ITERATIONS iterations.
-        Without it every step would first repeat the failed attempts of the previous one.
+        The sub-step length halves on failure and doubles (up to dt) after EASY_STREAK sub-steps
+        in a row that converged in at most EASY_ITERATIONS iterations; the step fails when it would fall below
+        dt / 2**max_cutbacks. ``adaptive``: the sub-step length is also remembered from step to
+        step (sliding phase), so a step after a hard one does not first repeat its failed
+        attempts.
         """
         cutbacks, t_cur = 0, t
         h = min(dt, self._h_next) if adaptive else dt
         while t_cur < t + dt - 1e-12 * dt:
+            if time.perf_counter() > self._deadline:
+                raise _WallLimit(t_cur)
             h = min(h, t + dt - t_cur)
             x_saved = self.sp.w.x.array.copy()
             apply_load(t_cur + h)
@@ -240,16 +257,21 @@ class SlidingRun:
                 self.contact.commit()
                 self.step_friction_energy += float(self.contact.state().get("dissipation", 0.0))
                 t_cur += h
+                self._easy = self._easy + 1 if res.iterations <= EASY_ITERATIONS else 0
+                if self._easy >= EASY_STREAK:
+                    h, self._easy = min(dt, 2.0 * h), 0
                 if adaptive:
-                    easy = res.iterations <= EASY_ITERATIONS
-                    self._h_next = min(dt, 2.0 * h) if easy else h
+                    self._h_next = h
                 continue
             self.sp.w.x.array[:] = x_saved
+            self._easy = 0
             cutbacks += 1
             self.cutbacks += 1
-            if cutbacks > self.spec.max_cutbacks:
-                return False, reason, cutbacks
             h *= 0.5
+            if h < dt * 0.5**self.spec.max_cutbacks * (1.0 - 1e-9):
+                if adaptive:
+                    self._h_next = dt
+                return False, reason, cutbacks
             if adaptive:
                 self._h_next = h
         return True, "", cutbacks
@@ -338,20 +360,28 @@ class SlidingRun:
             attempts.append(("nts", 1.0))
         attempts.append((attempts[-1][0], 0.25))  # stabilisation: smaller sliding steps
         last = None
+        if self.wall_limit > 0.0:
+            self._deadline = wall0 + self.wall_limit
         for i, (formulation, step_factor) in enumerate(attempts):
-            result = self._attempt(formulation, step_factor)
+            try:
+                result = self._attempt(formulation, step_factor)
+            except _WallLimit as stop:
+                result = SlidingResult("failed", reason=f"wall-time limit of {self.wall_limit:g} s "
+                                       f"reached at t = {stop.t:.4g} s", t_reached=stop.t)
+                result.stats.update(failure="wall_limit", cutbacks=self.cutbacks,
+                                    newton_iterations=self.newton_iterations)
             result.stats["fallback_level"] = i
             result.stats["contact_formulation"] = formulation
             result.stats["wall_time"] = time.perf_counter() - wall0
             self._notify("on_finish", result)
-            if result.ok:
+            if result.ok or result.stats.get("failure") == "wall_limit":
                 return result
             last = result
         return last
 
     def _attempt(self, formulation: str, step_factor: float) -> SlidingResult:
         s = self.spec
-        self.cutbacks, self.newton_iterations, self.predictor_used = 0, 0, 0
+        self.cutbacks, self.newton_iterations, self.predictor_used, self._easy = 0, 0, 0, 0
         self._detF = None
         self.step_energy = self.step_friction_energy = 0.0
         try:
@@ -370,8 +400,9 @@ class SlidingRun:
         for _ in range(60):
             target = delta + ddelta
 
-            def load(_t, target=target):
-                self.cmap.update_value(self.top_z_dof, -target)
+            # loads are linear in time over the step, so a cut-back sub-step takes a part of it
+            def load(tk, t0=t, lo=delta, hi=target):
+                self.cmap.update_value(self.top_z_dof, -(lo + (hi - lo) * (tk - t0) / dt_p))
 
             ok, reason, _ = self._solve_step(t, dt_p, load)
             if not ok:
@@ -388,9 +419,9 @@ class SlidingRun:
         F0 = min(Fz, F_target)
         rows = []
         for k in range(1, s.compression_steps + 1):
-            Fk = F0 + (F_target - F0) * k / s.compression_steps
 
-            def load(_t, Fk=Fk):
+            def load(tk, t0=t, k=k):
+                Fk = F0 + (F_target - F0) * (k - 1 + (tk - t0) / dt_p) / s.compression_steps
                 self.fext[:] = 0.0
                 self.fext[self.top_z_dof] = -Fk
 
@@ -407,7 +438,7 @@ class SlidingRun:
         self.t_start, self.slide_distance, self.dt_slide, self.n_slide_steps = (
             t_s, distance, dt_slide, nsteps)
         self._notify("on_start")
-        self._h_next = dt_slide
+        self._h_next, self._easy = dt_slide, 0
         for k in range(1, nsteps + 1):
             self.step_energy = self.step_friction_energy = 0.0
 
@@ -483,12 +514,17 @@ def block_mesh(L: float, H: float, hc: float, grading: float, z0: float):
     return body
 
 
-def run_sliding(spec: SlidingSpec, progress=None, observers=()) -> SlidingResult:
-    """Run one sliding run with the default mesh and contact; never raises for a failed run."""
+def run_sliding(spec: SlidingSpec, progress=None, observers=(),
+                wall_limit: float = 0.0) -> SlidingResult:
+    """Run one sliding run with the default mesh and contact; never raises for a failed run.
+
+    ``wall_limit`` > 0 stops a run that is still going after that many seconds with a structured
+    failure (``stats["failure"] == "wall_limit"``), e.g. for sweeps over extreme settings.
+    """
     try:
         from rubberfriction.driver.contact import sliding_contact
 
         return SlidingRun(spec, block_mesh, sliding_contact, progress=progress,
-                          observers=observers).run()
+                          observers=observers, wall_limit=wall_limit).run()
     except Exception as err:  # a campaign never dies of one run; the reason is recorded
         return SlidingResult("failed", reason=f"{type(err).__name__}: {err}")

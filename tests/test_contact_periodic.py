@@ -11,6 +11,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from rubberfriction.driver.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
 
@@ -104,3 +105,27 @@ def test_large_offsets_many_periods():
     _, g0, _ = outputs(c, u, offset=(0.25, 0.0))
     _, g1, _ = outputs(c, u, offset=(0.25 - 1000 * L, 0.0))
     np.testing.assert_allclose(g1, g0, rtol=0, atol=1e-10)
+
+
+def test_diverged_iterate_is_assembled_at_once():
+    """A Newton iterate that flung a slave node far away (1e14 mm) is assembled without looping
+    over its billions of master images; the flung node's segments get no contact, the rest of the
+    chain is unchanged (a diverged iterate is then rejected by its bulk residual). A non-finite
+    one is refused with a clear error."""
+    n = 23
+    slave = chain(L - 0.6, 1.3, n, 0.06)
+    c = Contact(slave, periodic_master(), penalty=PenaltySettings(c_N=300.0), search_radius=0.2)
+    u = np.zeros(2 * n)
+    u[1::2] = -0.02
+    _, g_ok, p_ok = outputs(c, u)
+    for bad in (np.nan, np.inf):
+        ub = u.copy()
+        ub[2 * (n - 1)] = bad
+        with pytest.raises(ValueError, match="non-finite displacement at slave node 22"):
+            outputs(c, ub)
+    for bad in (1e14, -1e30):
+        ub = u.copy()
+        ub[2 * (n - 1)] = bad  # last node's x
+        _, g, p = outputs(c, ub)
+        assert np.all(np.isfinite(p[: n - 3]))
+        np.testing.assert_allclose(p[: n - 3], p_ok[: n - 3], rtol=1e-12, atol=0)

@@ -91,6 +91,9 @@ def test_periodic_cell_and_structured_failure():
     fail = run_sliding(bad)
     assert fail.status == "failed" and fail.reason
     assert np.isnan(fail.mu_force)
+    slow = run_sliding(spec, wall_limit=1e-6)  # stops at the first step, without fallbacks
+    assert slow.status == "failed" and "wall-time limit" in slow.reason
+    assert slow.stats["failure"] == "wall_limit" and slow.stats["fallback_level"] == 0
 
 
 def test_sawtooth_sharp_orientation_gives_more_friction():
