@@ -43,9 +43,9 @@ class NewtonSettings:
     stol: float = 1e-12  # converged when ||du|| <= stol ||u|| (residual stalled at round-off)
     divergence_factor: float = 1e6  # stop if the residual grows by this factor
     # stop early when the last `stagnation` iterations did not halve the best residual before
-    # them (active-set cycling in penalty contact): a cut-back is cheaper than the remaining
-    # iterations; 0 = never
-    stagnation: int = 8
+    # them (active-set cycling in penalty contact); for callers that can cut the step back, which
+    # is then cheaper than the remaining iterations (sliding runs use 8); 0 = never
+    stagnation: int = 0
     linear_solver: str = "mumps"
 
 

@@ -211,8 +211,10 @@ class SlidingRun:
         # frictional steps need strict backtracking: a full step from trial slip can jump over the
         # narrow stick cone into reverse slip and back (2-cycle); frictionless ones do not
         growth = 1.0 if s.friction is not None else 10.0
+        # stagnation: cycling active sets are cut back after 8 iterations instead of 25
         self.newton = NewtonSolver(self.problem, NewtonSettings(rtol=1e-8, atol=1e-12 * self.force_scale,
-                                                                backtrack_growth=growth),
+                                                                backtrack_growth=growth,
+                                                                stagnation=8),
                                    force_scale=self.force_scale)
 
     def _switch_to_force_control(self) -> None:
