@@ -232,8 +232,8 @@ class SlidingRun:
         predict(h), if given, moves the start iterate of a sub-step of length h (not the result);
         it is kept only where it lowers the start residual (see :meth:`_start_iterate`).
         The sub-step length halves on failure and doubles (up to dt) after EASY_STREAK sub-steps
-        in a row that converged in at most EASY_ITERATIONS iterations; the step fails when it would fall below
-        dt / 2**max_cutbacks. ``adaptive``: the sub-step length is also remembered from step to
+        in a row that converged in at most EASY_ITERATIONS iterations; the step fails when it
+        would fall below dt / 2**max_cutbacks. ``adaptive``: the sub-step length is also remembered from step to
         step (sliding phase), so a step after a hard one does not first repeat its failed
         attempts.
         """

@@ -1,0 +1,77 @@
+"""Step-size control of a sliding run (`SlidingRun._solve_step`) on a scripted solver.
+
+The Newton solver is replaced by a script (converged or not, iterations), so the sequence of
+sub-step lengths is known exactly: halving on failure, doubling after EASY_STREAK easy sub-steps
+in a row (inside a step too, not only from one step to the next), failure below
+dt / 2**max_cutbacks, and the length carried over between sliding steps.
+"""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+
+from rubberfriction.driver.sliding import EASY_STREAK, SlidingRun
+
+
+class ScriptedNewton:
+    """converged(h) decides each solve; records the sub-step lengths tried."""
+
+    def __init__(self, converged, iterations: int = 3):
+        self.converged, self.iterations, self.tried = converged, iterations, []
+        self.h = 0.0
+
+    def solve(self):
+        self.tried.append(self.h)
+        ok = self.converged(len(self.tried), self.h)
+        return SimpleNamespace(converged=ok, iterations=self.iterations,
+                               reason="" if ok else "scripted failure")
+
+
+def scripted_run(newton: ScriptedNewton, max_cutbacks: int = 8) -> SlidingRun:
+    run = SlidingRun.__new__(SlidingRun)
+    run.spec = SimpleNamespace(max_cutbacks=max_cutbacks)
+    run.sp = SimpleNamespace(w=SimpleNamespace(x=SimpleNamespace(array=np.zeros(3))),
+                             prepare_step=lambda h: setattr(newton, "h", h),
+                             commit_step=lambda: 0.0)
+    run.contact = SimpleNamespace(set_time_step=lambda h: None, commit=lambda: None,
+                                  state=lambda: {})
+    run.newton, run._inverted = newton, lambda: False
+    run.newton_iterations = run.cutbacks = run._easy = 0
+    run.step_energy = run.step_friction_energy = 0.0
+    run._deadline, run._h_next = float("inf"), 1.0
+    return run
+
+
+def accepted(newton: ScriptedNewton, first_failures: int) -> list[float]:
+    return newton.tried[first_failures:]
+
+
+def test_sub_steps_grow_back_within_a_step():
+    assert EASY_STREAK == 2
+    newton = ScriptedNewton(lambda call, h: call > 3)  # the first three attempts fail
+    run = scripted_run(newton)
+    ok, _, cutbacks = run._solve_step(0.0, 1.0, lambda t: None)
+    assert ok and cutbacks == 3
+    assert newton.tried[:3] == [1.0, 0.5, 0.25]
+    # 1/8, 1/8, then doubled to 1/4, 1/4, and the remaining 1/4 (not eight steps of 1/8)
+    assert accepted(newton, 3) == [0.125, 0.125, 0.25, 0.25, 0.25]
+
+
+def test_step_fails_below_the_smallest_sub_step():
+    newton = ScriptedNewton(lambda call, h: False)
+    run = scripted_run(newton, max_cutbacks=4)
+    ok, reason, cutbacks = run._solve_step(0.0, 2.0, lambda t: None)
+    assert not ok and reason == "scripted failure" and cutbacks == 5
+    assert newton.tried == [2.0, 1.0, 0.5, 0.25, 0.125]  # 2 / 2**4 is the last length tried
+
+
+def test_sliding_steps_carry_the_reduced_length_over():
+    newton = ScriptedNewton(lambda call, h: h <= 0.25, iterations=12)  # hard: no growth
+    run = scripted_run(newton)
+    assert run._solve_step(0.0, 1.0, lambda t: None, adaptive=True)[0]
+    assert run._h_next == 0.25
+    newton.tried.clear()
+    assert run._solve_step(1.0, 1.0, lambda t: None, adaptive=True)[0]
+    assert newton.tried == [0.25] * 4  # no repeated failures at 1 and 1/2
