@@ -208,12 +208,13 @@ class SlidingRun:
             self.sp.residual, self.sp.jacobian(), self.sp.w, self.cmap, hooks=[self.contact.hook],
             extra_couplings=self.contact.couplings(), external_force=self.fext)
         self.force_scale = s.pressure * L
-        # frictional steps need strict backtracking: a full step from trial slip can jump over the
-        # narrow stick cone into reverse slip and back (2-cycle); frictionless ones do not
-        growth = 1.0 if s.friction is not None else 10.0
+        # strict backtracking (no residual growth accepted): with friction a full step from trial
+        # slip can jump over the narrow stick cone into reverse slip and back (2-cycle); without,
+        # on steep rough samples, it also pays (rms slope 2 micro sample at 10 mm/s, 0.1 MPa:
+        # 10 200 -> 6 400 Newton iterations, 86 -> 57 s, same mu within 0.2 %).
         # stagnation: cycling active sets are cut back after 8 iterations instead of 25
         self.newton = NewtonSolver(self.problem, NewtonSettings(rtol=1e-8, atol=1e-12 * self.force_scale,
-                                                                backtrack_growth=growth,
+                                                                backtrack_growth=1.0,
                                                                 stagnation=8),
                                    force_scale=self.force_scale)
 
