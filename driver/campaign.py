@@ -24,7 +24,7 @@ import numpy as np
 # MPI_THREAD_FUNNELED): the farm's dispatcher thread on rank 0 needs MPI_THREAD_MULTIPLE.
 from mpi4py import MPI  # isort: skip
 
-from rubberfriction.driver.farm import Executor, default_runner, run_farm
+from rubberfriction.driver.farm import Executor, default_runner, hard_timeout, run_farm
 from rubberfriction.driver.homogenise import (
     AdhesionLaw,
     CampaignPlanner,
@@ -328,12 +328,14 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
     comm = _comm() if comm is None else comm
     rank = comm.Get_rank()
     out = Path(output) if output is not None else scene.output
-    runner = runner or default_runner()  # fails early and identically on every rank
+    timeout = scene.numerics.run_timeout
+    if runner is None:  # fails early and identically on every rank
+        runner, timeout = default_runner(wall_limit=timeout), hard_timeout(timeout)
     started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
     store = open_store(out, comm, fresh=fresh)
     try:
         executor = Executor(store, runner, retry_failed=retry_failed,
-                            timeout=scene.numerics.run_timeout,
+                            timeout=timeout,
                             settings={"scene": scene.name, "scene_source": scene.source})
         progress = Progress(quiet=quiet) if rank == 0 else None
         holder: dict[str, Any] = {}
@@ -390,7 +392,9 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
     comm = _comm() if comm is None else comm
     rank = comm.Get_rank()
     out = Path(output) if output is not None else scene.output
-    runner = runner or default_runner()
+    timeout = scene.numerics.run_timeout
+    if runner is None:
+        runner, timeout = default_runner(wall_limit=timeout), hard_timeout(timeout)
     names = _scale_names(scene.n_scales) if not scene.surface.names else list(scene.surface.names)
     if scale is None:
         si = scene.n_scales - 1
@@ -413,7 +417,7 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
         raise SceneError(f"--n {n}: expected at least 2 samples")
     store = open_store(out, comm)
     try:
-        executor = Executor(store, runner, timeout=scene.numerics.run_timeout,
+        executor = Executor(store, runner, timeout=timeout,
                             settings={"scene": scene.name, "study": "samples"})
         progress = Progress(quiet=quiet) if rank == 0 else None
         holder: dict[str, Any] = {}

@@ -128,9 +128,16 @@ def failure_result(reason: str) -> Any:
                            contact_fraction=float("nan"), t_reached=0.0)
 
 
-def default_runner() -> Callable[[Any], Any]:
+def hard_timeout(run_timeout: float) -> float:
+    """Watchdog time of a run whose runner stops itself after ``run_timeout`` s (between Newton
+    solves): 10 % + 60 s of grace, so the watchdog only catches runs stuck in compiled code."""
+    return 1.1 * run_timeout + 60.0 if run_timeout > 0.0 else 0.0
+
+
+def default_runner(wall_limit: float = 0.0) -> Callable[[Any], Any]:
     """``run_sliding`` from :mod:`rubberfriction.driver.sliding`, called on ``MPI.COMM_SELF``.
 
+    ``wall_limit`` > 0: each run stops itself with a structured failure after that many seconds.
     Raises ImportError with a clear message when the sliding driver has no ``run_sliding``.
     """
     from rubberfriction.driver import sliding
@@ -144,14 +151,20 @@ def default_runner() -> Callable[[Any], Any]:
         params = inspect.signature(fn).parameters
     except (TypeError, ValueError):
         params = {}
+    kwargs: dict[str, Any] = {}
     if "comm" in params:
         from mpi4py import MPI
 
-        def runner(spec: Any) -> Any:
-            return fn(spec, comm=MPI.COMM_SELF)
+        kwargs["comm"] = MPI.COMM_SELF
+    if wall_limit > 0.0 and "wall_limit" in params:
+        kwargs["wall_limit"] = float(wall_limit)
+    if not kwargs:
+        return fn
 
-        return runner
-    return fn
+    def runner(spec: Any) -> Any:
+        return fn(spec, **kwargs)
+
+    return runner
 
 
 class Executor:
@@ -195,6 +208,8 @@ class Executor:
             # run_sliding turns exceptions into failed results without run statistics: such a
             # failure says nothing about the inputs (bug, memory, environment), so it is retried
             failure = "error"
+        if failure is None and isinstance(stats, dict) and stats.get("failure") == "wall_limit":
+            failure = "timeout"  # stopped itself at the run time limit: like the watchdog's
         if isinstance(stats, dict) and "wall_time" in stats:
             wall = float(stats["wall_time"])
         return self.store.put(task.key, task.payload, result, wall_time=wall, label=task.label,

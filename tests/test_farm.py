@@ -325,3 +325,34 @@ def test_progress_counts_and_estimates_time_left():
     q.update(task, SimpleNamespace(status="ok", reused=False, wall_time=1.0))
     q.finish()
     assert quiet.getvalue() == ""
+
+
+def test_a_run_stopped_at_its_time_limit_is_a_timeout_and_the_campaign_goes_on(tmp_path: Path,
+                                                                                monkeypatch):
+    """default_runner(wall_limit=) hands the scene's run_timeout to run_sliding; a run that
+    stopped itself there is stored as failure "timeout" (reused on resume, recomputed with
+    retry_failed) without stopping the process; the watchdog keeps a grace period."""
+    from types import SimpleNamespace
+
+    from rubberfriction.driver import farm, sliding
+
+    seen = []
+
+    def fake_run_sliding(spec, progress=None, observers=(), wall_limit=0.0):
+        seen.append(wall_limit)
+        return SimpleNamespace(status="failed", reason=f"wall-time limit of {wall_limit:g} s",
+                               series={}, stats={"failure": "wall_limit", "wall_time": wall_limit},
+                               dissipation_by_depth=None, mu_force=math.nan, mu_energy=math.nan,
+                               mean_pressure=math.nan, contact_fraction=math.nan, t_reached=0.1)
+
+    monkeypatch.setattr(sliding, "run_sliding", fake_run_sliding)
+    runner = farm.default_runner(wall_limit=600.0)
+    store = Store(tmp_path / "s")
+    ex = Executor(store, runner, timeout=farm.hard_timeout(600.0))
+    assert ex.timeout == pytest.approx(720.0)
+    out = ex(Task("cd" * 32, {"what": "slow"}, {"sample": 0}))
+    assert seen == [600.0] and out.status == "failed" and out.failure == "timeout"
+    assert ex(Task("cd" * 32, {}, {})).reused and seen == [600.0]
+    Executor(store, runner, retry_failed=True)(Task("cd" * 32, {}, {}))
+    assert seen == [600.0, 600.0]
+    assert farm.hard_timeout(0.0) == 0.0
