@@ -74,16 +74,33 @@ def stability(quick: bool, wall_limit: float, penalty_alpha: float) -> list[dict
                   f"{st.get('cutbacks', 0):>8} {st.get('newton_iterations', 0):>7} "
                   f"{wall:>9.2f} {r.mu_force:>9.4f}  {r.reason[:70]}", flush=True)
             rows.append({"velocity_m_s": v, "pressure_MPa": p, "status": r.status,
-                         "reason": r.reason, "fallback_level": st.get("fallback_level"),
+                         "reason": r.reason, "failure": st.get("failure", ""),
+                         "fallback_level": st.get("fallback_level"),
                          "cutbacks": st.get("cutbacks"),
                          "newton_iterations": st.get("newton_iterations"), "wall_time_s": wall,
                          "mu_force": r.mu_force, "mu_energy": r.mu_energy,
                          "contact_fraction": r.contact_fraction})
     ok = sum(r["status"] == "ok" for r in rows)
     print(f"{ok} of {len(rows)} runs converged; "
-          f"{sum(r['reason'].startswith('wall-time') for r in rows)} hit the wall-time limit; "
+          f"{sum(r['failure'] == 'wall_limit' for r in rows)} hit the wall-time limit; "
           f"total {sum(r['wall_time_s'] for r in rows):.0f} s")
     return rows
+
+
+def _number(minimum: float, strict: bool):
+    """argparse type: a finite float >= minimum (> minimum if strict), else a clear error."""
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+        if not np.isfinite(value) or value < minimum or (strict and value == minimum):
+            raise argparse.ArgumentTypeError(
+                f"expected a finite number {'>' if strict else '>='} {minimum:g}, got {text}")
+        return value
+
+    return parse
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -91,9 +108,10 @@ def main(argv: list[str] | None = None) -> int:
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--part", choices=["accuracy", "stability", "both"], default="both")
     ap.add_argument("--quick", action="store_true", help="fewer levels (a smoke run)")
-    ap.add_argument("--wall-limit", type=float, default=300.0,
-                    help="seconds per stability run before it is stopped and reported (300)")
-    ap.add_argument("--penalty-alpha", type=float, default=100.0,
+    ap.add_argument("--wall-limit", type=_number(0.0, strict=False), default=300.0,
+                    help="seconds per stability run before it is stopped and reported "
+                         "(300; 0: no limit)")
+    ap.add_argument("--penalty-alpha", type=_number(0.0, strict=True), default=100.0,
                     help="contact penalty factor of the stability runs (SlidingSpec.penalty_alpha)")
     ap.add_argument("--json", metavar="FILE", help="write the stability rows as JSON")
     a = ap.parse_args(argv)

@@ -314,6 +314,17 @@ def open_store(out: Path, comm: Any, fresh: bool = False) -> Store:
     return store if store is not None else Store(out / "store")
 
 
+def _runner_and_timeout(scene: Scene, runner: Callable[[Any], Any] | None
+                        ) -> tuple[Callable[[Any], Any], float]:
+    """The run function and the watchdog time of a campaign: the default runner stops each run
+    itself at ``run_timeout`` (a stored 'timeout' failure), so its watchdog only needs to catch
+    runs stuck in compiled code; a caller's runner gets the watchdog at ``run_timeout``."""
+    timeout = scene.numerics.run_timeout
+    if runner is not None:
+        return runner, timeout
+    return default_runner(wall_limit=timeout), hard_timeout(timeout)
+
+
 def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = False,
               fresh: bool = False,
               retry_failed: bool = False, runner: Callable[[Any], Any] | None = None,
@@ -328,9 +339,7 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
     comm = _comm() if comm is None else comm
     rank = comm.Get_rank()
     out = Path(output) if output is not None else scene.output
-    timeout = scene.numerics.run_timeout
-    if runner is None:  # fails early and identically on every rank
-        runner, timeout = default_runner(wall_limit=timeout), hard_timeout(timeout)
+    runner, timeout = _runner_and_timeout(scene, runner)  # fails early, identically on all ranks
     started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
     store = open_store(out, comm, fresh=fresh)
     try:
@@ -392,9 +401,7 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
     comm = _comm() if comm is None else comm
     rank = comm.Get_rank()
     out = Path(output) if output is not None else scene.output
-    timeout = scene.numerics.run_timeout
-    if runner is None:
-        runner, timeout = default_runner(wall_limit=timeout), hard_timeout(timeout)
+    runner, timeout = _runner_and_timeout(scene, runner)
     names = _scale_names(scene.n_scales) if not scene.surface.names else list(scene.surface.names)
     if scale is None:
         si = scene.n_scales - 1

@@ -150,6 +150,8 @@ class SlidingRun:
         # wall_limit > 0: seconds after which the run stops with a structured failure (failure
         # kind "wall_limit"; no further fallbacks). A machine-dependent control, so not in the spec.
         self.wall_limit = float(wall_limit)
+        if not (np.isfinite(self.wall_limit) and self.wall_limit >= 0.0):
+            raise ValueError(f"wall_limit: expected seconds >= 0 (0: no limit), got {wall_limit!r}")
         self._deadline = float("inf")
         self.progress = progress
         # observers: objects with optional on_start(run), on_step(run, k, t), on_finish(run,

@@ -94,6 +94,8 @@ def test_periodic_cell_and_structured_failure():
     slow = run_sliding(spec, wall_limit=1e-6)  # stops at the first step, without fallbacks
     assert slow.status == "failed" and "wall-time limit" in slow.reason
     assert slow.stats["failure"] == "wall_limit" and slow.stats["fallback_level"] == 0
+    bad_limit = run_sliding(spec, wall_limit=-1.0)  # bad input: named in the failure reason
+    assert bad_limit.status == "failed" and "wall_limit" in bad_limit.reason and "-1" in bad_limit.reason
 
 
 def test_sawtooth_sharp_orientation_gives_more_friction():
@@ -110,3 +112,14 @@ def test_sawtooth_sharp_orientation_gives_more_friction():
         assert res.ok, res.reason
         mus[orient] = res.mu_force
     assert mus["sharp"] > mus["smooth"] > 0.0, mus  # thesis ~1.4 at large amplitude; ~1.09 here
+
+
+@pytest.mark.parametrize("args,message", [(["--penalty-alpha", "0"], "--penalty-alpha"),
+                                          (["--wall-limit", "-5"], "--wall-limit"),
+                                          (["--wall-limit", "soon"], "expected a number")])
+def test_bench_sliding_rejects_bad_settings_before_running(args, message, capsys):
+    from rubberfriction.driver.bench_sliding import main
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--part", "stability", *args])
+    assert exit_info.value.code == 2 and message in capsys.readouterr().err

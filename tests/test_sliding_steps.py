@@ -44,10 +44,6 @@ def scripted_run(newton: ScriptedNewton, max_cutbacks: int = 8) -> SlidingRun:
     return run
 
 
-def accepted(newton: ScriptedNewton, first_failures: int) -> list[float]:
-    return newton.tried[first_failures:]
-
-
 def test_sub_steps_grow_back_within_a_step():
     assert EASY_STREAK == 2
     newton = ScriptedNewton(lambda call, h: call > 3)  # the first three attempts fail
@@ -56,7 +52,7 @@ def test_sub_steps_grow_back_within_a_step():
     assert ok and cutbacks == 3
     assert newton.tried[:3] == [1.0, 0.5, 0.25]
     # 1/8, 1/8, then doubled to 1/4, 1/4, and the remaining 1/4 (not eight steps of 1/8)
-    assert accepted(newton, 3) == [0.125, 0.125, 0.25, 0.25, 0.25]
+    assert newton.tried[3:] == [0.125, 0.125, 0.25, 0.25, 0.25]
 
 
 def test_step_fails_below_the_smallest_sub_step():
