@@ -342,9 +342,6 @@ def test_full_contact_cascade_reproduces_the_sum_of_closed_form_contributions(tm
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=False, reason="known open (issue 6): two-scale mu is 8.9 % (12 el/wave) "
-                   "/ 9.9 % (24 el/wave) above the single-scale reference (5 % required); not a "
-                   "discretisation effect, cause open")
 def test_two_sine_multiscale_agrees_with_the_reference_and_is_cheaper(tmp_path: Path):
     from rubberfriction.driver.campaign import run_scene
     from rubberfriction.driver.scene import load_scene
