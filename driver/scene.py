@@ -145,6 +145,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "elements_per_wavelength": Key("int", 8,
                                        "contact-face elements per shortest wavelength of a "
                                        "sample (the run's element size rule)", minimum=2),
+        "master_points_per_wavelength": Key("int", 32, "vertices of the rigid surface per "
+                                            "shortest wavelength of a sample's band: coarser "
+                                            "samples are refined by band-limited "
+                                            "interpolation (0: as sampled)", minimum=0),
         "grading": Key("float", 1.2, "growth ratio of element height away from the contact face",
                        minimum=1.0, maximum=3.0),
         "slide_periods": Key("float", 2.0, "sliding distance in block lengths", above=0.0),
@@ -291,6 +295,7 @@ class NumericsConfig:
     element: str
     max_cutbacks: int
     penalty_alpha: float
+    master_points_per_wavelength: int
     run_timeout: float
 
 

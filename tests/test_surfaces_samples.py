@@ -190,3 +190,40 @@ def test_each_scale_comes_from_the_measurement_that_resolves_it():
     assert all(a.start == b.start for ga, gb in zip(samples, again) for a, b in zip(ga, gb))
     with pytest.raises(BandError, match="no measurement resolves the band 0.04-0.003"):
         multiscale_from_measurements([coarse], [20.0, 3.0, 0.3, 0.04, 0.003])
+
+
+@pytest.mark.parametrize("n", [12, 13])
+def test_refine_periodic_is_the_band_limited_interpolant(n):
+    """A periodic sum of waves the grid resolves (including the Nyquist cosine for even n) is
+    recovered exactly between the points (1e-12) and every original point is kept."""
+    from rubberfriction.driver.surfaces.samples import refine_periodic
+
+    def f(x):
+        out = 0.3 * np.sin(2 * np.pi * x) + 0.1 * np.cos(2 * np.pi * 5 * x + 0.3)
+        return out + (0.05 * np.cos(2 * np.pi * (n // 2) * x) if n % 2 == 0 else 0.0)
+
+    x = np.arange(n) / n
+    fine = refine_periodic(f(x), 8)
+    assert fine.size == 8 * n
+    assert np.allclose(fine[::8], f(x), rtol=0, atol=1e-12)
+    assert np.allclose(fine, f(np.arange(8 * n) / (8 * n)), rtol=0, atol=1e-12)
+    with pytest.raises(ValueError, match="whole number"):
+        refine_periodic(f(x), 1.5)
+
+
+def test_refined_master_reaches_the_vertex_density_and_keeps_the_points():
+    from rubberfriction.driver.campaign import refined_master
+
+    L, n = 0.04, 80  # micro2 of the default road: 6 points per 0.003 mm wavelength
+    x = np.arange(n) * L / n
+    h = 0.001 * np.sin(2 * np.pi * x / 0.004) + 0.0005 * np.cos(2 * np.pi * x / 0.0032)
+    xr, hr = refined_master(x, h, L, 0.003, 32)
+    assert xr.size == 6 * n  # ceil(32 * 0.0005 / 0.003) = 6
+    assert np.allclose(xr[::6], x, rtol=0, atol=1e-15) and np.allclose(hr[::6], h, atol=1e-15)
+    assert np.allclose(np.diff(xr), L / xr.size)
+    for args in ((L, 0.003, 0), (L, 0.05, 32)):  # switched off; already fine enough
+        xs, hs = refined_master(x, h, *args)
+        assert xs is x and hs is h
+    xn = x.copy()
+    xn[3] += 1e-4  # not uniform: as given
+    assert refined_master(xn, h, L, 0.003, 32)[0] is xn
