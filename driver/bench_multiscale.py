@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import math
 import os
 import subprocess
 import sys
@@ -135,9 +136,15 @@ def _same_store(a: Path, b: Path) -> str:
         return f"DIFFERENT run sets ({len(sa)} vs {len(sb)})"
     for k in sa.keys():
         ra, rb = sa.load(k), sb.load(k)
-        if ra.status != rb.status or ra.values != rb.values:
+        if ra.status != rb.status or not _same_values(ra.values, rb.values):
             return f"DIFFERENT results for run {k[:12]}"
     return f"identical ({len(sa)} runs)"
+
+
+def _same_values(a: dict[str, float], b: dict[str, float]) -> bool:
+    """Equal result scalars, NaN equal to NaN (a failed run stores NaN results)."""
+    return a.keys() == b.keys() and all(
+        a[k] == b[k] or (math.isnan(a[k]) and math.isnan(b[k])) for k in a)
 
 
 def campaign(label: str, scene: str, out: Path, ranks: int, env: dict) -> list[dict]:

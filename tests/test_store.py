@@ -179,3 +179,15 @@ def test_a_failed_result_without_run_statistics_counts_as_an_error(tmp_path: Pat
     o = Executor(store, lambda s: SlidingResult("failed", reason="RuntimeError: PETSc error 76"))(t)
     assert o.failure == "error"
     assert not Executor(store, lambda s: result())(t).reused  # retried, now ok
+
+
+def test_bench_store_comparison_treats_failed_runs_nan_results_as_equal():
+    """Serial and MPI stores of a campaign with a failed run (NaN results) compare identical;
+    a real difference (a number against NaN, or two numbers) does not."""
+    from rubberfriction.driver.bench_multiscale import _same_values
+
+    nan = float("nan")
+    assert _same_values({"mu_force": nan, "mean_pressure": 1.5}, {"mu_force": nan, "mean_pressure": 1.5})
+    assert not _same_values({"mu_force": 0.5}, {"mu_force": nan})
+    assert not _same_values({"mu_force": 0.5}, {"mu_force": 0.5 + 1e-15})
+    assert not _same_values({"mu_force": 0.5}, {"mu_energy": 0.5})
