@@ -166,13 +166,14 @@ def refined_master(x: np.ndarray, h: np.ndarray, period: float, lam_min: float,
     as they are.  The default road's micro2 samples (0.04-0.003 mm band at 0.0005 mm spacing,
     rms slope 4) have 6 points per shortest wavelength; refined to 36, the default scene's micro2
     failures went from 5 of 6 runs to 1 of 6."""
+    from rubberfriction.driver.surfaces.profile import UNIFORM_RTOL
     from rubberfriction.driver.surfaces.samples import refine_periodic
 
     n = x.size
     if points_per_wavelength <= 0 or n < 4 or not period > 0.0:
         return x, h
     dx = period / n
-    if not np.allclose(np.diff(x), dx, rtol=1e-6, atol=0.0):
+    if not np.allclose(np.diff(x), dx, rtol=UNIFORM_RTOL, atol=0.0):
         return x, h
     factor = math.ceil(points_per_wavelength * dx / lam_min - 1e-9)
     if factor <= 1:
@@ -201,8 +202,10 @@ class SpecBuilder:
         if x.size > 1 and abs(x[-1] - x[0] - period) < 1e-9 * period:
             x, h = x[:-1], h[:-1]  # one period given: the closing vertex repeats the first
         band = getattr(sample, "band", None)
-        if band is not None and np.isfinite(band[1]) and band[1] > 0:
-            x, h = refined_master(x, h, period, float(band[1]), num.master_points_per_wavelength)
+        lam_band = float(band[1]) if band is not None and np.isfinite(band[1]) and band[1] > 0 \
+            else None  # the band's short edge, where the sample knows its band
+        if lam_band is not None:
+            x, h = refined_master(x, h, period, lam_band, num.master_points_per_wavelength)
         base = SlidingSpec(surface_x=x, surface_h=h, period=period, pressure=float(pressure),
                            velocity=float(point.velocity), compound=self.compounds[point.compound],
                            temperature=self.scene.conditions.T0, friction=friction,
@@ -212,11 +215,11 @@ class SpecBuilder:
                            window_start=window, max_cutbacks=num.max_cutbacks,
                            penalty_alpha=num.penalty_alpha)
         # contact element size: the shortest wavelength of the sample / elements_per_wavelength;
-        # the shortest wavelength is the band's short edge where the sample knows its band
-        # (thesis 6.5.1), else (or if shorter) the run's estimate from slope sign changes
+        # the shortest wavelength is the band's short edge (thesis 6.5.1), else (or if shorter)
+        # the run's estimate from slope sign changes
         hc = float(default_h_contact(base))
-        if band is not None and np.isfinite(band[1]) and band[1] > 0:
-            hc = min(hc, float(band[1]) / num.elements_per_wavelength)
+        if lam_band is not None:
+            hc = min(hc, lam_band / num.elements_per_wavelength)
         return dataclasses.replace(base, h_contact=hc, step_length=num.step_per_element * hc,
                                    slide_distance=slide * period)
 
