@@ -79,8 +79,12 @@ Overlap overlap(const SlaveSegment& s, const V2<double>& na, const V2<double>& n
     const V2<double> d = q - s.x[1], e = s.x[2] - s.x[1], mm = nb - na;
     const double c0 = cross(d, na), c1 = cross(d, mm) - cross(e, na), c2 = -cross(e, mm);
     double xi = guess;
+    bool found = false;  // a real root (not the linear estimate)
     if (std::abs(c2) <= 1e-12 * std::max(std::abs(c1), std::abs(c0))) {
-      if (c1 != 0.0) xi = -c0 / c1;
+      if (c1 != 0.0) {
+        xi = -c0 / c1;
+        found = true;
+      }
     } else {
       const double disc = c1 * c1 - 4.0 * c2 * c0;
       if (disc >= 0.0) {
@@ -88,11 +92,19 @@ Overlap overlap(const SlaveSegment& s, const V2<double>& na, const V2<double>& n
         const double qq = -0.5 * (c1 + std::copysign(sq, c1));
         const double r1 = qq / c2, r2 = qq != 0.0 ? c0 / qq : r1;
         xi = std::abs(r1 - guess) < std::abs(r2 - guess) ? r1 : r2;
+        found = true;
       }
     }
-    if (!std::isfinite(xi)) xi = guess;
-    xi = std::min(1.0, std::max(0.0, xi));
-    ends[static_cast<std::size_t>(ne++)] = {xi, node == 0 ? Breakpoint::master_q0 : Breakpoint::master_q1};
+    if (found && std::isfinite(xi) && xi >= 0.0 && xi <= 1.0) {
+      ends[static_cast<std::size_t>(ne++)] = {xi, node == 0 ? Breakpoint::master_q0 : Breakpoint::master_q1};
+    } else {
+      // no projection inside the segment (a strongly rotating normal field): the piece ends at
+      // the nearer slave end, a constant -- tagging it as the master node would linearise a
+      // clamped value as if it were a root (an inconsistent tangent)
+      const double at = found && std::isfinite(xi) ? xi : guess;
+      ends[static_cast<std::size_t>(ne++)] =
+          at < 0.5 ? End{0.0, Breakpoint::slave_start} : End{1.0, Breakpoint::slave_end};
+    }
   }
   if (ne < 2) return o;
   std::sort(ends.begin(), ends.begin() + ne, [](const End& a, const End& b) { return a.xi < b.xi; });

@@ -150,3 +150,23 @@ def test_thermal_blocks_are_nonzero_and_checked():
     U = ~T
     for name, block in {"T-T": J[np.ix_(T, T)], "T-u": J[np.ix_(T, U)], "u-T": J[np.ix_(U, T)]}.items():
         assert np.abs(block).max() > 1e-6 * np.abs(J).max(), f"{name} block is empty"
+
+
+def test_jacobian_exact_for_a_slave_wrapped_around_a_sharp_peak():
+    """A coarse slave chain bent over a rigid peak sharper than its elements (nodal normals up to
+    63 degrees apart, master segments 10x shorter): many master nodes have no projection inside
+    the slave segment along the rotating normal field (no real root, or a root outside [0, 1]).
+    Such an overlap end is a slave end, a constant; it used to be linearised as a master-node
+    projection at the clamped value, and Newton converged only linearly (a micro-scale sliding
+    run of the default road stalled at a residual of 1e-7).  Positions from that run."""
+    xs = np.array([[-0.02275, 0.08652], [-0.01856, 0.09866], [-0.01606, 0.10826], [-0.00314, 0.11416],
+                   [7e-05, 0.10312], [0.00491, 0.0898], [0.00767, 0.07793]])
+    n = len(xs)
+    xm = np.arange(-0.05, 0.04 + 1e-9, 0.0005)
+    master = RigidMaster(np.column_stack([xm, 0.116 * np.exp(-((xm + 0.0087) / 0.0272) ** 2)]))
+    slave = SlaveSurface(xs, np.column_stack([2 * np.arange(n), 2 * np.arange(n) + 1]),
+                         np.column_stack([np.arange(n - 1), np.arange(1, n)]))
+    c = Contact(slave, master, penalty=PenaltySettings(c_N=5e4, c_T=0.0), search_radius=0.0133)
+    errors, status = fd_check(c, np.zeros(2 * n), 2, h=1e-8)
+    assert np.count_nonzero(status) == n  # every node in contact
+    assert errors["u-u"] < RTOL, f"tangent error {errors['u-u']:.2e}"
