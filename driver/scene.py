@@ -157,7 +157,8 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "step_per_element": Key("float", 0.5, "sliding step / contact element size", above=0.0,
                                 maximum=4.0),
         "compression_steps": Key("int", 10, "steps of the compression phase", minimum=1),
-        "contact": Key("str", "mortar", "contact formulation (falls back to nts when a run fails)",
+        "contact": Key("str", "mortar", "contact formulation (a failing run falls back to nts, smaller "
+                       "steps, then contact elements twice as short)",
                        choices=("mortar", "nts")),
         "element": Key("str", "Q1P0", "rubber element", choices=("Q1P0", "Q1")),
         "max_cutbacks": Key("int", 8, "step halvings before a step counts as failed", minimum=0),

@@ -20,9 +20,11 @@ Micro cell: periodic boundary conditions x_r - x_l = X_r - X_l on the left/right
 with the periodic master, so the cell slides over many periods.  Macro block: non-periodic.
 
 Failure handling: a step that does not converge (or inverts an element) is retried with half the
-step (cut-back), steps grow again after easy successes; when the step gets too small the run falls
-back to node-to-segment contact; a run that still fails returns `status="failed"` with the reason
-and the time reached.  Nothing is raised through the caller.
+step (cut-back), steps grow again after easy successes; when the step gets too small the run starts
+again with the next fallback (`SlidingRun.attempts`): node-to-segment contact, smaller sliding
+steps, then contact elements twice as short.  A run that still fails returns `status="failed"`
+with the reason of the attempt that got furthest and the time reached (stats ``attempts`` lists
+every attempt's reason).  Nothing is raised through the caller.
 
 Outputs: mu(t) = F_x/F_z (eq. 6.2) and mu from dissipated energy (eq. 2.8: viscous (+ frictional)
 energy per sliding distance over F_z), their averages over the homogenisation window, the mean
@@ -34,7 +36,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -113,6 +115,20 @@ def default_h_contact(spec: SlidingSpec) -> float:
     return lam / spec.elements_per_wavelength
 
 
+#: contact elements of the refined fallback attempts are this many times shorter
+MESH_REFINEMENT = 2
+
+
+def refined(spec: SlidingSpec, factor: int) -> SlidingSpec:
+    """The same run with contact elements `factor` times shorter (sliding steps follow them; the
+    penalty's excitation frequency v / (elements_per_wavelength h_contact) is unchanged)."""
+    if factor == 1:
+        return spec
+    hc = spec.h_contact or default_h_contact(spec)
+    return replace(spec, h_contact=hc / factor, elements_per_wavelength=spec.elements_per_wavelength * factor,
+                   step_length=spec.step_length / factor)
+
+
 class ContactLike:
     """What a sliding run needs from its contact (``rubberfriction.driver.contact.Contact``,
     built by ``contact.sliding_contact``)."""
@@ -151,7 +167,8 @@ class SlidingRun:
 
     def __init__(self, spec: SlidingSpec, mesh_factory=None, contact_factory=None, progress=None,
                  observers=(), wall_limit: float = 0.0):
-        self.spec = spec
+        self.base_spec = spec
+        self.spec = spec  # the current attempt's spec (base_spec, or a refined copy)
         # wall_limit > 0: seconds after which the run stops with a structured failure (failure
         # kind "wall_limit"; no further fallbacks). A machine-dependent control, so not in the spec.
         self.wall_limit = float(wall_limit)
@@ -363,31 +380,55 @@ class SlidingRun:
         return float(self.problem.reaction(d).sum())
 
     # --- the run -------------------------------------------------------------------------------
+    def attempts(self) -> list[tuple[str, float, int]]:
+        """The fallback chain: (contact formulation, sliding step factor, mesh refinement).
+
+        Mortar, then node-to-segment, then smaller sliding steps (stabilisation), then contact
+        elements MESH_REFINEMENT times shorter with each formulation: a slave bent over master
+        features sharper than its elements (a peak poking through a contact element) has no
+        smooth solution path at that resolution, and no step length fixes that.
+        """
+        base = self.base_spec.contact
+        first = [(base, 1.0, 1)] + ([("nts", 1.0, 1)] if base == "mortar" else [])
+        chain = first + [(first[-1][0], 0.25, 1)]
+        return chain + [(f, 1.0, MESH_REFINEMENT) for f, _, _ in first]
+
     def run(self) -> SlidingResult:
         wall0 = time.perf_counter()
-        attempts = [(self.spec.contact, 1.0)]
-        if self.spec.contact == "mortar":
-            attempts.append(("nts", 1.0))
-        attempts.append((attempts[-1][0], 0.25))  # stabilisation: smaller sliding steps
-        last = None
+        failures: list[str] = []
+        best = None
         if self.wall_limit > 0.0:
             self._deadline = wall0 + self.wall_limit
-        for i, (formulation, step_factor) in enumerate(attempts):
-            try:
-                result = self._attempt(formulation, step_factor)
-            except _WallLimit as stop:
-                result = SlidingResult("failed", reason=f"wall-time limit of {self.wall_limit:g} s "
-                                       f"reached at t = {stop.t:.4g} s", t_reached=stop.t)
-                result.stats.update(failure="wall_limit", cutbacks=self.cutbacks,
-                                    newton_iterations=self.newton_iterations)
-            result.stats["fallback_level"] = i
-            result.stats["contact_formulation"] = formulation
-            result.stats["wall_time"] = time.perf_counter() - wall0
-            self._notify("on_finish", result)
-            if result.ok or result.stats.get("failure") == "wall_limit":
-                return result
-            last = result
-        return last
+        try:
+            for i, (formulation, step_factor, refine) in enumerate(self.attempts()):
+                self.spec = refined(self.base_spec, refine)
+                try:
+                    result = self._attempt(formulation, step_factor)
+                except _WallLimit as stop:
+                    result = SlidingResult("failed", reason=f"wall-time limit of {self.wall_limit:g} s "
+                                           f"reached at t = {stop.t:.4g} s", t_reached=stop.t)
+                    result.stats.update(failure="wall_limit", cutbacks=self.cutbacks,
+                                        newton_iterations=self.newton_iterations)
+                result.stats["fallback_level"] = i
+                result.stats["contact_formulation"] = formulation
+                result.stats["mesh_refinement"] = refine
+                result.stats["wall_time"] = time.perf_counter() - wall0
+                self._notify("on_finish", result)
+                if result.ok:
+                    return result
+                if result.stats.get("failure") == "wall_limit":
+                    result.stats["attempts"] = " | ".join(failures)
+                    return result
+                label = formulation + (f" x{step_factor:g} step" if step_factor != 1.0 else "") + (
+                    f" x{refine} mesh" if refine != 1 else "")
+                failures.append(f"{label}: {result.reason}")
+                if best is None or result.t_reached >= best.t_reached:
+                    best = result  # the attempt that got furthest explains the failure best
+        finally:
+            self.spec = self.base_spec
+        best.stats["attempts"] = " | ".join(failures)
+        best.reason = f"{best.reason} (the furthest of {len(failures)} attempts)"
+        return best
 
     def _attempt(self, formulation: str, step_factor: float) -> SlidingResult:
         s = self.spec

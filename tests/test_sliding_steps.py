@@ -12,7 +12,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from rubberfriction.driver.sliding import EASY_STREAK, SlidingRun
+from rubberfriction.driver.sliding import (EASY_STREAK, MESH_REFINEMENT, SlidingResult, SlidingRun,
+                                          SlidingSpec, refined)
 
 
 class ScriptedNewton:
@@ -71,3 +72,53 @@ def test_sliding_steps_carry_the_reduced_length_over():
     newton.tried.clear()
     assert run._solve_step(1.0, 1.0, lambda t: None, adaptive=True)[0]
     assert newton.tried == [0.25] * 4  # no repeated failures at 1 and 1/2
+
+
+class ScriptedAttempts(SlidingRun):
+    """A run whose attempts are scripted: ok(spec, formulation, step_factor) -> bool."""
+
+    def __init__(self, spec, ok):
+        super().__init__(spec)
+        self.ok_if, self.log = ok, []
+
+    def _attempt(self, formulation, step_factor):
+        self.log.append((formulation, step_factor, self.spec.h_contact))
+        if self.ok_if(self.spec, formulation, step_factor):
+            return SlidingResult("ok")
+        reached = [1.0, 3.0, 0.0, 2.0, 1.0][len(self.log) - 1]
+        return SlidingResult("failed", reason=f"scripted {len(self.log)}", t_reached=reached)
+
+
+def small_spec(**kw) -> SlidingSpec:
+    x = np.linspace(0.0, 1.0, 64, endpoint=False)
+    return SlidingSpec(surface_x=x, surface_h=0.01 * np.sin(2 * np.pi * x), period=1.0, pressure=0.1,
+                       velocity=10.0, compound=None, h_contact=0.05, elements_per_wavelength=8, **kw)
+
+
+def test_fallback_chain_ends_with_refined_contact_elements():
+    """mortar, nts, nts with 1/4 steps, then contact elements MESH_REFINEMENT times shorter."""
+    spec = small_spec()
+    run = ScriptedAttempts(spec, lambda s, f, k: s.h_contact < spec.h_contact and f == "nts")
+    res = run.run()
+    assert res.ok
+    h = spec.h_contact
+    assert run.log == [("mortar", 1.0, h), ("nts", 1.0, h), ("nts", 0.25, h),
+                       ("mortar", 1.0, h / MESH_REFINEMENT), ("nts", 1.0, h / MESH_REFINEMENT)]
+    assert res.stats["fallback_level"] == 4 and res.stats["mesh_refinement"] == MESH_REFINEMENT
+    assert run.spec is spec  # the run's own spec again after the refined attempts
+
+
+def test_refined_spec_keeps_the_penalty_frequency():
+    spec = small_spec(step_length=0.02)
+    fine = refined(spec, 2)
+    assert fine.h_contact == 0.025 and fine.step_length == 0.01
+    assert fine.elements_per_wavelength * fine.h_contact == spec.elements_per_wavelength * spec.h_contact
+    assert refined(spec, 1) is spec
+
+
+def test_failed_run_reports_the_attempt_that_got_furthest():
+    run = ScriptedAttempts(small_spec(), lambda s, f, k: False)
+    res = run.run()
+    assert res.status == "failed"
+    assert res.reason == "scripted 2 (the furthest of 5 attempts)"  # reached t = 3
+    assert res.stats["attempts"].count("scripted") == 5 and "x2 mesh" in res.stats["attempts"]
