@@ -2,6 +2,7 @@
 
     rubberfriction bench multiscale [--ranks 2] [--out DIR] [--scene default] [--skip-default]
                                     [--skip-point] [--point-samples 10] [--point-velocity 100]
+                                    [--modes serial,mpi]
 
 Two campaigns, each run from scratch (``--fresh``) once serially and once with
 ``mpirun -n RANKS`` (the same command a user types):
@@ -147,11 +148,14 @@ def _same_values(a: dict[str, float], b: dict[str, float]) -> bool:
         a[k] == b[k] or (math.isnan(a[k]) and math.isnan(b[k])) for k in a)
 
 
-def campaign(label: str, scene: str, out: Path, ranks: int, env: dict) -> list[dict]:
+def campaign(label: str, scene: str, out: Path, ranks: int, env: dict,
+             which: tuple[str, ...] = ("serial", "mpi")) -> list[dict]:
     rows = []
     base = [sys.executable, "-m", "rubberfriction", "run", scene, "--fresh", "--quiet"]
-    modes = [("serial", base + ["--out", str(out / "serial")])]
-    if ranks > 1:
+    modes = []
+    if "serial" in which:
+        modes.append(("serial", base + ["--out", str(out / "serial")]))
+    if ranks > 1 and "mpi" in which:
         modes.append((f"mpi x{ranks}", ["mpirun", "-n", str(ranks)] + base + ["--out",
                                                                               str(out / "mpi")]))
     for mode, cmd in modes:
@@ -171,7 +175,9 @@ def campaign(label: str, scene: str, out: Path, ranks: int, env: dict) -> list[d
                      "exit": r["returncode"], "shares": time_shares(folder)})
         if r["returncode"] not in (0, 1):
             print(r["stderr"][-2000:], file=sys.stderr)
-    if ranks > 1 and all(row["exit"] in (0, 1) for row in rows):
+    # compared whenever both stores exist (also from an earlier --modes serial invocation)
+    if ranks > 1 and all(row["exit"] in (0, 1) for row in rows) and all(
+            (out / m / "store").is_dir() for m in ("serial", "mpi")):
         print(f"{label}: serial vs mpi stores: {_same_store(out / 'serial', out / 'mpi')}")
     return rows
 
@@ -192,7 +198,14 @@ def main(argv: list[str] | None = None) -> int:
                     help="samples per scale of the point (default 10)")
     ap.add_argument("--point-velocity", type=float, default=100.0,
                     help="velocity of the point, mm/s")
+    ap.add_argument("--modes", default="serial,mpi",
+                    help="comma-separated subset of serial,mpi (e.g. two invocations with "
+                         "--modes serial side by side on two cores, then --modes mpi; the stores "
+                         "are compared once both exist)")
     args = ap.parse_args(argv)
+    which = tuple(m.strip() for m in args.modes.split(",") if m.strip())
+    if not which or set(which) - {"serial", "mpi"}:
+        ap.error(f"--modes: expected a subset of serial,mpi, got {args.modes!r}")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     env = dict(os.environ, OMP_NUM_THREADS="1")
@@ -202,13 +215,14 @@ def main(argv: list[str] | None = None) -> int:
     env["PYTHONPATH"] = str(root) + os.pathsep + env.get("PYTHONPATH", "")
     rows: list[dict] = []
     if not args.skip_default:
-        rows += campaign(f"scene {Path(args.scene).stem}", args.scene, out / "scene", args.ranks, env)
+        rows += campaign(f"scene {Path(args.scene).stem}", args.scene, out / "scene", args.ranks, env,
+                         which)
     if not args.skip_point:
         scene = out / "point.toml"
         scene.write_text(point_scene(args.point_samples, args.point_velocity))
         rows += campaign(f"4 scales x {args.point_samples} samples, v={args.point_velocity:g}",
                          str(scene),
-                         out / "point", args.ranks, env)
+                         out / "point", args.ranks, env, which)
     print(f"\n{'campaign':<34} {'mode':<8} {'wall [s]':>9} {'peak proc [MB]':>15} "
           f"{'peak tree [MB]':>15} "
           f"{'runs':>5} {'failed':>6}  time per scale")
