@@ -175,6 +175,7 @@ class SlidingRun:
         if not (np.isfinite(self.wall_limit) and self.wall_limit >= 0.0):
             raise ValueError(f"wall_limit: expected seconds >= 0 (0: no limit), got {wall_limit!r}")
         self._deadline = float("inf")
+        self.t_planned = 0.0  # model time of the current attempt's whole load history
         self.progress = progress
         # observers: objects with optional on_start(run), on_step(run, k, t), on_finish(run,
         # result) methods (outputs such as fields and time series; see driver.sliding_output).
@@ -394,19 +395,32 @@ class SlidingRun:
         return chain + [(f, 1.0, MESH_REFINEMENT) for f, _, _ in first]
 
     def run(self) -> SlidingResult:
+        """The attempts in turn until one succeeds.  Under a wall-time limit a refined attempt that
+        would not finish in the time left (estimated as MESH_REFINEMENT**2 times a whole unrefined
+        attempt, extrapolated from the failed attempt that got furthest) is skipped."""
         wall0 = time.perf_counter()
         failures: list[str] = []
         best = None
+        full = None  # estimated wall time of a complete unrefined attempt (unit step factor)
         if self.wall_limit > 0.0:
             self._deadline = wall0 + self.wall_limit
         try:
             for i, (formulation, step_factor, refine) in enumerate(self.attempts()):
+                label = formulation + (f" x{step_factor:g} step" if step_factor != 1.0 else "") + (
+                    f" x{refine} mesh" if refine != 1 else "")
+                left = self._deadline - time.perf_counter()
+                if refine > 1 and full is not None and full * refine**2 > left:
+                    failures.append(f"{label}: skipped (needs about {full * refine**2:.0f} s, "
+                                    f"{left:.0f} s left)")
+                    continue
                 self.spec = refined(self.base_spec, refine)
+                self.t_planned = 0.0
+                t_attempt = time.perf_counter()
                 try:
                     result = self._attempt(formulation, step_factor)
                 except _WallLimit as stop:
                     result = SlidingResult("failed", reason=f"wall-time limit of {self.wall_limit:g} s "
-                                           f"reached at t = {stop.t:.4g} s", t_reached=stop.t)
+                                           f"reached at t = {stop.t:.4g} s ({label})", t_reached=stop.t)
                     result.stats.update(failure="wall_limit", cutbacks=self.cutbacks,
                                         newton_iterations=self.newton_iterations)
                 result.stats["fallback_level"] = i
@@ -419,11 +433,13 @@ class SlidingRun:
                 if result.stats.get("failure") == "wall_limit":
                     result.stats["attempts"] = " | ".join(failures)
                     return result
-                label = formulation + (f" x{step_factor:g} step" if step_factor != 1.0 else "") + (
-                    f" x{refine} mesh" if refine != 1 else "")
                 failures.append(f"{label}: {result.reason}")
                 if best is None or result.t_reached >= best.t_reached:
                     best = result  # the attempt that got furthest explains the failure best
+                done = result.t_reached / self.t_planned if self.t_planned > 0 else 0.0
+                if refine == 1 and done > 0.0:
+                    est = (time.perf_counter() - t_attempt) * step_factor / min(done, 1.0)
+                    full = est if full is None else min(full, est)
         finally:
             self.spec = self.base_spec
         best.stats["attempts"] = " | ".join(failures)
@@ -445,6 +461,8 @@ class SlidingRun:
         dt_slide = step_len / s.velocity
         t_p = s.compression_time or L / (2.0 * np.pi * s.velocity)
         dt_p = t_p / s.compression_steps
+        distance = s.slide_distance or 3.0 * (s.period if s.period > 0 else L)
+        self.t_planned = t_p + distance / s.velocity  # without the short initial contact
         t = 0.0
         # 1. initial contact under displacement control
         delta, Fz = 0.0, 0.0
@@ -483,7 +501,6 @@ class SlidingRun:
             t += dt_p
         self.compression_contact = self.contact.state()["contact_length"] / L
         # 3. sliding at v with p held
-        distance = s.slide_distance or 3.0 * (s.period if s.period > 0 else L)
         nsteps = int(np.ceil(distance / step_len))
         t_s = t
         keep = self.fext.copy()

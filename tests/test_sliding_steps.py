@@ -8,6 +8,7 @@ dt / 2**max_cutbacks, and the length carried over between sliding steps.
 
 from __future__ import annotations
 
+import time
 from types import SimpleNamespace
 
 import numpy as np
@@ -75,14 +76,17 @@ def test_sliding_steps_carry_the_reduced_length_over():
 
 
 class ScriptedAttempts(SlidingRun):
-    """A run whose attempts are scripted: ok(spec, formulation, step_factor) -> bool."""
+    """A run whose attempts are scripted: ok(spec, formulation, step_factor) -> bool; each takes
+    `seconds` of wall time and plans a load history of `planned` seconds of model time."""
 
-    def __init__(self, spec, ok):
-        super().__init__(spec)
-        self.ok_if, self.log = ok, []
+    def __init__(self, spec, ok, wall_limit=0.0, seconds=0.0, planned=0.0):
+        super().__init__(spec, wall_limit=wall_limit)
+        self.ok_if, self.log, self.seconds, self.planned = ok, [], seconds, planned
 
     def _attempt(self, formulation, step_factor):
         self.log.append((formulation, step_factor, self.spec.h_contact))
+        self.t_planned = self.planned
+        time.sleep(self.seconds)
         if self.ok_if(self.spec, formulation, step_factor):
             return SlidingResult("ok")
         reached = [1.0, 3.0, 0.0, 2.0, 1.0][len(self.log) - 1]
@@ -122,3 +126,14 @@ def test_failed_run_reports_the_attempt_that_got_furthest():
     assert res.status == "failed"
     assert res.reason == "scripted 2 (the furthest of 5 attempts)"  # reached t = 3
     assert res.stats["attempts"].count("scripted") == 5 and "x2 mesh" in res.stats["attempts"]
+
+
+def test_refined_attempts_that_cannot_finish_in_time_are_skipped():
+    """0.05 s per attempt for at most 3/300 of the load history: a whole unrefined attempt takes
+    about 5 s, a refined one 4 x 5 s, far beyond the 2 s wall limit, so the run ends after the
+    three unrefined attempts."""
+    run = ScriptedAttempts(small_spec(), lambda s, f, k: False, wall_limit=2.0, seconds=0.05,
+                           planned=300.0)
+    res = run.run()
+    assert res.status == "failed" and len(run.log) == 3
+    assert res.stats["attempts"].count("skipped (needs about") == 2
