@@ -396,8 +396,9 @@ class SlidingRun:
 
     def run(self) -> SlidingResult:
         """The attempts in turn until one succeeds.  Under a wall-time limit a refined attempt that
-        would not finish in the time left (estimated as MESH_REFINEMENT**2 times a whole unrefined
-        attempt, extrapolated from the failed attempt that got furthest) is skipped."""
+        would not finish in the time left is skipped: it is estimated as MESH_REFINEMENT**2 times a
+        whole unrefined attempt, extrapolated linearly in model time from each failed unrefined
+        attempt (the smallest extrapolation, so a doubtful case is tried)."""
         wall0 = time.perf_counter()
         failures: list[str] = []
         best = None
