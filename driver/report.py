@@ -12,7 +12,8 @@ Files written into the campaign's output folder:
   contact area (7.5), dissipation (mu_energy x p: energy per unit sliding length and nominal
   area, mJ/mm^3 = MPa), flags and notes.
 * ``samples.csv`` -- every single-scale run (thesis fig. 6.29 b): branch, scale, sample, status,
-  failure reason, inputs and results, wall time, whether it was reused, store key.
+  failure reason, the fallback attempt that gave the result (e.g. ``nts x2 mesh``), inputs and
+  results, wall time, whether it was reused, store key.
 * ``mu_v.png``, ``mu_p.png`` -- the curves with 95 % CI error bars.  ``mu_v.png`` also shows,
   per (compound, p), the analytical baselines of the same surface PSD and compound (Persson line
   roughness = plane strain and isotropic eq. 2.10, at the scene's T0; ``driver/cli_theory.py``)
@@ -151,12 +152,25 @@ def sample_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
                              "friction_in": lab.get("friction_in"), "status": o.status,
                              "failure": o.failure,
                              "reason": o.reason.splitlines()[0] if o.reason else "",
+                             "attempt": o.attempt,
                              "mean_pressure": o.value("mean_pressure"),
                              "mu_force": o.value("mu_force"),
                              "mu_energy": o.value("mu_energy"),
                              "contact_fraction": o.value("contact_fraction"),
                              "wall_time_s": o.wall_time, "reused": o.reused, "key": o.key})
     return rows
+
+
+def attempts_used(points: Sequence[PointResult]) -> dict[str, int]:
+    """How many successful runs each fallback attempt produced (``sliding.SlidingRun.attempts``;
+    runs stored without the record count as "")."""
+    out: dict[str, int] = {}
+    for r in points:
+        for runs in r.runs.values():
+            for _, o in runs:
+                if o.ok:
+                    out[o.attempt] = out.get(o.attempt, 0) + 1
+    return out
 
 
 def time_by_scale(points: Sequence[PointResult]) -> dict[str, float]:
@@ -221,6 +235,10 @@ def summary_text(result: Any) -> str:
     if total > 0:
         lines.append("  run time per scale: " + ", ".join(f"{k} {100 * v / total:.0f} %" for k,
                                                           v in shares.items()))
+    used = attempts_used(result.points)
+    if set(used) - {"", "mortar"}:  # say so when fallbacks produced results
+        lines.append("  successful runs by attempt: " + ", ".join(
+            f"{k or 'unrecorded'} {n}" for k, n in sorted(used.items(), key=lambda kv: -kv[1])))
     return "\n".join(lines)
 
 

@@ -425,6 +425,7 @@ class SlidingRun:
                     result.stats.update(failure="wall_limit", cutbacks=self.cutbacks,
                                         newton_iterations=self.newton_iterations)
                 result.stats["fallback_level"] = i
+                result.stats["attempt"] = label
                 result.stats["contact_formulation"] = formulation
                 result.stats["mesh_refinement"] = refine
                 result.stats["wall_time"] = time.perf_counter() - wall0

@@ -25,7 +25,8 @@ A single-scale run is a pure function of its :class:`~rubberfriction.driver.slid
       /results          attrs: mu_force, mu_energy, mean_pressure, contact_fraction, t_reached
         series/<name>   time series (t, s, Fx, Fz, contact_length, energies, mean_pressure,
                         mu_force)
-        stats           attrs: cutbacks, newton_iterations, steps, wall_time, ...
+        stats           attrs: cutbacks, newton_iterations, steps, wall_time, attempt (the
+                        fallback that gave the result, e.g. "nts x2 mesh"), ...
         dissipation_by_depth/z, /d   (when the run gives it)
 
 * **atomic**: a run is written to a temporary file in the same folder, flushed and fsync'ed and
@@ -190,6 +191,7 @@ class Outcome:
     values: dict[str, float] = field(default_factory=dict)  # RESULT_SCALARS
     wall_time: float = 0.0
     reused: bool = False  # taken from the store, not computed in this campaign
+    attempt: str = ""  # the fallback attempt that produced it (sliding stats "attempt")
 
     @property
     def ok(self) -> bool:
@@ -221,7 +223,8 @@ class StoredRun:
 
     def outcome(self, reused: bool = True) -> Outcome:
         return Outcome(self.key, self.status, self.reason, self.failure, dict(self.values),
-                       float(self.provenance.get("wall_time", 0.0)), reused)
+                       float(self.provenance.get("wall_time", 0.0)), reused,
+                       str(self.stats.get("attempt", "")))
 
 
 def _attr(value: Any) -> Any:
@@ -379,7 +382,9 @@ class Store:
         finally:
             if os.path.exists(tmp):
                 os.unlink(tmp)
-        return Outcome(key, status, reason, failure, values, float(wall_time), False)
+        stats = getattr(result, "stats", None) or {}
+        return Outcome(key, status, reason, failure, values, float(wall_time), False,
+                       str(stats.get("attempt", "")))
 
     def remove(self, key: str) -> None:
         p = self.path(key)
@@ -404,8 +409,10 @@ class Store:
         with self._open(key) as f:
             a = {k: _decode(v) for k, v in f.attrs.items()}
             values = {k: float(v) for k, v in f["results"].attrs.items()}
+            stats = f["results"].get("stats")
+            attempt = _decode(stats.attrs.get("attempt", "")) if stats is not None else ""
         return Outcome(key, a["status"], a.get("reason", ""), a.get("failure", ""), values,
-                       float(a.get("wall_time", 0.0)), True)
+                       float(a.get("wall_time", 0.0)), True, str(attempt))
 
     def load(self, key: str) -> StoredRun:
         """Everything stored for a run (KeyError if absent)."""

@@ -159,6 +159,26 @@ def test_failed_samples_are_excluded_visibly_and_scales_flagged(tmp_path: Path):
     assert row["mu_n_used"] == 3 and row["mu_n_failed"] == 1 and row["flagged"]
 
 
+def test_samples_and_summary_say_which_fallback_attempt_gave_each_result(tmp_path: Path):
+    sets = scales_with_distinct_samples(2)
+
+    def runner(spec: SlidingSpec) -> SlidingResult:
+        res = toy(spec)
+        steep = _slope(spec) > 0.011  # sample 1 of each scale (rms slope 0.013, sample 0: 0.009)
+        res.stats = {"attempt": "nts x2 mesh" if steep else "mortar"}
+        return res
+
+    casc = RoughCascade("t", Point("tread_default", 0.3, 100.0), sets, make_spec, k=1, j=2)
+    run(CampaignPlanner([casc]), Store(tmp_path / "s"), runner)
+    from rubberfriction.driver.report import attempts_used, sample_rows
+
+    rows = sample_rows([casc.result])
+    assert {r["attempt"] for r in rows} == {"mortar", "nts x2 mesh"}
+    assert all(r["attempt"] == "nts x2 mesh" for r in rows if r["sample"] == 1)
+    assert attempts_used([casc.result]) == {
+        "mortar": sum(r["sample"] == 0 for r in rows), "nts x2 mesh": sum(r["sample"] == 1 for r in rows)}
+
+
 def test_a_scale_where_every_sample_fails_fails_the_point(tmp_path: Path):
     sets = scales_with_distinct_samples(1)
     sets[1] = ScaleSet("s1", sets[1].band, (sine_sample([0.5 * 0.5], [0.5], 0.5, 32),))

@@ -109,6 +109,7 @@ def test_fallback_chain_ends_with_refined_contact_elements():
     assert run.log == [("mortar", 1.0, h), ("nts", 1.0, h), ("nts", 0.25, h),
                        ("mortar", 1.0, h / MESH_REFINEMENT), ("nts", 1.0, h / MESH_REFINEMENT)]
     assert res.stats["fallback_level"] == 4 and res.stats["mesh_refinement"] == MESH_REFINEMENT
+    assert res.stats["attempt"] == f"nts x{MESH_REFINEMENT} mesh"
     assert run.spec is spec  # the run's own spec again after the refined attempts
 
 

@@ -37,7 +37,8 @@ def result(mu: float = 0.1, status: str = "ok") -> SlidingResult:
                          mu_force=mu if status == "ok" else float("nan"), mu_energy=0.9 * mu,
                          mean_pressure=0.41, contact_fraction=0.7,
                          dissipation_by_depth=(np.linspace(0, 1, 4), np.arange(4.0)),
-                         stats={"cutbacks": 2, "contact_formulation": "mortar", "wall_time": 1.5})
+                         stats={"cutbacks": 2, "contact_formulation": "nts", "wall_time": 1.5,
+                                "attempt": "nts x2 mesh"})
 
 
 def test_key_follows_every_input(spec: SlidingSpec):
@@ -85,7 +86,9 @@ def test_put_and_load_round_trip_with_provenance(tmp_path: Path, spec: SlidingSp
     assert run.status == "ok" and run.values["mean_pressure"] == 0.41
     assert run.values["contact_fraction"] == 0.7
     np.testing.assert_array_equal(run.series["Fx"], -0.123 * np.ones(7))
-    assert run.stats["cutbacks"] == 2 and run.stats["contact_formulation"] == "mortar"
+    assert run.stats["cutbacks"] == 2 and run.stats["contact_formulation"] == "nts"
+    # the fallback attempt that produced the result, fresh and reused alike (samples.csv column)
+    assert out.attempt == store.outcome(key).attempt == run.outcome().attempt == "nts x2 mesh"
     assert run.label == label
     np.testing.assert_array_equal(run.dissipation_by_depth[1], np.arange(4.0))
     p = run.provenance
