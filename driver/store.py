@@ -7,7 +7,9 @@ A single-scale run is a pure function of its :class:`~rubberfriction.driver.slid
   (surface arrays by their bytes, the compound with its Mooney-Rivlin, Prony, WLF and thermal
   data, the friction law), the store schema and the code version ``rubberfriction.__version__``.
   Same inputs, same key, on any rank and in any campaign; a different material constant, sample
-  or setting gives a different key.
+  or setting gives a different key.  A code change that alters results must bump the version
+  (``rubberfriction/__init__.py`` and ``pyproject.toml``): a store made by older code is otherwise
+  reused (``--fresh`` recomputes everything).
 * **layout** (a directory, ``<output>/store``)::
 
       store/
