@@ -116,7 +116,7 @@ class ViscoelasticHistory:
         self._D_n = np.zeros(nq)  # dissipation density at the last converged step
         self.dissipated = 0.0  # total dissipated energy (per unit depth), mJ/mm
         # the same per quadrature point (sums to `dissipated`): where the energy went (eq. 2.7),
-        # for dissipation fields and depth profiles (driver.sliding_output)
+        # for dissipation fields and depth profiles (driver.sliding.outputs)
         self.dissipated_points = np.zeros(nq)
 
     # --- temperature -------------------------------------------------------------------------

@@ -1,16 +1,13 @@
-"""Shared test set-up: import the package from this checkout and locate shared data."""
+"""Shared test set-up: locate shared data (the package is imported installed, see scripts/setup.sh)."""
 
 from __future__ import annotations
 
 import os
-import sys
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
 
 SHARED_DATA = Path(os.environ.get("RF_SHARED_DATA", ROOT.parent / "shared" / "data"))
 

@@ -7,8 +7,8 @@ import ufl
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from rubberfriction.driver.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
+from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
 from rubberfriction.forms.kinematics import deformation_gradient, vector_from_tensor3
 from rubberfriction.forms.viscoelastic import evaluate_at_points
 

@@ -9,8 +9,8 @@ import pytest
 from scipy.optimize import brentq
 
 from fe_helpers import cauchy_at_points, mooney_rivlin_cauchy, n_full, solve, unit_square
-from rubberfriction.driver.constraints import ConstraintSpec
-from rubberfriction.driver.solid import SolidProblem, SolidSettings
+from rubberfriction.driver.fe.constraints import ConstraintSpec
+from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.forms.materials import Compound, MooneyRivlin
 
 C10, C01, D1 = 0.174, 0.300, 0.0208  # compound m1, table C.2

@@ -12,8 +12,8 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from fe_helpers import n_full, solve
-from rubberfriction.driver.constraints import ConstraintSpec
-from rubberfriction.driver.solid import SolidProblem, SolidSettings
+from rubberfriction.driver.fe.constraints import ConstraintSpec
+from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.forms.materials import Compound, MooneyRivlin
 
 E, NU, LOAD = 250.0, 0.4999, 1.0  # MPa, -, N per unit depth on the free edge (small: linear regime)

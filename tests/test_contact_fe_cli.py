@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 
-from rubberfriction.driver.cli import main
+from rubberfriction.driver.cli.main import main
 
 
 def test_verify_patch_cli_json(tmp_path, capsys):

@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 from scipy import interpolate
 
-from rubberfriction.driver import friction_law as fl
-from rubberfriction.driver.contact import (
+from rubberfriction.driver.fe import friction_law as fl
+from rubberfriction.driver.fe.contact import (
     Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface, ThermalSettings)
 
 XS = np.array([0.0, 0.11, 0.2, 0.37, 0.5, 0.62, 0.8, 1.0])

@@ -21,7 +21,7 @@ SCRIPT = textwrap.dedent("""
     import numpy as np
     from mpi4py import MPI
     from petsc4py import PETSc
-    from rubberfriction.driver.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
+    from rubberfriction.driver.fe.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
 
     n = 6
     slave = SlaveSurface(np.column_stack([np.linspace(0, 1, n), np.zeros(n)]), np.arange(2 * n).reshape(n, 2),

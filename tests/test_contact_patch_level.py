@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rubberfriction.driver.contact import Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface
+from rubberfriction.driver.fe.contact import Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface
 
 CN = 250.0
 G = 0.004  # penetration

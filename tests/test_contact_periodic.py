@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rubberfriction.driver.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
+from rubberfriction.driver.fe.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
 
 L = 2.0  # period
 K = 40  # vertices per period

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from petsc4py import PETSc
 
-from rubberfriction.driver.contact import Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface
+from rubberfriction.driver.fe.contact import Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface
 
 
 def interface(deformable=False, **kw):

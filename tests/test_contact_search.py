@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 
-from rubberfriction.driver.contact import Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface
+from rubberfriction.driver.fe.contact import Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface
 
 
 def rough_profile(n, length, seed=0):

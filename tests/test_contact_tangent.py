@@ -13,8 +13,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rubberfriction.driver import friction_law as fl
-from rubberfriction.driver.contact import Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface, ThermalSettings
+from rubberfriction.driver.fe import friction_law as fl
+from rubberfriction.driver.fe.contact import Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface, ThermalSettings
 
 RTOL = 1e-6
 

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from rubberfriction import _contact
-from rubberfriction.driver import friction_law as fl
-from rubberfriction.driver.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface, ThermalSettings
+from rubberfriction.driver.fe import friction_law as fl
+from rubberfriction.driver.fe.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface, ThermalSettings
 
 PEN = PenaltySettings(c_N=10.0)
 

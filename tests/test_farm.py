@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rubberfriction.driver.farm import Executor, StaticPlanner, Task, run_serial
-from rubberfriction.driver.store import Outcome, Store, run_key
+from rubberfriction.driver.runtime.farm import Executor, StaticPlanner, Task, run_serial
+from rubberfriction.driver.runtime.store import Outcome, Store, run_key
 
 ROOT = Path(__file__).resolve().parents[1]
 MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
@@ -33,7 +33,7 @@ MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
 TOY = textwrap.dedent('''
     import os, time
     import numpy as np
-    from rubberfriction.driver.sliding import SlidingResult
+    from rubberfriction.driver.sliding.run import SlidingResult
 
     def toy_run(spec):
         """mu and pressure from the sample's rms slope and the applied friction; optional delay."""
@@ -84,8 +84,8 @@ def driver_script(tmp_path: Path) -> Path:
     script.write_text(textwrap.dedent(f'''
         import sys
         sys.path[:0] = [{str(ROOT)!r}, {str(tmp_path)!r}]
-        from rubberfriction.driver.campaign import run_scene
-        from rubberfriction.driver.scene import load_scene
+        from rubberfriction.driver.multiscale.campaign import run_scene
+        from rubberfriction.driver.multiscale.scene import load_scene
         from toy_farm import toy_run
         scene = load_scene({str(tmp_path / "scene.toml")!r})
         r = run_scene(scene, output=sys.argv[1], runner=toy_run, quiet=True)
@@ -103,7 +103,7 @@ def _env(**extra: str) -> dict:
 
 
 def test_serial_farm_records_failures_and_runs_each_key_once(tmp_path: Path, toy):
-    from rubberfriction.driver.sliding import SlidingSpec
+    from rubberfriction.driver.sliding.run import SlidingSpec
     from rubberfriction.forms.materials import load_compound
 
     c = load_compound("tread_default")
@@ -207,8 +207,8 @@ def test_mpi_planner_failure_stops_every_rank(tmp_path: Path):
         import sys
         sys.path.insert(0, ROOT)
         from mpi4py import MPI
-        from rubberfriction.driver.farm import Executor, run_farm
-        from rubberfriction.driver.store import Store
+        from rubberfriction.driver.runtime.farm import Executor, run_farm
+        from rubberfriction.driver.runtime.store import Store
 
         def planner():
             raise ValueError("bad surface")
@@ -254,8 +254,8 @@ def test_killed_campaign_resumes_with_only_the_missing_runs(tmp_path: Path, toy)
         calls.append(run_key(spec))
         return toy(spec)
 
-    from rubberfriction.driver.campaign import run_scene
-    from rubberfriction.driver.scene import load_scene
+    from rubberfriction.driver.multiscale.campaign import run_scene
+    from rubberfriction.driver.multiscale.scene import load_scene
 
     r = run_scene(load_scene(str(tmp_path / "scene.toml")), output=out, runner=counting, quiet=True)
     assert len(calls) == 52 - len(before) and not (set(calls) & before)
@@ -279,8 +279,8 @@ def test_a_hung_run_is_recorded_and_the_campaign_exits_for_resume(tmp_path: Path
     script.write_text(textwrap.dedent('''
         import sys, time
         sys.path.insert(0, ROOT)
-        from rubberfriction.driver.farm import Executor, Task
-        from rubberfriction.driver.store import Store
+        from rubberfriction.driver.runtime.farm import Executor, Task
+        from rubberfriction.driver.runtime.store import Store
         ex = Executor(Store(sys.argv[1]), lambda spec: time.sleep(600), timeout=1.0)
         ex(Task("ab" * 32, {"what": "hangs"}, {"sample": 0}))
         print("not reached")
@@ -302,7 +302,7 @@ def test_progress_counts_and_estimates_time_left():
     import io
     from types import SimpleNamespace
 
-    from rubberfriction.driver.progress import Progress, format_seconds
+    from rubberfriction.driver.runtime.progress import Progress, format_seconds
 
     now = [0.0]
     out = io.StringIO()
@@ -334,7 +334,8 @@ def test_a_run_stopped_at_its_time_limit_is_a_timeout_and_the_campaign_goes_on(t
     retry_failed) without stopping the process; the watchdog keeps a grace period."""
     from types import SimpleNamespace
 
-    from rubberfriction.driver import farm, sliding
+    from rubberfriction.driver.runtime import farm
+    from rubberfriction.driver.sliding import run as sliding
 
     seen = []
 

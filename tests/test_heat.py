@@ -12,8 +12,8 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from rubberfriction.driver.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
+from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
 from rubberfriction.forms.heat import heat_residual
 from rubberfriction.forms.materials import load_compound
 

@@ -510,14 +510,14 @@ def test_fit_from_dma_file(tmp_path: Path) -> None:
 
 
 # ------------------------------------------------------------------------------------------
-# command line (driver/cli_material.py), on its own parser
+# command line (driver/cli/material.py), on its own parser
 # ------------------------------------------------------------------------------------------
 
 
 def _cli(argv: list[str]) -> int:
     import argparse
 
-    from rubberfriction.driver import cli_material
+    from rubberfriction.driver.cli import material as cli_material
 
     parser = argparse.ArgumentParser(prog="rubberfriction")
     cli_material.register(parser.add_subparsers(dest="command"))

@@ -27,9 +27,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rubberfriction.driver.campaign import PeriodicSample, sine_sample
-from rubberfriction.driver.farm import Executor, run_serial
-from rubberfriction.driver.homogenise import (
+from rubberfriction.driver.multiscale.campaign import PeriodicSample, sine_sample
+from rubberfriction.driver.runtime.farm import Executor, run_serial
+from rubberfriction.driver.multiscale.cascade import (
     AdhesionLaw,
     CampaignPlanner,
     Point,
@@ -39,8 +39,8 @@ from rubberfriction.driver.homogenise import (
     sample_count_study,
     sample_stats,
 )
-from rubberfriction.driver.sliding import SlidingResult, SlidingSpec
-from rubberfriction.driver.store import Store
+from rubberfriction.driver.sliding.run import SlidingResult, SlidingSpec
+from rubberfriction.driver.runtime.store import Store
 
 ROOT = Path(__file__).resolve().parents[1]
 COMPOUND = None
@@ -153,7 +153,7 @@ def test_failed_samples_are_excluded_visibly_and_scales_flagged(tmp_path: Path):
     assert fine_mu.mean == pytest.approx(np.nanmean(fine_mu.values), rel=1e-15)
     assert r.scales[2].flagged and not r.scales[1].flagged  # 1 of 4 > 20 %
     assert any("1 of 4 samples failed" in n for n in r.scales[2].notes)
-    from rubberfriction.driver.report import scale_rows
+    from rubberfriction.driver.multiscale.report import scale_rows
 
     row = [x for x in scale_rows([r]) if x["scale"] == 2][0]
     assert row["mu_n_used"] == 3 and row["mu_n_failed"] == 1 and row["flagged"]
@@ -170,7 +170,7 @@ def test_samples_and_summary_say_which_fallback_attempt_gave_each_result(tmp_pat
 
     casc = RoughCascade("t", Point("tread_default", 0.3, 100.0), sets, make_spec, k=1, j=2)
     run(CampaignPlanner([casc]), Store(tmp_path / "s"), runner)
-    from rubberfriction.driver.report import attempts_used, sample_rows
+    from rubberfriction.driver.multiscale.report import attempts_used, sample_rows
 
     rows = sample_rows([casc.result])
     assert {r["attempt"] for r in rows} == {"mortar", "nts x2 mesh"}
@@ -347,8 +347,8 @@ def full_contact_scene(tmp_path: Path) -> tuple[Path, float]:
 
 
 def test_full_contact_cascade_reproduces_the_sum_of_closed_form_contributions(tmp_path: Path):
-    from rubberfriction.driver.campaign import run_scene
-    from rubberfriction.driver.scene import load_scene
+    from rubberfriction.driver.multiscale.campaign import run_scene
+    from rubberfriction.driver.multiscale.scene import load_scene
 
     path, mu_sum = full_contact_scene(tmp_path)
     res = run_scene(load_scene(path), output=tmp_path / "out", quiet=True)
@@ -363,8 +363,8 @@ def test_full_contact_cascade_reproduces_the_sum_of_closed_form_contributions(tm
 
 @pytest.mark.slow
 def test_two_sine_multiscale_agrees_with_the_reference_and_is_cheaper(tmp_path: Path):
-    from rubberfriction.driver.campaign import run_scene
-    from rubberfriction.driver.scene import load_scene
+    from rubberfriction.driver.multiscale.campaign import run_scene
+    from rubberfriction.driver.multiscale.scene import load_scene
 
     res = run_scene(load_scene("two_sine"), output=tmp_path / "out", quiet=True)
     r = res.points[0]

@@ -14,7 +14,7 @@ from types import SimpleNamespace
 import numpy as np
 from petsc4py import PETSc
 
-from rubberfriction.driver.newton import NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.newton import NewtonSettings, NewtonSolver
 
 
 class ScalarProblem:

@@ -44,10 +44,10 @@ T0_unit = "degC"
 
 def fake_result(tmp_path: Path, scene_text: str = SCENE) -> Any:
     """A finished 'campaign' of one scale: FE values made up, report inputs real."""
-    from rubberfriction.driver.campaign import CampaignResult
-    from rubberfriction.driver.homogenise import Point, PointResult, ScaleResult, sample_stats
-    from rubberfriction.driver.scene import parse_scene
-    from rubberfriction.driver.store import Store
+    from rubberfriction.driver.multiscale.campaign import CampaignResult
+    from rubberfriction.driver.multiscale.cascade import Point, PointResult, ScaleResult, sample_stats
+    from rubberfriction.driver.multiscale.scene import parse_scene
+    from rubberfriction.driver.runtime.store import Store
 
     scene = parse_scene(scene_text, "<test>", tmp_path)
     points = []
@@ -76,7 +76,7 @@ def closed_form(p: float, v: float, T: float | None) -> float:
 @pytest.fixture
 def spy(monkeypatch) -> list[dict[str, Any]]:
     """Record every call of cli_theory.draw_beside_fe (the real one still draws)."""
-    from rubberfriction.driver import cli_theory
+    from rubberfriction.driver.cli import theory as cli_theory
 
     calls: list[dict[str, Any]] = []
     real = cli_theory.draw_beside_fe
@@ -91,7 +91,7 @@ def spy(monkeypatch) -> list[dict[str, Any]]:
 
 
 def test_report_draws_theory_beside_fe(tmp_path: Path, spy) -> None:
-    from rubberfriction.driver.report import write_report
+    from rubberfriction.driver.multiscale.report import write_report
 
     result = fake_result(tmp_path)
     files = write_report(result, quiet=True)
@@ -140,7 +140,7 @@ def test_report_draws_theory_beside_fe(tmp_path: Path, spy) -> None:
 
 
 def test_report_without_theory(tmp_path: Path, spy) -> None:
-    from rubberfriction.driver.report import write_report
+    from rubberfriction.driver.multiscale.report import write_report
 
     result = fake_result(tmp_path)
     write_report(result, quiet=True, theory=False)
@@ -152,8 +152,8 @@ def test_report_without_theory(tmp_path: Path, spy) -> None:
 def test_theory_failure_never_breaks_the_report(tmp_path: Path, monkeypatch) -> None:
     """An unexpected error inside the theory, and a profile file gone since the scene was
     loaded: the report is written, the summary says why the curves are missing."""
-    from rubberfriction.driver import cli_theory
-    from rubberfriction.driver.report import write_report
+    from rubberfriction.driver.cli import theory as cli_theory
+    from rubberfriction.driver.multiscale.report import write_report
 
     def broken(*args, **kw):
         raise RuntimeError("boom")
@@ -183,8 +183,8 @@ def test_theory_failure_never_breaks_the_report(tmp_path: Path, monkeypatch) -> 
 
 def test_scene_inputs_from_a_loaded_scene() -> None:
     """A loaded Scene gives the theory the same inputs as its TOML file does."""
-    from rubberfriction.driver.cli_theory import read_scene, scene_inputs
-    from rubberfriction.driver.scene import load_scene
+    from rubberfriction.driver.cli.theory import read_scene, scene_inputs
+    from rubberfriction.driver.multiscale.scene import load_scene
 
     sc = load_scene("default")
     got = scene_inputs(sc)
@@ -203,7 +203,7 @@ def test_bench_theory_json(tmp_path: Path, capsys) -> None:
     (FE side off here: it is a few seconds; ``--fe`` is the default)."""
     import json
 
-    from rubberfriction.driver.bench_theory import REFERENCE_CASE, main
+    from rubberfriction.driver.bench.theory import REFERENCE_CASE, main
 
     out = tmp_path / "bench.json"
     assert main(["--n", "5", "--repeat", "1", "--no-fe", "--fe-seconds", "60",
@@ -220,8 +220,8 @@ def test_bench_theory_json(tmp_path: Path, capsys) -> None:
 def test_cli_run_no_theory(tmp_path: Path, monkeypatch, spy) -> None:
     """``rubberfriction run --no-theory``: the campaign's own report is skipped and the report is
     written without the baselines (the campaign is a stand-in here)."""
-    from rubberfriction.driver import campaign
-    from rubberfriction.driver.cli import main
+    from rubberfriction.driver.multiscale import campaign
+    from rubberfriction.driver.cli.main import main
 
     calls = []
 

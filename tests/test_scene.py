@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from rubberfriction.driver.scene import (
+from rubberfriction.driver.multiscale.scene import (
     SCHEMA,
     SceneError,
     load_scene,
@@ -127,7 +127,7 @@ def test_inconsistent_scale_edges():
 
 
 def test_edges_the_road_cannot_resolve_fail_when_the_scales_are_built():
-    from rubberfriction.driver.campaign import build_scales
+    from rubberfriction.driver.multiscale.campaign import build_scales
 
     s = parse_scene('name = "t"\n[surface]\nedges = [20.0, 3.0, 0.0005]\n', "t.toml")
     with pytest.raises(SceneError) as exc:
@@ -151,7 +151,7 @@ def test_physics_switches():
 
 
 def test_cli_reports_scene_errors_and_plans(tmp_path: Path, capsys):
-    from rubberfriction.driver.cli import main
+    from rubberfriction.driver.cli.main import main
 
     bad = tmp_path / "bad.toml"
     bad.write_text(scene_text("[samples]\nfrction = 3\n"))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rubberfriction.driver.sliding import SlidingSpec, run_sliding
+from rubberfriction.driver.sliding.run import SlidingSpec, run_sliding
 from rubberfriction.driver.verification.viscoelastic_sinusoid import (
     effective_modulus,
     simulate,
@@ -72,8 +72,8 @@ def test_velocity_extremes_give_elastic_westergaard(velocity, limit):
 
 def test_periodic_cell_and_structured_failure():
     """The periodic cell's edges move together; an absurd pressure returns a failure record."""
-    from rubberfriction.driver.contact import sliding_contact
-    from rubberfriction.driver.sliding import SlidingRun, block_mesh
+    from rubberfriction.driver.fe.contact import sliding_contact
+    from rubberfriction.driver.sliding.run import SlidingRun, block_mesh
 
     x, h = sinusoid(0.005)
     spec = SlidingSpec(surface_x=x, surface_h=h, period=1.0, pressure=0.5, velocity=10.0,
@@ -118,7 +118,7 @@ def test_sawtooth_sharp_orientation_gives_more_friction():
                                           (["--wall-limit", "-5"], "--wall-limit"),
                                           (["--wall-limit", "soon"], "expected a number")])
 def test_bench_sliding_rejects_bad_settings_before_running(args, message, capsys):
-    from rubberfriction.driver.bench_sliding import main
+    from rubberfriction.driver.bench.sliding import main
 
     with pytest.raises(SystemExit) as exit_info:
         main(["--part", "stability", *args])

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from rubberfriction.driver.sliding import SlidingSpec, run_sliding
-from rubberfriction.driver.sliding_output import (
+from rubberfriction.driver.sliding.run import SlidingSpec, run_sliding
+from rubberfriction.driver.sliding.outputs import (
     DissipationByDepth,
     FieldWriter,
     read_series_csv,
@@ -225,7 +225,7 @@ def test_dissipation_by_depth_follows_half_space_profile(run):
 def test_cli_verify_writes_outputs(tmp_path, capsys):
     """``rubberfriction verify viscoelastic-sinusoid --out DIR`` writes fields, CSVs, plot, summary
     (the coarse mesh misses the 3 % tolerance of the case; only the outputs are checked here)."""
-    from rubberfriction.driver.cli import main
+    from rubberfriction.driver.cli.main import main
 
     out = tmp_path / "case"
     main(["verify", "viscoelastic-sinusoid", "--mesh", "8", "--periods", "1", "--out", str(out)])

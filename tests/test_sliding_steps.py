@@ -13,7 +13,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from rubberfriction.driver.sliding import (EASY_STREAK, MESH_REFINEMENT, SlidingResult, SlidingRun,
+from rubberfriction.driver.sliding.run import (EASY_STREAK, MESH_REFINEMENT, SlidingResult, SlidingRun,
                                           SlidingSpec, refined)
 
 

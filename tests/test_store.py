@@ -15,9 +15,9 @@ import h5py
 import numpy as np
 import pytest
 
-from rubberfriction.driver.farm import Executor, Task
-from rubberfriction.driver.sliding import SlidingResult, SlidingSpec
-from rubberfriction.driver.store import Store, StoreError, canonical, canonical_json, run_key
+from rubberfriction.driver.runtime.farm import Executor, Task
+from rubberfriction.driver.sliding.run import SlidingResult, SlidingSpec
+from rubberfriction.driver.runtime.store import Store, StoreError, canonical, canonical_json, run_key
 from rubberfriction.forms.materials import load_compound
 
 
@@ -109,7 +109,7 @@ def test_write_is_atomic(tmp_path: Path, spec: SlidingSpec, monkeypatch):
     store = Store(tmp_path / "store")
     key = run_key(spec)
     # a crash between writing and renaming leaves nothing that counts as finished
-    import rubberfriction.driver.store as store_mod
+    import rubberfriction.driver.runtime.store as store_mod
 
     def crash(src, dst):
         raise KeyboardInterrupt("killed while storing")
@@ -187,7 +187,7 @@ def test_a_failed_result_without_run_statistics_counts_as_an_error(tmp_path: Pat
 def test_bench_store_comparison_treats_failed_runs_nan_results_as_equal():
     """Serial and MPI stores of a campaign with a failed run (NaN results) compare identical;
     a real difference (a number against NaN, or two numbers) does not."""
-    from rubberfriction.driver.bench_multiscale import _same_values
+    from rubberfriction.driver.bench.multiscale import _same_values
 
     nan = float("nan")
     assert _same_values({"mu_force": nan, "mean_pressure": 1.5}, {"mu_force": nan, "mean_pressure": 1.5})

@@ -6,7 +6,7 @@ import json
 import numpy as np
 import pytest
 
-from rubberfriction.driver import cli
+from rubberfriction.driver.cli import main as cli
 from rubberfriction.driver.surfaces import (
     DEFAULT_EDGES,
     default_road,
@@ -129,7 +129,7 @@ def test_cli_default_and_bench(tmp_path, capsys, monkeypatch):
     s = json.loads((out / "summary.json").read_text())
     kinds = [sc["kind"] for sc in s["surface"]["scales"]]
     assert kinds == ["measured", "measured", "generated", "generated"]
-    from rubberfriction.driver import bench_surfaces
+    from rubberfriction.driver.bench import surfaces as bench_surfaces
 
     assert bench_surfaces.main(["--points", "40000", "--samples", "2"]) == 0
     assert "decompose into 4 scales" in capsys.readouterr().out

@@ -621,7 +621,7 @@ def _write_profile(path) -> None:
 def test_cli_theory_scene_csv_json(tmp_path, capsys) -> None:
     pytest.importorskip("rubberfriction.driver.surfaces")
     pytest.importorskip("rubberfriction.forms.materials")
-    from rubberfriction.driver.cli import main
+    from rubberfriction.driver.cli.main import main
 
     prof = tmp_path / "profile.txt"
     _write_profile(prof)
@@ -649,7 +649,7 @@ def test_cli_theory_scene_csv_json(tmp_path, capsys) -> None:
 def test_read_scene_multiscale_schema(tmp_path) -> None:
     """The multiscale driver's scene keys (sources, lists, T0_unit, physics switch) are read;
     unknown tables are ignored."""
-    from rubberfriction.driver.cli_theory import read_scene
+    from rubberfriction.driver.cli.theory import read_scene
 
     scene = tmp_path / "ms.toml"
     scene.write_text(
@@ -674,7 +674,7 @@ def test_read_scene_multiscale_schema(tmp_path) -> None:
 def test_cli_theory_sines_scene_full_contact_exact(tmp_path, capsys) -> None:
     """A sine scene gives the line-spectrum theory; in full contact it is the exact result."""
     pytest.importorskip("rubberfriction.forms.materials")
-    from rubberfriction.driver.cli import main
+    from rubberfriction.driver.cli.main import main
     from rubberfriction.driver.theory import rubber_from_compound
     from rubberfriction.forms.materials import load_compound
 
@@ -700,7 +700,7 @@ def test_draw_beside_fe(tmp_path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from rubberfriction.driver.cli_theory import draw_beside_fe
+    from rubberfriction.driver.cli.theory import draw_beside_fe
 
     scene = tmp_path / "sines.toml"
     scene.write_text('[surface]\nsource = "sines"\namplitudes = [0.01]\nwavelengths = [5.0]\n')
@@ -714,7 +714,7 @@ def test_draw_beside_fe(tmp_path) -> None:
 
 
 def test_cli_theory_bad_scene(tmp_path, capsys) -> None:
-    from rubberfriction.driver.cli import main
+    from rubberfriction.driver.cli.main import main
 
     scene = tmp_path / "scene.toml"
     scene.write_text("[conditions]\np = -1.0\nv = [1.0]\n")

@@ -1,7 +1,7 @@
 """Registry of the analytical verification cases (``rubberfriction verify CASE``).
 
 name -> (module, one-line description).  A module provides ``add_arguments(parser)`` and
-``run(args) -> dict`` (see ``driver/cli_verify.py`` for the result layout) and plain functions
+``run(args) -> dict`` (see ``driver/cli/verify.py`` for the result layout) and plain functions
 with keyword parameters that the tests call directly.
 """
 

@@ -5,9 +5,9 @@ Each case is a plain function with keyword parameters returning a dict
     {"case", "parameters", "checks": [check(quantity, computed, analytical, tol)], "notes", ...}
 
 that the tests call with fixed parameters and the CLI with the user's.  Bulk: the project's
-finite-strain Mooney-Rivlin solid (``driver.solid.SolidProblem``, Q1P0) in the small-strain regime
-of the closed forms; contact: ``driver.contact`` (C++ mortar or node-to-segment); Newton:
-``driver.newton`` with the contact as a hook.
+finite-strain Mooney-Rivlin solid (``driver.fe.solid.SolidProblem``, Q1P0) in the small-strain regime
+of the closed forms; contact: ``driver.fe.contact`` (C++ mortar or node-to-segment); Newton:
+``driver.fe.newton`` with the contact as a hook.
 
 * ``patch``: two stacked blocks with non-matching contact meshes, uniform pressure on top: the
   contact pressure must be uniform (exact for segment-to-segment; node-to-segment reported).
@@ -34,11 +34,11 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from rubberfriction.driver.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.contact import (
+from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
+from rubberfriction.driver.fe.contact import (
     Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface, ThermalSettings)
-from rubberfriction.driver.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
-from rubberfriction.driver.solid import SolidProblem, SolidSettings
+from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.verification import check
 
 # --------------------------------------------------------------------------------- helpers
@@ -346,7 +346,7 @@ def hertz(*, R: float = 10.0, E: float = 6.0, nu: float = 0.3, P: float | None =
     closed form is evaluated at the load actually carried.  The half-width is measured by the second
     moment of the nodal pressures, Int p x^2 / Int p = a^2/4, and p0 is the pressure of the node at
     x = 0."""
-    from rubberfriction.driver.contact import DEFAULT_ALPHA
+    from rubberfriction.driver.fe.contact import DEFAULT_ALPHA
 
     Es = plane_strain_modulus(E, nu)
     if P is None:
@@ -512,7 +512,7 @@ def sliding_block(*, E: float = 6.0, nu: float = 0.45, pressure: float = 0.2, ve
     The Newton residuals of the last sliding step of each run are returned with the estimated
     convergence orders (quadratic: ~2).
     """
-    from rubberfriction.driver import friction_law as fl
+    from rubberfriction.driver.fe import friction_law as fl
 
     Es = plane_strain_modulus(E, nu)
     if law is None:

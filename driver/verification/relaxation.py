@@ -20,9 +20,9 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from rubberfriction.driver.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
-from rubberfriction.driver.solid import SolidProblem, SolidSettings
+from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
+from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.verification import check
 from rubberfriction.forms.kinematics import deformation_gradient
 from rubberfriction.forms.materials import Compound, MooneyRivlin, PronySeries

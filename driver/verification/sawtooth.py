@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 
-from rubberfriction.driver.sliding import SlidingSpec, run_sliding
+from rubberfriction.driver.sliding.run import SlidingSpec, run_sliding
 from rubberfriction.driver.surfaces import sawtooth_profile
 from rubberfriction.forms.materials import load_compound
 

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rubberfriction.driver.sliding import SlidingSpec, run_sliding
+from rubberfriction.driver.sliding.run import SlidingSpec, run_sliding
 from rubberfriction.driver.verification import check
 from rubberfriction.forms.materials import Compound, load_compound
 
@@ -57,7 +57,7 @@ def simulate(compound: Compound, *, wavelength: float = 1.0, amplitude: float = 
              step_fraction: float = 0.5, contact: str = "mortar", observers=()) -> dict:
     """FE run and closed form; returns both mu estimates and the analytical value.
 
-    observers: passed to ``run_sliding`` (outputs such as ``driver.sliding_output.FieldWriter``).
+    observers: passed to ``run_sliding`` (outputs such as ``driver.sliding.outputs.FieldWriter``).
     """
     x = np.linspace(0.0, wavelength, segments + 1)[:-1]
     h = amplitude * np.cos(2.0 * np.pi * x / wavelength)
@@ -91,7 +91,7 @@ def run(args: argparse.Namespace) -> dict:
     folder = getattr(args, "out", None)
     observers = []
     if folder:
-        from rubberfriction.driver.sliding_output import DissipationByDepth, FieldWriter
+        from rubberfriction.driver.sliding.outputs import DissipationByDepth, FieldWriter
 
         observers = [FieldWriter(Path(folder) / "fields"), DissipationByDepth()]
     out = simulate(comp, wavelength=args.wavelength, amplitude=args.amplitude, pressure=args.pressure,
@@ -102,7 +102,7 @@ def run(args: argparse.Namespace) -> dict:
     notes = [f"run status: {res.status} {res.reason}", f"wall time {res.stats.get('wall_time', 0):.2f} s",
              f"full contact needs p > {out['p_full_contact']:.4g} MPa"]
     if folder:
-        from rubberfriction.driver.sliding_output import write_run_outputs
+        from rubberfriction.driver.sliding.outputs import write_run_outputs
 
         written = write_run_outputs(res, out["spec"], folder)
         notes.append(f"outputs in {folder}: fields/{observers[0].xdmf_path.name}, "

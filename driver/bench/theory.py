@@ -81,7 +81,7 @@ def fe_single_run(temperature: float | None, mesh: int, periods: float,
 
 def main(argv: list[str] | None = None) -> int:
     """Print the benchmark table; ``--json FILE`` also writes the figures."""
-    from rubberfriction.driver.cli_theory import load_rubber, surface_psd
+    from rubberfriction.driver.cli.theory import load_rubber, surface_psd
 
     ap = argparse.ArgumentParser(prog="rubberfriction bench theory",
                                  description=(__doc__ or "").split("\n\n")[0])
@@ -172,8 +172,8 @@ def main(argv: list[str] | None = None) -> int:
                          f"{fe['status']}, mu {fe['mu_fe']:.4g} vs closed form "
                          f"{fe['mu_exact']:.4g} ({100 * err:.1f} %)"))
         try:
-            from rubberfriction.driver.cli_run import runs_per_point
-            from rubberfriction.driver.scene import load_scene
+            from rubberfriction.driver.cli.run import runs_per_point
+            from rubberfriction.driver.multiscale.scene import load_scene
 
             scene = load_scene(args.scene)
             runs, how = runs_per_point(scene)

@@ -6,12 +6,12 @@ import argparse
 import importlib
 
 BENCHMARKS = {
-    "bulk": ("rubberfriction.driver.bench_bulk", "Newton iteration cost of the viscoelastic block vs dofs"),
-    "contact": ("rubberfriction.driver.bench_contact", "contact search/assembly scaling, Hertz error vs time"),
-    "surfaces": ("rubberfriction.driver.bench_surfaces", "decomposition of a 2-million-point profile"),
-    "theory": ("rubberfriction.driver.bench_theory", "50-velocity mu(v) curve from the analytical theories"),
-    "sliding": ("rubberfriction.driver.bench_sliding", "micro-cell speed-accuracy and stability sweep"),
-    "multiscale": ("rubberfriction.driver.bench_multiscale", "default scene and four-scale point, serial vs ranks"),
+    "bulk": ("rubberfriction.driver.bench.bulk", "Newton iteration cost of the viscoelastic block vs dofs"),
+    "contact": ("rubberfriction.driver.bench.contact", "contact search/assembly scaling, Hertz error vs time"),
+    "surfaces": ("rubberfriction.driver.bench.surfaces", "decomposition of a 2-million-point profile"),
+    "theory": ("rubberfriction.driver.bench.theory", "50-velocity mu(v) curve from the analytical theories"),
+    "sliding": ("rubberfriction.driver.bench.sliding", "micro-cell speed-accuracy and stability sweep"),
+    "multiscale": ("rubberfriction.driver.bench.multiscale", "default scene and four-scale point, serial vs ranks"),
 }
 
 

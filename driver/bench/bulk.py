@@ -18,9 +18,9 @@ import numpy as np
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from rubberfriction.driver.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
-from rubberfriction.driver.solid import SolidProblem, SolidSettings
+from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
+from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.forms.materials import load_compound
 
 

@@ -53,7 +53,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rubberfriction import _contact
-from rubberfriction.driver.friction_law import as_cpp_law
+from rubberfriction.driver.fe.friction_law import as_cpp_law
 
 #: Automatic normal penalty factor alpha in c_N = alpha E_eff / h_min.
 DEFAULT_ALPHA = 10.0
@@ -250,7 +250,7 @@ class Contact:
         return self.last_assembly
 
     def hook(self, x: np.ndarray, A, b) -> None:
-        """Newton hook signature ``hook(x, A, b)`` of ``driver.newton``."""
+        """Newton hook signature ``hook(x, A, b)`` of ``driver.fe.newton``."""
         self.assemble(x, A, b)
 
     def evaluate(self, u: np.ndarray, *, offset=None, dt=None, temperature=None) -> dict:
@@ -295,7 +295,7 @@ class Contact:
 
     def couplings(self, margin: float | None = None, u: np.ndarray | None = None) -> list:
         """Every coupling the contact may write, as ``[(rows, cols)]`` element-wise pair arrays --
-        the ``extra_couplings`` of ``driver.newton``.  Rigid master: slave dofs within chain
+        the ``extra_couplings`` of ``driver.fe.newton``.  Rigid master: slave dofs within chain
         distance 3 (static).  Deformable master: plus master nodes within `margin` (default 2 x
         search radius) of the slave at u; sliding beyond that needs a new pattern or
         ``allow_new_nonzeros``."""
@@ -341,11 +341,11 @@ class Contact:
 
 
 def sliding_contact(sp, spec, formulation: str) -> Contact:
-    """Contact for ``driver.sliding.SlidingRun``: the block's facets tagged 1 against the rigid
+    """Contact for ``driver.sliding.run.SlidingRun``: the block's facets tagged 1 against the rigid
     (periodic) surface of a SlidingSpec.  Automatic penalty c_N = alpha |E*_eff(omega)| / h from the
     modulus at the run's excitation frequency (``sliding.penalty_modulus``) unless ``spec.penalty``
     > 0; history referenced to the current state."""
-    from rubberfriction.driver.sliding import PENALTY_ALPHA, penalty_modulus
+    from rubberfriction.driver.sliding.run import PENALTY_ALPHA, penalty_modulus
 
     slave = SlaveSurface.from_boundary(sp.boundary(1))
     master = RigidMaster(np.column_stack([np.asarray(spec.surface_x, float), np.asarray(spec.surface_h, float)]),

@@ -13,12 +13,12 @@ import sys
 
 # (module, what it adds) -- kept in the order shown by --help.
 COMMAND_MODULES: tuple[str, ...] = (
-    "rubberfriction.driver.cli_run",
-    "rubberfriction.driver.cli_verify",
-    "rubberfriction.driver.cli_surface",
-    "rubberfriction.driver.cli_material",
-    "rubberfriction.driver.cli_theory",
-    "rubberfriction.driver.cli_bench",
+    "rubberfriction.driver.cli.run",
+    "rubberfriction.driver.cli.verify",
+    "rubberfriction.driver.cli.surface",
+    "rubberfriction.driver.cli.material",
+    "rubberfriction.driver.cli.theory",
+    "rubberfriction.driver.cli.bench",
 )
 
 

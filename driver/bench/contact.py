@@ -38,7 +38,7 @@ def rough_profile(n: int, length: float, rms: float, seed: int = 1, k_max: int |
 def bench_scaling(n: int, repeat: int = 3) -> dict:
     from petsc4py import PETSc
 
-    from rubberfriction.driver.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
+    from rubberfriction.driver.fe.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
 
     L = 1.0
     V = rough_profile(4 * n, L, 0.002)
@@ -74,8 +74,8 @@ def bench_scaling(n: int, repeat: int = 3) -> dict:
 
 
 def bench_newton_share(nx: int, steps: int = 3, friction=0.5, step_fraction: float = 0.5, penalty=None) -> dict:
-    from rubberfriction.driver.constraints import ConstraintMap
-    from rubberfriction.driver.contact import Contact, RigidMaster, SlaveSurface
+    from rubberfriction.driver.fe.constraints import ConstraintMap
+    from rubberfriction.driver.fe.contact import Contact, RigidMaster, SlaveSurface
     from rubberfriction.driver.verification import contact_cases as cc
 
     L = 1.0
@@ -95,7 +95,7 @@ def bench_newton_share(nx: int, steps: int = 3, friction=0.5, step_fraction: flo
         timer["contact"] += time.perf_counter() - t0
         timer["calls"] += 1
 
-    from rubberfriction.driver.newton import ConstrainedNonlinearProblem, NewtonSolver
+    from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSolver
 
     pb = ConstrainedNonlinearProblem(sp.residual, sp.jacobian(), sp.w, cmap, hooks=[timed_hook],
                                      extra_couplings=contact.couplings())

@@ -8,7 +8,7 @@ the mirror-extended (DCT) filter path of real data is timed.  Steps timed separa
 carriers from one spectrum) and the sample extraction with periodic closure (4 x n samples).
 
     /usr/bin/python3 -m rubberfriction bench surfaces            # via the bench command
-    /usr/bin/python3 -m rubberfriction.driver.bench_surfaces --points 2000000 --samples 10
+    /usr/bin/python3 -m rubberfriction.driver.bench.surfaces --points 2000000 --samples 10
 """
 
 from __future__ import annotations

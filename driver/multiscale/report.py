@@ -16,7 +16,7 @@ Files written into the campaign's output folder:
   results, wall time, whether it was reused, store key.
 * ``mu_v.png``, ``mu_p.png`` -- the curves with 95 % CI error bars.  ``mu_v.png`` also shows,
   per (compound, p), the analytical baselines of the same surface PSD and compound (Persson line
-  roughness = plane strain and isotropic eq. 2.10, at the scene's T0; ``driver/cli_theory.py``)
+  roughness = plane strain and isotropic eq. 2.10, at the scene's T0; ``driver/cli/theory.py``)
   in the colour of the FE points; the summary lists them at the FE speeds (``theory:`` lines),
   or why they are missing.  ``write_report(..., theory=False)`` or ``rubberfriction run
   --no-theory`` leaves them out.
@@ -39,7 +39,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from rubberfriction.driver.homogenise import PointResult, SampleCountStudy, SampleStats
+from rubberfriction.driver.multiscale.cascade import PointResult, SampleCountStudy, SampleStats
 
 
 def _plt():
@@ -274,7 +274,7 @@ def draw_theory(ax: Any, scene: Any, compound: str, pressure: float, v_fe: Seque
     """
     head = f"{compound}, p = {pressure:g} MPa"
     try:
-        from rubberfriction.driver.cli_theory import draw_beside_fe
+        from rubberfriction.driver.cli.theory import draw_beside_fe
 
         cond = scene.conditions
         path = dict(zip(cond.compounds, cond.compound_paths)).get(compound, compound)
@@ -431,7 +431,7 @@ def plot_separated(points: Sequence[PointResult], out: Path) -> list[Path]:
         e = r.extra
         if "law" not in e:
             continue
-        from rubberfriction.driver.homogenise import _law_from_dict
+        from rubberfriction.driver.multiscale.cascade import _law_from_dict
 
         law = _law_from_dict(e["law"])
         P, V = e["grid_p"], e["grid_v"]
@@ -519,7 +519,7 @@ def write_report(result: Any, quiet: bool = False, theory: bool = True) -> list[
     ``theory``: draw the analytical baselines beside the FE mu(v) points (see the module
     docstring); their figures and notes go into the summary as ``theory:`` lines.
     """
-    from rubberfriction.driver.campaign import campaign_json
+    from rubberfriction.driver.multiscale.campaign import campaign_json
 
     out = Path(result.output)
     out.mkdir(parents=True, exist_ok=True)

@@ -50,8 +50,8 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from rubberfriction.driver.farm import Task
-from rubberfriction.driver.store import Outcome, run_key
+from rubberfriction.driver.runtime.farm import Task
+from rubberfriction.driver.runtime.store import Outcome, run_key
 
 # ----------------------------------------------------------------------------------------------
 # plain data
@@ -378,12 +378,12 @@ class RoughCascade:
 
 @functools.lru_cache(maxsize=1)
 def _fitted_law_cls() -> type:
-    """SplineLaw (driver.friction_law) subclass that pickles through to_dict().
+    """SplineLaw (driver.fe.friction_law) subclass that pickles through to_dict().
 
     SplineLaw holds its C++ twin, which does not pickle; MPI farming sends laws to workers.
     Imported lazily: only the separated variant needs the compiled contact module here.
     """
-    from rubberfriction.driver.friction_law import SplineLaw
+    from rubberfriction.driver.fe.friction_law import SplineLaw
 
     class FittedSplineLaw(SplineLaw):
         """A SplineLaw fitted by the separated-scale planner (eq. 6.6); pickles via to_dict."""
@@ -401,12 +401,12 @@ def _law_from_dict(d: dict) -> Any:
 
 def fit_friction_law(p: np.ndarray, v: np.ndarray, mu: np.ndarray, *, degree: int = 3,
                      smoothing: float = 0.0) -> Any:
-    """Spline law mu(p, v), eq. (6.6), through micro results (``driver.friction_law.fit_mu_pv``).
+    """Spline law mu(p, v), eq. (6.6), through micro results (``driver.fe.friction_law.fit_mu_pv``).
 
     ``mu`` has shape (len(p), len(v)); a grid with failed (NaN) entries is fitted as scattered
     data over its finite entries.  The velocity axis is log10(v) (decades of velocity).
     """
-    from rubberfriction.driver.friction_law import fit_mu_pv
+    from rubberfriction.driver.fe.friction_law import fit_mu_pv
 
     p, v, mu = np.asarray(p, float), np.asarray(v, float), np.asarray(mu, float)
     ok = np.isfinite(mu)

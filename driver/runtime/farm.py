@@ -22,7 +22,7 @@ planner to the end:
 *Executing* a task (:class:`Executor`) happens on the rank that got it: look the key up in the
 store (a finished run is reused, not recomputed), otherwise run it on ``MPI.COMM_SELF`` (its own
 communicator: a single-scale run never spans ranks), store it atomically from that rank and
-return the small :class:`~rubberfriction.driver.store.Outcome`.  Storing on the worker means a
+return the small :class:`~rubberfriction.driver.runtime.store.Outcome`.  Storing on the worker means a
 finished run is on disk the moment it finishes, whatever happens to the other ranks; the store's
 one-file-per-run layout makes concurrent writers safe.  A run that raises is caught and recorded
 as a failure (``failure="error"``, with the traceback); it never stops the campaign.
@@ -53,7 +53,7 @@ from collections import deque
 from dataclasses import dataclass, field
 from typing import Any, Callable, Protocol
 
-from rubberfriction.driver.store import Outcome, Store
+from rubberfriction.driver.runtime.store import Outcome, Store
 
 TAG_REQUEST, TAG_TASK, TAG_STOP = 11, 12, 13
 
@@ -135,16 +135,16 @@ def hard_timeout(run_timeout: float) -> float:
 
 
 def default_runner(wall_limit: float = 0.0) -> Callable[[Any], Any]:
-    """``run_sliding`` from :mod:`rubberfriction.driver.sliding`, called on ``MPI.COMM_SELF``.
+    """``run_sliding`` from :mod:`rubberfriction.driver.sliding.run`, called on ``MPI.COMM_SELF``.
 
     ``wall_limit`` > 0: each run stops itself with a structured failure after that many seconds.
     Raises ImportError with a clear message when the sliding driver has no ``run_sliding``.
     """
-    from rubberfriction.driver import sliding
+    from rubberfriction.driver.sliding import run as sliding
 
     fn = getattr(sliding, "run_sliding", None)
     if fn is None:
-        raise ImportError("rubberfriction.driver.sliding.run_sliding is not available in this "
+        raise ImportError("rubberfriction.driver.sliding.run.run_sliding is not available in this "
                           "build (the single-scale run with its default mesh and contact "
                           "factories)")
     try:

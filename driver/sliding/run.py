@@ -40,9 +40,9 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from rubberfriction.driver.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
-from rubberfriction.driver.solid import SolidProblem, SolidSettings
+from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
+from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 
 
 @dataclass(frozen=True)
@@ -130,7 +130,7 @@ def refined(spec: SlidingSpec, factor: int) -> SlidingSpec:
 
 
 class ContactLike:
-    """What a sliding run needs from its contact (``rubberfriction.driver.contact.Contact``,
+    """What a sliding run needs from its contact (``rubberfriction.driver.fe.contact.Contact``,
     built by ``contact.sliding_contact``)."""
 
     def hook(self, x, A, b) -> None: ...  # assemble into the full-space system
@@ -178,7 +178,7 @@ class SlidingRun:
         self.t_planned = 0.0  # model time of the current attempt's whole load history
         self.progress = progress
         # observers: objects with optional on_start(run), on_step(run, k, t), on_finish(run,
-        # result) methods (outputs such as fields and time series; see driver.sliding_output).
+        # result) methods (outputs such as fields and time series; see driver.sliding.outputs).
         # on_start comes when sliding begins (run.t_start, run.slide_distance, run.dt_slide and
         # run.n_slide_steps are set), on_step after each converged sliding step, on_finish after
         # every attempt, also one that failed in set-up (then run.sp may be missing). An observer
@@ -595,7 +595,7 @@ def run_sliding(spec: SlidingSpec, progress=None, observers=(),
     failure (``stats["failure"] == "wall_limit"``), e.g. for sweeps over extreme settings.
     """
     try:
-        from rubberfriction.driver.contact import sliding_contact
+        from rubberfriction.driver.fe.contact import sliding_contact
 
         return SlidingRun(spec, block_mesh, sliding_contact, progress=progress,
                           observers=observers, wall_limit=wall_limit).run()

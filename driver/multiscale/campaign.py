@@ -2,7 +2,7 @@
 
 The glue between the modules with one job each: :mod:`.scene` (what to compute) ->
 :func:`build_scales` (surface scales and periodic samples, :mod:`.surfaces`) ->
-:class:`SpecBuilder` (one :class:`~rubberfriction.driver.sliding.SlidingSpec` per run from the
+:class:`SpecBuilder` (one :class:`~rubberfriction.driver.sliding.run.SlidingSpec` per run from the
 scene's numerical settings) -> :mod:`.homogenise` planners -> :mod:`.farm` (serial or MPI) with
 the :mod:`.store` -> :mod:`.report`.  :func:`run_scene` is what ``rubberfriction run`` calls.
 """
@@ -24,8 +24,8 @@ import numpy as np
 # MPI_THREAD_FUNNELED): the farm's dispatcher thread on rank 0 needs MPI_THREAD_MULTIPLE.
 from mpi4py import MPI  # isort: skip
 
-from rubberfriction.driver.farm import Executor, default_runner, hard_timeout, run_farm
-from rubberfriction.driver.homogenise import (
+from rubberfriction.driver.runtime.farm import Executor, default_runner, hard_timeout, run_farm
+from rubberfriction.driver.multiscale.cascade import (
     AdhesionLaw,
     CampaignPlanner,
     Point,
@@ -34,9 +34,9 @@ from rubberfriction.driver.homogenise import (
     ScaleSet,
     SeparatedTwoScale,
 )
-from rubberfriction.driver.progress import Progress
-from rubberfriction.driver.scene import Scene, SceneError
-from rubberfriction.driver.store import Outcome, Store, code_version, git_describe
+from rubberfriction.driver.runtime.progress import Progress
+from rubberfriction.driver.multiscale.scene import Scene, SceneError
+from rubberfriction.driver.runtime.store import Outcome, Store, code_version, git_describe
 
 
 @dataclass(frozen=True)
@@ -190,7 +190,7 @@ class SpecBuilder:
 
     def __call__(self, point: Point, scale: int, sample: Any, pressure: float, friction: Any,
                  role: str) -> Any:
-        from rubberfriction.driver.sliding import SlidingSpec, default_h_contact
+        from rubberfriction.driver.sliding.run import SlidingSpec, default_h_contact
 
         num = self.scene.numerics
         window, slide = num.window_start, num.slide_periods
@@ -391,7 +391,7 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
                                 time.perf_counter() - t0, progress.workers if progress else 1,
                                 started, store)
         if report:
-            from rubberfriction.driver.report import write_report
+            from rubberfriction.driver.multiscale.report import write_report
 
             write_report(result, quiet=quiet)
         return result
@@ -419,12 +419,12 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
 
     Runs go through the same store as the scene's campaign (same output folder), so a study
     reuses runs a campaign already did and vice versa.  Returns (on rank 0) a dict with the
-    study (:class:`~rubberfriction.driver.homogenise.SampleCountStudy`), the outcomes and the
+    study (:class:`~rubberfriction.driver.multiscale.cascade.SampleCountStudy`), the outcomes and the
     files written.
     """
-    from rubberfriction.driver.farm import StaticPlanner, Task
-    from rubberfriction.driver.homogenise import sample_count_study
-    from rubberfriction.driver.store import run_key
+    from rubberfriction.driver.runtime.farm import StaticPlanner, Task
+    from rubberfriction.driver.multiscale.cascade import sample_count_study
+    from rubberfriction.driver.runtime.store import run_key
 
     comm = _comm() if comm is None else comm
     rank = comm.Get_rank()
@@ -480,7 +480,7 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
         outcomes = planner.ordered()
         values = [o.value("mu_force") if o.ok else math.nan for o in outcomes]
         study = sample_count_study(values, orders=orders)
-        from rubberfriction.driver.report import _write_csv, plot_sample_study, study_rows
+        from rubberfriction.driver.multiscale.report import _write_csv, plot_sample_study, study_rows
 
         folder = out / "samples-study"
         folder.mkdir(parents=True, exist_ok=True)

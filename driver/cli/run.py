@@ -24,7 +24,7 @@ from importlib import resources
 # MPI_THREAD_FUNNELED): the farm's dispatcher thread on rank 0 needs MPI_THREAD_MULTIPLE.
 from mpi4py import MPI  # isort: skip
 
-from rubberfriction.driver.scene import (
+from rubberfriction.driver.multiscale.scene import (
     SCENES_PACKAGE,
     Scene,
     SceneError,
@@ -114,7 +114,7 @@ def runs_per_point(scene: Scene) -> tuple[int, str]:
 
 
 def _plan(scene) -> str:
-    from rubberfriction.driver.campaign import points
+    from rubberfriction.driver.multiscale.campaign import points
 
     n = scene.n_scales
     pts = points(scene)
@@ -151,7 +151,7 @@ def _run(args: argparse.Namespace) -> int:
         if _rank() == 0:
             print(_plan(scene))
         return 0
-    from rubberfriction.driver.campaign import run_scene
+    from rubberfriction.driver.multiscale.campaign import run_scene
 
     try:
         result = run_scene(scene, quiet=args.quiet, fresh=args.fresh,
@@ -163,7 +163,7 @@ def _run(args: argparse.Namespace) -> int:
     if result is None:  # a worker rank
         return 0
     if not args.theory:
-        from rubberfriction.driver.report import write_report
+        from rubberfriction.driver.multiscale.report import write_report
 
         write_report(result, quiet=args.quiet, theory=False)
     if args.quiet:
@@ -176,7 +176,7 @@ def _study(args: argparse.Namespace) -> int:
         scene = load_scene(args.scene)
         if args.out:
             scene = scene.with_output(args.out)
-        from rubberfriction.driver.campaign import run_sample_study
+        from rubberfriction.driver.multiscale.campaign import run_sample_study
 
         res = run_sample_study(scene, scale=args.scale, n=args.n, pressure=args.pressure,
                                velocity=args.velocity,

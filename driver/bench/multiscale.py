@@ -130,7 +130,7 @@ def time_shares(out: Path) -> dict[str, float]:
 
 
 def _same_store(a: Path, b: Path) -> str:
-    from rubberfriction.driver.store import Store
+    from rubberfriction.driver.runtime.store import Store
 
     sa, sb = Store(a / "store"), Store(b / "store")
     if sa.keys() != sb.keys():

@@ -73,7 +73,7 @@ from rubberfriction.driver.theory.rubber import Rubber, rubber_from_compound
 from rubberfriction.driver.theory.spectrum import line_spectrum
 
 if TYPE_CHECKING:
-    from rubberfriction.driver.scene import Scene
+    from rubberfriction.driver.multiscale.scene import Scene
 
 DEFAULT_COMPOUND = "tread_default"
 DEFAULT_N = 50
@@ -321,7 +321,7 @@ def load_rubber(compound: str, nu: float | None = None) -> tuple[Rubber, str]:
 
 
 def scene_inputs(scene: Scene) -> SceneInputs:
-    """The theory keys of an already-loaded multiscale scene (``driver.scene.Scene``).
+    """The theory keys of an already-loaded multiscale scene (``driver.multiscale.scene.Scene``).
 
     Same meaning as :func:`read_scene` on the scene's file, but from the validated object, so
     the report of a finished campaign needs neither the file nor its folder: surface source,
@@ -471,7 +471,7 @@ def theory_args(scene: str | Path | Scene | SceneInputs | None = None,
     """Arguments of ``rubberfriction theory`` as a namespace, for calling :func:`run_theory`
     from Python (e.g. the multiscale report): keyword names are the option names with ``_``.
 
-    ``scene`` is a scene file, an already-loaded multiscale ``driver.scene.Scene`` (read with
+    ``scene`` is a scene file, an already-loaded multiscale ``driver.multiscale.scene.Scene`` (read with
     :func:`scene_inputs`), a :class:`SceneInputs` or None."""
     parser = argparse.ArgumentParser()
     sub = parser.add_subparsers()

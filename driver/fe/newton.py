@@ -22,7 +22,7 @@ from dolfinx import fem
 from dolfinx.fem import petsc as fem_petsc
 from petsc4py import PETSc
 
-from rubberfriction.driver.constraints import ConstraintMap
+from rubberfriction.driver.fe.constraints import ConstraintMap
 
 
 class Hook(Protocol):

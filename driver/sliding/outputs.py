@@ -1,7 +1,7 @@
 """What a single-scale sliding run returns besides its numbers: fields, series, plots and depth
 profiles.
 
-Observers of :class:`rubberfriction.driver.sliding.SlidingRun` (passed as
+Observers of :class:`rubberfriction.driver.sliding.run.SlidingRun` (passed as
 ``run_sliding(spec, observers=[...])``) see the run after each converged sliding step; the
 run retries failed attempts with fallbacks (mortar -> nts -> smaller steps) and calls
 ``on_start`` / ``on_finish`` for every attempt, so each observer starts afresh in ``on_start``

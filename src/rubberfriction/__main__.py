@@ -1,5 +1,5 @@
 """``python -m rubberfriction`` is the ``rubberfriction`` command."""
 
-from rubberfriction.driver.cli import main
+from rubberfriction.driver.cli.main import main
 
 raise SystemExit(main())
