@@ -33,7 +33,7 @@ MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
 TOY = textwrap.dedent('''
     import os, time
     import numpy as np
-    from rubberfriction.driver.sliding.run import SlidingResult
+    from rubberfriction.driver.sliding.spec import SlidingResult
 
     def toy_run(spec):
         """mu and pressure from the sample's rms slope and the applied friction; optional delay."""
@@ -103,7 +103,7 @@ def _env(**extra: str) -> dict:
 
 
 def test_serial_farm_records_failures_and_runs_each_key_once(tmp_path: Path, toy):
-    from rubberfriction.driver.sliding.run import SlidingSpec
+    from rubberfriction.driver.sliding.spec import SlidingSpec
     from rubberfriction.forms.materials import load_compound
 
     c = load_compound("tread_default")

@@ -29,17 +29,12 @@ import pytest
 
 from rubberfriction.driver.multiscale.campaign import PeriodicSample, sine_sample
 from rubberfriction.driver.runtime.farm import Executor, run_serial
-from rubberfriction.driver.multiscale.cascade import (
-    AdhesionLaw,
-    CampaignPlanner,
-    Point,
-    RoughCascade,
-    ScaleSet,
-    SeparatedTwoScale,
-    sample_count_study,
-    sample_stats,
-)
-from rubberfriction.driver.sliding.run import SlidingResult, SlidingSpec
+from rubberfriction.driver.theory.adhesion import BellLaw
+from rubberfriction.driver.multiscale.cascade import CampaignPlanner, RoughCascade
+from rubberfriction.driver.multiscale.results import Point, ScaleSet
+from rubberfriction.driver.multiscale.separated import SeparatedTwoScale
+from rubberfriction.driver.multiscale.statistics import sample_count_study, sample_stats
+from rubberfriction.driver.sliding.spec import SlidingResult, SlidingSpec
 from rubberfriction.driver.runtime.store import Store
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -189,16 +184,15 @@ def test_a_scale_where_every_sample_fails_fails_the_point(tmp_path: Path):
 
 
 def test_adhesion_enters_on_the_macro_scale(tmp_path: Path):
-    from rubberfriction.driver.theory.adhesion import BellLaw
-
     sets = scales_with_distinct_samples(2)
-    law = AdhesionLaw(tau0=3.0, c=0.15, v0=20.0, alpha=0.7)
+    law = BellLaw(tau0=3.0, c=0.15, v0=20.0, alpha=0.7)
     pt = Point("tread_default", 0.3, 100.0)
     casc = RoughCascade("t", pt, sets, make_spec, k=2, j=2, adhesion=law)
     run(CampaignPlanner([casc]), Store(tmp_path / "s"))
     r = casc.result
     A_r = np.prod([r.scales[0].contact.mean, r.scales[1].contact.mean, r.scales[2].contact.mean])
-    mu_A = float(BellLaw(3.0, 0.15, 20.0).tau(100.0)) * A_r / 0.3  # eq. (7.7)
+    tau_A = 3.0 * math.exp(-0.15 * math.log10(100.0 / 20.0) ** 2)  # eq. (7.6), decadic log
+    mu_A = tau_A * A_r / 0.3  # eq. (7.7)
     assert r.mu_adhesion == pytest.approx(0.7 * mu_A, rel=1e-12)
     assert r.scales[0].friction_in == pytest.approx(r.scales[1].mu.mean + 0.7 * mu_A,
                                                     rel=1e-12)  # eq. (7.8)

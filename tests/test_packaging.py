@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tomllib
@@ -63,10 +64,13 @@ def test_wheel_installs_into_a_fresh_venv_and_runs_outside_the_checkout(tmp_path
     (the Debian stack), run ``rubberfriction verify patch --json`` from a folder outside the
     checkout: equilibrium and a uniform patch-test pressure (closed forms)."""
     wheels, venv, work = tmp_path / "wheels", tmp_path / "venv", tmp_path / "work"
+    src = tmp_path / "src"  # setuptools builds inside the source folder: build a copy
+    shutil.copytree(ROOT, src, ignore=shutil.ignore_patterns(".git", "build", "rf-results",
+                                                             "__pycache__", "*.so", "*.egg-info"))
     work.mkdir()
     env = {**os.environ, "PIP_NO_INDEX": "1", "CMAKE_BUILD_PARALLEL_LEVEL": "2"}
     subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-build-isolation", "--no-deps",
-                    "-w", str(wheels), str(ROOT)], check=True, env=env, capture_output=True)
+                    "-w", str(wheels), str(src)], check=True, env=env, capture_output=True)
     (wheel,) = wheels.glob("rubberfriction-*.whl")
     subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True)
     subprocess.run([str(venv / "bin" / "python"), "-m", "pip", "install", "--no-deps",

@@ -45,7 +45,8 @@ T0_unit = "degC"
 def fake_result(tmp_path: Path, scene_text: str = SCENE) -> Any:
     """A finished 'campaign' of one scale: FE values made up, report inputs real."""
     from rubberfriction.driver.multiscale.campaign import CampaignResult
-    from rubberfriction.driver.multiscale.cascade import Point, PointResult, ScaleResult, sample_stats
+    from rubberfriction.driver.multiscale.results import Point, PointResult, ScaleResult
+    from rubberfriction.driver.multiscale.statistics import sample_stats
     from rubberfriction.driver.multiscale.scene import parse_scene
     from rubberfriction.driver.runtime.store import Store
 

@@ -5,11 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rubberfriction.driver.sliding.run import SlidingSpec, run_sliding
-from rubberfriction.driver.verification.viscoelastic_sinusoid import (
-    effective_modulus,
-    simulate,
-)
+from rubberfriction.driver.sliding.run import run_sliding
+from rubberfriction.driver.sliding.spec import SlidingSpec
+from rubberfriction.driver.sliding.sinusoid import effective_modulus
+from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
 from rubberfriction.forms.materials import Compound, PronySeries, load_compound
 
 M1 = load_compound("m1")
@@ -72,8 +71,9 @@ def test_velocity_extremes_give_elastic_westergaard(velocity, limit):
 
 def test_periodic_cell_and_structured_failure():
     """The periodic cell's edges move together; an absurd pressure returns a failure record."""
-    from rubberfriction.driver.fe.contact import sliding_contact
-    from rubberfriction.driver.sliding.run import SlidingRun, block_mesh
+    from rubberfriction.driver.sliding.bodies import sliding_contact
+    from rubberfriction.driver.sliding.run import SlidingRun
+    from rubberfriction.driver.sliding.bodies import block_mesh
 
     x, h = sinusoid(0.005)
     spec = SlidingSpec(surface_x=x, surface_h=h, period=1.0, pressure=0.5, velocity=10.0,

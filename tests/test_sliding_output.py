@@ -16,7 +16,8 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from rubberfriction.driver.sliding.run import SlidingSpec, run_sliding
+from rubberfriction.driver.sliding.run import run_sliding
+from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.sliding.outputs import (
     DissipationByDepth,
     FieldWriter,

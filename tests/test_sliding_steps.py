@@ -13,8 +13,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from rubberfriction.driver.sliding.run import (EASY_STREAK, MESH_REFINEMENT, SlidingResult, SlidingRun,
-                                          SlidingSpec, refined)
+from rubberfriction.driver.sliding.run import EASY_STREAK, SlidingRun
+from rubberfriction.driver.sliding.spec import MESH_REFINEMENT, SlidingResult, SlidingSpec, refined
 
 
 class ScriptedNewton:

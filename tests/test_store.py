@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from rubberfriction.driver.runtime.farm import Executor, Task
-from rubberfriction.driver.sliding.run import SlidingResult, SlidingSpec
+from rubberfriction.driver.sliding.spec import SlidingResult, SlidingSpec
 from rubberfriction.driver.runtime.store import Store, StoreError, canonical, canonical_json, run_key
 from rubberfriction.forms.materials import load_compound
 

@@ -21,7 +21,8 @@ import time
 
 import numpy as np
 
-from rubberfriction.driver.sliding.run import SlidingSpec, run_sliding
+from rubberfriction.driver.sliding.run import run_sliding
+from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
 from rubberfriction.forms.materials import load_compound
 

@@ -338,27 +338,3 @@ class Contact:
     @property
     def cpp(self) -> _contact.ContactInterface:
         return self._c
-
-
-def sliding_contact(sp, spec, formulation: str) -> Contact:
-    """Contact for ``driver.sliding.run.SlidingRun``: the block's facets tagged 1 against the rigid
-    (periodic) surface of a SlidingSpec.  Automatic penalty c_N = alpha |E*_eff(omega)| / h from the
-    modulus at the run's excitation frequency (``sliding.penalty_modulus``) unless ``spec.penalty``
-    > 0; history referenced to the current state."""
-    from rubberfriction.driver.sliding.run import PENALTY_ALPHA, penalty_modulus
-
-    slave = SlaveSurface.from_boundary(sp.boundary(1))
-    master = RigidMaster(np.column_stack([np.asarray(spec.surface_x, float), np.asarray(spec.surface_h, float)]),
-                         float(spec.period))
-    if getattr(spec, "penalty", 0.0) > 0:
-        pen = PenaltySettings(c_N=float(spec.penalty))
-        E_eff = None
-    else:
-        alpha = float(getattr(spec, "penalty_alpha", PENALTY_ALPHA))
-        pen, E_eff = PenaltySettings(alpha=alpha), penalty_modulus(spec, sp)
-    contact = Contact(slave, master, method=formulation, friction=spec.friction, E_eff=E_eff, penalty=pen,
-                      comm=sp.mesh.comm)
-    if getattr(spec, "temperature", None) is not None:
-        contact.set_temperature(float(spec.temperature))
-    contact.reset_history(sp.w.x.array)
-    return contact

@@ -25,15 +25,9 @@ import numpy as np
 from mpi4py import MPI  # isort: skip
 
 from rubberfriction.driver.runtime.farm import Executor, default_runner, hard_timeout, run_farm
-from rubberfriction.driver.multiscale.cascade import (
-    AdhesionLaw,
-    CampaignPlanner,
-    Point,
-    PointResult,
-    RoughCascade,
-    ScaleSet,
-    SeparatedTwoScale,
-)
+from rubberfriction.driver.multiscale.cascade import CampaignPlanner, RoughCascade
+from rubberfriction.driver.multiscale.results import Point, PointResult, ScaleSet
+from rubberfriction.driver.multiscale.separated import SeparatedTwoScale
 from rubberfriction.driver.runtime.progress import Progress
 from rubberfriction.driver.multiscale.scene import Scene, SceneError
 from rubberfriction.driver.runtime.store import Outcome, Store, code_version, git_describe
@@ -190,7 +184,7 @@ class SpecBuilder:
 
     def __call__(self, point: Point, scale: int, sample: Any, pressure: float, friction: Any,
                  role: str) -> Any:
-        from rubberfriction.driver.sliding.run import SlidingSpec, default_h_contact
+        from rubberfriction.driver.sliding.spec import SlidingSpec, default_h_contact
 
         num = self.scene.numerics
         window, slide = num.window_start, num.slide_periods
@@ -266,12 +260,8 @@ def make_planner(scene: Scene, scales: Scales, make_spec: Callable[..., Any]) ->
                                       smoothing=sep.smoothing)
                     for pt in points(scene)]
     else:
-        adh = None
-        if scene.adhesion is not None:
-            a = scene.adhesion
-            adh = AdhesionLaw(a.tau0, a.c, a.v0, a.alpha)
         planners = [RoughCascade(scene.name, pt, scales.sets, make_spec, scene.samples.pressure,
-                                 scene.samples.friction, adhesion=adh,
+                                 scene.samples.friction, adhesion=scene.adhesion,
                                  max_failed_fraction=scene.samples.max_failed_fraction)
                     for pt in points(scene)]
     return CampaignPlanner(planners)
@@ -423,7 +413,7 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
     files written.
     """
     from rubberfriction.driver.runtime.farm import StaticPlanner, Task
-    from rubberfriction.driver.multiscale.cascade import sample_count_study
+    from rubberfriction.driver.multiscale.statistics import sample_count_study
     from rubberfriction.driver.runtime.store import run_key
 
     comm = _comm() if comm is None else comm

@@ -39,7 +39,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from rubberfriction.driver.multiscale.cascade import PointResult, SampleCountStudy, SampleStats
+from rubberfriction.driver.multiscale.results import PointResult
+from rubberfriction.driver.multiscale.statistics import SampleCountStudy, SampleStats
 
 
 def _plt():
@@ -431,7 +432,7 @@ def plot_separated(points: Sequence[PointResult], out: Path) -> list[Path]:
         e = r.extra
         if "law" not in e:
             continue
-        from rubberfriction.driver.multiscale.cascade import _law_from_dict
+        from rubberfriction.driver.multiscale.separated import _law_from_dict
 
         law = _law_from_dict(e["law"])
         P, V = e["grid_p"], e["grid_v"]

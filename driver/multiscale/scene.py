@@ -32,6 +32,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from rubberfriction.driver.theory.adhesion import BellLaw
+
 #: Shipped scenes (``driver/scenes/<name>.toml``); ``load_scene("two_sine")`` finds them by name.
 SCENES_PACKAGE = "rubberfriction.driver.scenes"
 
@@ -277,14 +279,6 @@ class PhysicsConfig:
 
 
 @dataclass(frozen=True)
-class AdhesionConfig:
-    tau0: float
-    c: float
-    v0: float
-    alpha: float
-
-
-@dataclass(frozen=True)
 class NumericsConfig:
     elements_per_wavelength: int
     grading: float
@@ -325,7 +319,7 @@ class Scene:
     samples: SamplesConfig
     conditions: ConditionsConfig
     physics: PhysicsConfig
-    adhesion: AdhesionConfig | None
+    adhesion: BellLaw | None  # [adhesion] (eq. 7.6-7.8) when [physics].adhesion
     numerics: NumericsConfig
     separated: SeparatedConfig | None
     source: str  # file path or "embedded:<name>"
@@ -568,7 +562,7 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
             raise SceneError(f"{origin}: [physics].adhesion = true: expected an [adhesion] table "
                              f"with tau0 "
                              "(MPa), c, v0 (mm/s) and alpha (eq. 7.6-7.8)")
-        adhesion = AdhesionConfig(**vals["adhesion"])
+        adhesion = BellLaw(**vals["adhesion"])
     elif "adhesion" in doc:
         warnings.append("[adhesion] is ignored: [physics].adhesion = false")
 

@@ -34,14 +34,21 @@ from rubberfriction.driver.theory.errors import TheoryInputError
 
 @dataclass(frozen=True)
 class BellLaw:
-    """Bell-shaped adhesive shear stress, eq. (7.6): tau0 (MPa), c (-), v0 (mm/s)."""
+    """Bell-shaped adhesive shear stress, eq. (7.6): tau0 (MPa), c (-), v0 (mm/s), and the share
+    alpha in [0, 1] with which it enters the total, eq. (7.8) (1 dry .. 0 lubricated).
+
+    The one bell-law type of the project: scenes (``[adhesion]``), the multiscale cascade and the
+    analytical theories all pass this object.
+    """
 
     tau0: float
     c: float
     v0: float
+    alpha: float = 1.0
 
     def __post_init__(self) -> None:
-        for name, val in (("tau0", self.tau0), ("c", self.c), ("v0", self.v0)):
+        for name, val in (("tau0", self.tau0), ("c", self.c), ("v0", self.v0),
+                          ("alpha", self.alpha)):
             if not (isinstance(val, (int, float, np.floating)) and math.isfinite(val)):
                 raise TheoryInputError(f"bell law {name} = {val!r}; expected a finite number")
         if self.tau0 < 0:
@@ -50,6 +57,8 @@ class BellLaw:
             raise TheoryInputError(f"bell law width c = {self.c}; expected > 0")
         if self.v0 <= 0:
             raise TheoryInputError(f"bell law peak speed v0 = {self.v0} mm/s; expected > 0")
+        if not 0.0 <= self.alpha <= 1.0:
+            raise TheoryInputError(f"bell law share alpha = {self.alpha}; expected 0 <= alpha <= 1")
 
     def tau(self, v: np.ndarray | float) -> np.ndarray:
         """``tau_A(v)`` (MPa) at sliding speeds v (mm/s), eq. (7.6)."""

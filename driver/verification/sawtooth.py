@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import argparse
 
-from rubberfriction.driver.sliding.run import SlidingSpec, run_sliding
+from rubberfriction.driver.sliding.run import run_sliding
+from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.surfaces import sawtooth_profile
 from rubberfriction.forms.materials import load_compound
 

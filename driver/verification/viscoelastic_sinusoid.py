@@ -19,36 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
-from rubberfriction.driver.sliding.run import SlidingSpec, run_sliding
+from rubberfriction.driver.sliding.run import run_sliding
+from rubberfriction.driver.sliding.sinusoid import closed_form_mu, full_contact_pressure
+from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.verification import check
 from rubberfriction.forms.materials import Compound, load_compound
-
-
-def effective_modulus(compound: Compound, omega: float, temperature: float | None = None) -> complex:
-    """E*_eff(omega) = 4 G*(3K + G*)/(3K + 4G*) of the FE material model (elastic volume)."""
-    hyp, prony = compound.hyperelastic, compound.prony
-    G = complex(hyp.mu)
-    if prony is not None:
-        tau = np.asarray(prony.tau, float)
-        if temperature is not None and compound.wlf is not None:
-            tau = tau * compound.wlf.aT(temperature)
-        g = np.asarray(prony.gamma, float) / prony.gamma_inf
-        G = hyp.mu * (1.0 + np.sum(g * 1j * omega * tau / (1.0 + 1j * omega * tau)))
-    K = hyp.K
-    return 4.0 * G * (3.0 * K + G) / (3.0 * K + 4.0 * G)
-
-
-def closed_form_mu(compound: Compound, wavelength: float, amplitude: float, pressure: float,
-                   velocity: float, temperature: float | None = None) -> float:
-    k = 2.0 * np.pi / wavelength
-    E = effective_modulus(compound, k * velocity, temperature)
-    return float((k * amplitude) ** 2 * E.imag / (4.0 * pressure))
-
-
-def full_contact_pressure(compound: Compound, wavelength: float, amplitude: float, velocity: float) -> float:
-    """Smallest mean pressure that keeps full contact: |E*_eff| k h0 / 2 (Westergaard p*)."""
-    k = 2.0 * np.pi / wavelength
-    return float(abs(effective_modulus(compound, k * velocity)) * k * amplitude / 2.0)
 
 
 def simulate(compound: Compound, *, wavelength: float = 1.0, amplitude: float = 0.002,

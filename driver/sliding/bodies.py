@@ -1,0 +1,38 @@
+"""The two bodies of a sliding run: the graded rubber block and its contact with the road sample."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rubberfriction.driver.fe.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
+from rubberfriction.driver.sliding.spec import PENALTY_ALPHA, penalty_modulus
+from rubberfriction.meshes.block import rubber_block
+
+
+def block_mesh(L: float, H: float, hc: float, grading: float, z0: float):
+    """Graded rubber block with its contact face at z = z0 (``meshes.block.rubber_block``)."""
+    body = rubber_block(L, H, h_contact=hc, grading=grading)
+    body.mesh.geometry.x[:, 1] += z0
+    return body
+
+
+def sliding_contact(sp, spec, formulation: str) -> Contact:
+    """Contact for ``driver.sliding.run.SlidingRun``: the block's facets tagged 1 against the rigid
+    (periodic) surface of a SlidingSpec.  Automatic penalty c_N = alpha |E*_eff(omega)| / h from the
+    modulus at the run's excitation frequency (``sliding.penalty_modulus``) unless ``spec.penalty``
+    > 0; history referenced to the current state."""
+    slave = SlaveSurface.from_boundary(sp.boundary(1))
+    master = RigidMaster(np.column_stack([np.asarray(spec.surface_x, float), np.asarray(spec.surface_h, float)]),
+                         float(spec.period))
+    if getattr(spec, "penalty", 0.0) > 0:
+        pen = PenaltySettings(c_N=float(spec.penalty))
+        E_eff = None
+    else:
+        alpha = float(getattr(spec, "penalty_alpha", PENALTY_ALPHA))
+        pen, E_eff = PenaltySettings(alpha=alpha), penalty_modulus(spec)
+    contact = Contact(slave, master, method=formulation, friction=spec.friction, E_eff=E_eff, penalty=pen,
+                      comm=sp.mesh.comm)
+    if getattr(spec, "temperature", None) is not None:
+        contact.set_temperature(float(spec.temperature))
+    contact.reset_history(sp.w.x.array)
+    return contact

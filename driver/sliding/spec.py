@@ -1,0 +1,116 @@
+"""What a single-scale sliding run depends on and what it returns (plain data).
+
+:class:`SlidingSpec` is everything a run's result depends on (the campaign store hashes it);
+:class:`SlidingResult` is what the run returns.  The element-size rule, the refined fallback spec
+and the automatic normal penalty's modulus are functions of the spec alone, so they live here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from rubberfriction.driver.sliding.sinusoid import effective_modulus
+
+
+@dataclass(frozen=True)
+class SlidingSpec:
+    """Everything a sliding run depends on (plain data; hashed by the campaign store).
+
+    Lengths mm, pressure MPa, velocity mm/s, time s, temperature K.
+    """
+
+    surface_x: np.ndarray  # master polyline vertices (one period if periodic), z = surface_h
+    surface_h: np.ndarray
+    period: float  # > 0: periodic master and periodic cell of this length
+    pressure: float
+    velocity: float
+    compound: object  # rubberfriction.forms.materials.Compound
+    block_length: float = 0.0  # 0: = period (micro cell)
+    block_height: float = 0.0  # 0: = block_length (thesis 6.2.2)
+    temperature: float | None = None  # K; None: the WLF reference temperature
+    friction: object = None  # None (frictionless), a float mu, or a friction law object
+    element: str = "Q1P0"
+    contact: str = "mortar"  # or "nts"
+    h_contact: float = 0.0  # contact-face element size; 0: from the surface (see mesh_size)
+    elements_per_wavelength: int = 16
+    grading: float = 1.15  # growth ratio of element height away from the contact face
+    slide_distance: float = 0.0  # 0: 3 periods (or 3 block lengths)
+    step_length: float = 0.0  # sliding distance per step; 0: h_contact / 2
+    compression_time: float = 0.0  # s; 0: cell length / (2 pi v), see the module docstring
+    compression_steps: int = 10
+    window_start: float = 1.0 / 3.0  # fraction of the sliding distance before averaging (run-in)
+    penalty: float = 0.0  # 0: automatic, c_N = penalty_alpha |E*_eff(omega)| / h_contact
+    penalty_alpha: float = 100.0  # see PENALTY_ALPHA
+    max_cutbacks: int = 8
+
+
+@dataclass
+class SlidingResult:
+    status: str  # "ok" or "failed"
+    reason: str = ""
+    t_reached: float = 0.0
+    series: dict[str, np.ndarray] = field(default_factory=dict)
+    mu_force: float = float("nan")
+    mu_energy: float = float("nan")
+    mean_pressure: float = float("nan")  # eq. (6.11)
+    contact_fraction: float = float("nan")  # time-averaged contact length / block length (7.4)
+    dissipation_by_depth: tuple[np.ndarray, np.ndarray] | None = None
+    stats: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+
+def default_h_contact(spec: SlidingSpec) -> float:
+    """Contact-face element size: shortest resolved wavelength / elements_per_wavelength.
+
+    The shortest wavelength is estimated from the sample's zero crossings of the slope (twice the
+    mean spacing of slope sign changes), bounded below by 4 master segments.
+    """
+    x, h = np.asarray(spec.surface_x), np.asarray(spec.surface_h)
+    dx = np.diff(x).mean()
+    L = spec.period if spec.period > 0 else x[-1] - x[0]
+    if spec.period > 0:  # close the period so the wrap-around slope change counts
+        x, h = np.append(x, x[0] + L), np.append(h, h[0])
+    slope = np.sign(np.diff(h) / np.diff(x))
+    slope = slope[slope != 0]
+    turns = slope[1:] != slope[:-1]
+    changes = np.count_nonzero(turns) + (spec.period > 0 and slope.size > 0 and slope[0] != slope[-1])
+    lam = 2.0 * L / max(changes, 1)
+    lam = max(lam, 4.0 * dx)
+    return lam / spec.elements_per_wavelength
+
+
+#: contact elements of the refined fallback attempts are this many times shorter
+MESH_REFINEMENT = 2
+
+
+def refined(spec: SlidingSpec, factor: int) -> SlidingSpec:
+    """The same run with contact elements `factor` times shorter (sliding steps follow them; the
+    penalty's excitation frequency v / (elements_per_wavelength h_contact) is unchanged)."""
+    if factor == 1:
+        return spec
+    hc = spec.h_contact or default_h_contact(spec)
+    return replace(spec, h_contact=hc / factor, elements_per_wavelength=spec.elements_per_wavelength * factor,
+                   step_length=spec.step_length / factor)
+
+
+#: automatic normal penalty c_N = alpha |E*_eff(omega)| / h_contact (ContactInterface::set_auto_penalty):
+#: the contact compliance h/(alpha E) is then ~1/alpha of the rubber's compliance at the element scale
+PENALTY_ALPHA = 100.0
+
+
+def penalty_modulus(spec: SlidingSpec) -> float:
+    """|E*_eff| of the rubber at the run's excitation frequency omega = 2 pi v / lambda_min.
+
+    The stiffness the contact works against is the dynamic modulus at the frequency the shortest
+    resolved wavelength (elements_per_wavelength contact elements) imposes; the glassy modulus
+    would make the penalty up to E0/E_inf ~ 300 times stiffer than needed at low speed and the
+    active-set iteration needlessly ill-conditioned, the long-term one too soft at high speed.
+    """
+    hc = spec.h_contact or default_h_contact(spec)
+    omega = 2.0 * np.pi * spec.velocity / (spec.elements_per_wavelength * hc)
+    return float(abs(effective_modulus(spec.compound, omega, spec.temperature)))
