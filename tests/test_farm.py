@@ -329,7 +329,7 @@ def test_progress_counts_and_estimates_time_left():
 
 def test_a_run_stopped_at_its_time_limit_is_a_timeout_and_the_campaign_goes_on(tmp_path: Path,
                                                                                 monkeypatch):
-    """default_runner(wall_limit=) hands the scene's run_timeout to run_sliding; a run that
+    """sliding_runner(wall_limit=) hands the scene's run_timeout to run_sliding; a run that
     stopped itself there is stored as failure "timeout" (reused on resume, recomputed with
     retry_failed) without stopping the process; the watchdog keeps a grace period."""
     from types import SimpleNamespace
@@ -347,7 +347,7 @@ def test_a_run_stopped_at_its_time_limit_is_a_timeout_and_the_campaign_goes_on(t
                                mean_pressure=math.nan, contact_fraction=math.nan, t_reached=0.1)
 
     monkeypatch.setattr(sliding, "run_sliding", fake_run_sliding)
-    runner = farm.default_runner(wall_limit=600.0)
+    runner = sliding.sliding_runner(wall_limit=600.0)
     store = Store(tmp_path / "s")
     ex = Executor(store, runner, timeout=farm.hard_timeout(600.0))
     assert ex.timeout == pytest.approx(720.0)

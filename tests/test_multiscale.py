@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rubberfriction.driver.multiscale.campaign import PeriodicSample, sine_sample
+from rubberfriction.driver.multiscale.scales import PeriodicSample, sine_sample
 from rubberfriction.driver.runtime.farm import Executor, run_serial
 from rubberfriction.driver.theory.adhesion import BellLaw
 from rubberfriction.driver.multiscale.cascade import CampaignPlanner, RoughCascade

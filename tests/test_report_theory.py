@@ -76,18 +76,18 @@ def closed_form(p: float, v: float, T: float | None) -> float:
 
 @pytest.fixture
 def spy(monkeypatch) -> list[dict[str, Any]]:
-    """Record every call of cli_theory.draw_beside_fe (the real one still draws)."""
-    from rubberfriction.driver.cli import theory as cli_theory
+    """Record every call of baseline.draw_beside_fe (the real one still draws)."""
+    from rubberfriction.driver.multiscale import baseline
 
     calls: list[dict[str, Any]] = []
-    real = cli_theory.draw_beside_fe
+    real = baseline.draw_beside_fe
 
     def wrapper(ax, scene, **kw):
         out = real(ax, scene, **kw)
         calls.append({"ax": ax, "scene": scene, "kw": kw, "out": out})
         return out
 
-    monkeypatch.setattr(cli_theory, "draw_beside_fe", wrapper)
+    monkeypatch.setattr(baseline, "draw_beside_fe", wrapper)
     return calls
 
 
@@ -153,14 +153,14 @@ def test_report_without_theory(tmp_path: Path, spy) -> None:
 def test_theory_failure_never_breaks_the_report(tmp_path: Path, monkeypatch) -> None:
     """An unexpected error inside the theory, and a profile file gone since the scene was
     loaded: the report is written, the summary says why the curves are missing."""
-    from rubberfriction.driver.cli import theory as cli_theory
+    from rubberfriction.driver.multiscale import baseline
     from rubberfriction.driver.multiscale.report import write_report
 
     def broken(*args, **kw):
         raise RuntimeError("boom")
 
     with monkeypatch.context() as m:
-        m.setattr(cli_theory, "scene_theory_curves", broken)
+        m.setattr(baseline, "evaluate", broken)
         result = fake_result(tmp_path / "a")
         write_report(result, quiet=True)
     text = (result.output / "summary.txt").read_text()
@@ -182,21 +182,17 @@ def test_theory_failure_never_breaks_the_report(tmp_path: Path, monkeypatch) -> 
     assert "road.txt" in text
 
 
-def test_scene_inputs_from_a_loaded_scene() -> None:
-    """A loaded Scene gives the theory the same inputs as its TOML file does."""
-    from rubberfriction.driver.cli.theory import read_scene, scene_inputs
+def test_theory_request_from_a_loaded_scene() -> None:
+    """A loaded Scene gives the theory its surface, analysis range, compound, conditions."""
+    from rubberfriction.driver.multiscale.baseline import request_from_scene
     from rubberfriction.driver.multiscale.scene import load_scene
 
-    sc = load_scene("default")
-    got = scene_inputs(sc)
+    got = request_from_scene(load_scene("default"))
     assert got.surface == "default" and got.edges == (20.0, 3.0, 0.3, 0.04, 0.003)
-    assert (got.lambda_max, got.lambda_min) == (20.0, 0.003)
+    assert (got.lambda_max, got.lambda_min) == (20.0, 0.003) and not got.files and not got.sines
     assert got.compound == "tread_default" and got.pressure == 0.3
-    assert got.T0 == pytest.approx(293.15) and got.adhesion == {}
-    from importlib import resources
-
-    path = resources.files("rubberfriction.driver.scenes").joinpath("default.toml")
-    assert vars(read_scene(str(path))) == vars(got)
+    assert got.velocities == (10.0, 100.0, 1000.0)
+    assert got.T0 == pytest.approx(293.15) and got.adhesion is None and got.notes == ()
 
 
 def test_bench_theory_json(tmp_path: Path, capsys) -> None:

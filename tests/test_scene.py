@@ -127,7 +127,7 @@ def test_inconsistent_scale_edges():
 
 
 def test_edges_the_road_cannot_resolve_fail_when_the_scales_are_built():
-    from rubberfriction.driver.multiscale.campaign import build_scales
+    from rubberfriction.driver.multiscale.scales import build_scales
 
     s = parse_scene('name = "t"\n[surface]\nedges = [20.0, 3.0, 0.0005]\n', "t.toml")
     with pytest.raises(SceneError) as exc:

@@ -212,7 +212,7 @@ def test_refine_periodic_is_the_band_limited_interpolant(n):
 
 
 def test_refined_master_reaches_the_vertex_density_and_keeps_the_points():
-    from rubberfriction.driver.multiscale.campaign import refined_master
+    from rubberfriction.driver.multiscale.specs import refined_master
 
     L, n = 0.04, 80  # micro2 of the default road: 6 points per 0.003 mm wavelength
     x = np.arange(n) * L / n

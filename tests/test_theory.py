@@ -619,24 +619,23 @@ def _write_profile(path) -> None:
 
 
 def test_cli_theory_scene_csv_json(tmp_path, capsys) -> None:
-    pytest.importorskip("rubberfriction.driver.surfaces")
-    pytest.importorskip("rubberfriction.forms.materials")
+    """A scene gives the conditions, --surface a profile file; CSV, plot and JSON are written."""
     from rubberfriction.driver.cli.main import main
 
     prof = tmp_path / "profile.txt"
     _write_profile(prof)
     scene = tmp_path / "scene.toml"
-    scene.write_text(
-        f'[surface]\nprofile = "{prof.name}"\n[compound]\nname = "tread_default"\n'
-        '[conditions]\np = 0.25\nv = [1.0, 10.0, 100.0]\nT0 = 293.15\n'
-        '[mesh]\nignored = true\n'
-    )
+    scene.write_text('[conditions]\ncompounds = ["tread_default"]\npressures = [0.25]\n'
+                     'velocities = [1.0, 10.0, 100.0]\nT0 = 293.15\n')
     csv = tmp_path / "mu.csv"
     png = tmp_path / "mu.png"
-    rc = main(["theory", str(scene), "--csv", str(csv), "--plot", str(png), "--json"])
+    rc = main(["theory", str(scene), "--surface", str(prof), "--csv", str(csv), "--plot",
+               str(png), "--json"])
     assert rc == 0
     out = json.loads(capsys.readouterr().out)
     assert out["conditions"]["pressure_MPa"] == 0.25
+    assert out["conditions"]["T0_K"] == 293.15
+    assert out["surface"]["source"] == str(prof)
     models = {c["model"]: c for c in out["curves"]}
     assert set(models) == {"persson-1d", "persson-2d", "kluppel-heinrich"}
     assert len(models["persson-1d"]["mu"]) == 3
@@ -646,10 +645,23 @@ def test_cli_theory_scene_csv_json(tmp_path, capsys) -> None:
     assert png.stat().st_size > 1000
 
 
-def test_read_scene_multiscale_schema(tmp_path) -> None:
-    """The multiscale driver's scene keys (sources, lists, T0_unit, physics switch) are read;
-    unknown tables are ignored."""
-    from rubberfriction.driver.cli.theory import read_scene
+def test_cli_theory_reads_scenes_like_run(tmp_path, capsys) -> None:
+    """One scene reader: a key ``run`` rejects is rejected by ``theory`` too (it used to be
+    ignored), with the message naming the key."""
+    from rubberfriction.driver.cli.main import main
+
+    scene = tmp_path / "scene.toml"
+    scene.write_text('[conditions]\npressures = [0.3]\n[mesh]\nignored = true\n')
+    assert main(["theory", str(scene)]) == 2
+    assert "unknown section mesh" in capsys.readouterr().err
+    assert main(["run", str(scene), "--check"]) == 2
+    assert "unknown section mesh" in capsys.readouterr().err
+
+
+def test_theory_request_from_a_multiscale_scene(tmp_path) -> None:
+    """The scene's sources, lists, T0_unit and physics switch reach the theory request."""
+    from rubberfriction.driver.multiscale.baseline import request_from_scene
+    from rubberfriction.driver.multiscale.scene import load_scene
 
     scene = tmp_path / "ms.toml"
     scene.write_text(
@@ -660,15 +672,17 @@ def test_read_scene_multiscale_schema(tmp_path) -> None:
         '[physics]\nadhesion = false\n[adhesion]\ntau0 = 3.0\nc = 0.15\nv0 = 20.0\n'
         '[numerics]\ngrading = 1.3\n'
     )
-    sc = read_scene(scene)
-    assert sc.sines == [(0.075, 5.0), (0.01, 0.5)]
+    sc = request_from_scene(load_scene(scene))
+    assert sc.sines == ((0.075, 5.0), (0.01, 0.5))
     assert (sc.lambda_max, sc.lambda_min) == (10.0, 0.1)
-    assert sc.compound == "m1" and sc.pressure == 0.2 and sc.velocities == [10.0, 100.0]
+    assert sc.compound == "m1" and sc.pressure == 0.2 and sc.velocities == (10.0, 100.0)
     assert sc.T0 == pytest.approx(293.15)
-    assert sc.adhesion == {}                      # physics.adhesion = false
+    assert sc.adhesion is None                    # physics.adhesion = false
     assert len(sc.notes) == 2                     # extra compound and pressure are reported
+    assert len(request_from_scene(load_scene(scene), compound="m2", pressure=0.3).notes) == 0
     scene.write_text(scene.read_text().replace("adhesion = false", "adhesion = true"))
-    assert read_scene(scene).adhesion == {"tau0": 3.0, "c": 0.15, "v0": 20.0}
+    law = request_from_scene(load_scene(scene)).adhesion
+    assert (law.tau0, law.c, law.v0, law.alpha) == (3.0, 0.15, 20.0, 1.0)
 
 
 def test_cli_theory_sines_scene_full_contact_exact(tmp_path, capsys) -> None:
@@ -694,22 +708,23 @@ def test_cli_theory_sines_scene_full_contact_exact(tmp_path, capsys) -> None:
 
 def test_draw_beside_fe(tmp_path) -> None:
     """The report hook draws the theory curves on given axes and never raises."""
-    pytest.importorskip("rubberfriction.forms.materials")
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from rubberfriction.driver.cli.theory import draw_beside_fe
+    from rubberfriction.driver.multiscale.baseline import draw_beside_fe
+    from rubberfriction.driver.multiscale.scene import load_scene
 
-    scene = tmp_path / "sines.toml"
-    scene.write_text('[surface]\nsource = "sines"\namplitudes = [0.01]\nwavelengths = [5.0]\n')
+    path = tmp_path / "sines.toml"
+    path.write_text('[surface]\nsource = "sines"\namplitudes = [0.01]\nwavelengths = [5.0]\n')
+    scene = load_scene(path)
     fig, ax = plt.subplots()
     curves, notes = draw_beside_fe(ax, scene, v_fe=[10.0, 100.0], pressure=0.3, n=12)
     assert [c.model for c in curves] == ["persson-1d"] and len(ax.lines) == 1
     assert curves[0].v[0] == pytest.approx(10.0 / 3) and curves[0].v[-1] == pytest.approx(300.0)
-    curves, notes = draw_beside_fe(ax, tmp_path / "missing.toml", v_fe=[10.0])
-    assert curves == [] and "not found" in notes[0]
+    curves, notes = draw_beside_fe(ax, scene, v_fe=[10.0], compound="no_such_compound")
+    assert curves == [] and "not drawn" in notes[0] and "no_such_compound" in notes[0]
     plt.close(fig)
 
 
@@ -717,6 +732,6 @@ def test_cli_theory_bad_scene(tmp_path, capsys) -> None:
     from rubberfriction.driver.cli.main import main
 
     scene = tmp_path / "scene.toml"
-    scene.write_text("[conditions]\np = -1.0\nv = [1.0]\n")
+    scene.write_text("[conditions]\npressures = [-1.0]\nvelocities = [1.0]\n")
     assert main(["theory", str(scene)]) == 2
-    assert "pressure" in capsys.readouterr().err
+    assert "[conditions].pressures = [-1.0]: expected a list of numbers > 0" in capsys.readouterr().err

@@ -81,7 +81,7 @@ def fe_single_run(temperature: float | None, mesh: int, periods: float,
 
 def main(argv: list[str] | None = None) -> int:
     """Print the benchmark table; ``--json FILE`` also writes the figures."""
-    from rubberfriction.driver.cli.theory import load_rubber, surface_psd
+    from rubberfriction.driver.multiscale.baseline import load_rubber, surface_psd
 
     ap = argparse.ArgumentParser(prog="rubberfriction bench theory",
                                  description=(__doc__ or "").split("\n\n")[0])
@@ -172,7 +172,7 @@ def main(argv: list[str] | None = None) -> int:
                          f"{fe['status']}, mu {fe['mu_fe']:.4g} vs closed form "
                          f"{fe['mu_exact']:.4g} ({100 * err:.1f} %)"))
         try:
-            from rubberfriction.driver.cli.run import runs_per_point
+            from rubberfriction.driver.multiscale.campaign import runs_per_point
             from rubberfriction.driver.multiscale.scene import load_scene
 
             scene = load_scene(args.scene)

@@ -94,27 +94,8 @@ def _error(msg: str) -> int:
     return 2
 
 
-def runs_per_point(scene: Scene) -> tuple[int, str]:
-    """Single-scale runs one (compound, p, v) point of the scene needs, and how they add up."""
-    n = scene.n_scales
-    if scene.variant == "rough":
-        k, j = scene.samples.pressure, scene.samples.friction
-        down = (n - 1) if n > 1 else (1 if scene.physics.adhesion else 0)
-        per = down * k + n * j
-        how = f"{down} scale(s) x k={k} pressure samples + {n} scale(s) x j={j} friction samples"
-    else:
-        sep = scene.separated
-        npg = len(sep.pressures) or len(sep.pressure_factors)
-        nvg = len(sep.velocities) or len(sep.velocity_factors)
-        per = 2 + npg * nvg + (1 if sep.reference else 0)
-        how = f"frictionless macro + {npg}x{nvg} micro grid + macro with the law"
-        if sep.reference:
-            how += " + reference"
-    return per, how
-
-
-def _plan(scene) -> str:
-    from rubberfriction.driver.multiscale.campaign import points
+def _plan(scene: Scene) -> str:
+    from rubberfriction.driver.multiscale.campaign import points, runs_per_point
 
     n = scene.n_scales
     pts = points(scene)
@@ -147,11 +128,16 @@ def _run(args: argparse.Namespace) -> int:
     if _rank() == 0:
         for w in scene.warnings:
             print(f"rubberfriction: warning: {w}", file=sys.stderr)
+    from rubberfriction.driver.multiscale.campaign import check_scene, run_scene
+
     if args.check:
+        try:  # every compound and surface file the scene names is read, samples are cut
+            check_scene(scene)
+        except SceneError as err:
+            return _error(str(err))
         if _rank() == 0:
             print(_plan(scene))
         return 0
-    from rubberfriction.driver.multiscale.campaign import run_scene
 
     try:
         result = run_scene(scene, quiet=args.quiet, fresh=args.fresh,

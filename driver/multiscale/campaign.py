@@ -1,244 +1,79 @@
 """From a scene to results: scales and samples, run specs, planners, farm, store, report.
 
 The glue between the modules with one job each: :mod:`.scene` (what to compute) ->
-:func:`build_scales` (surface scales and periodic samples, :mod:`.surfaces`) ->
-:class:`SpecBuilder` (one :class:`~rubberfriction.driver.sliding.run.SlidingSpec` per run from the
-scene's numerical settings) -> :mod:`.homogenise` planners -> :mod:`.farm` (serial or MPI) with
-the :mod:`.store` -> :mod:`.report`.  :func:`run_scene` is what ``rubberfriction run`` calls.
+:mod:`.scales` (surface scales and periodic samples) -> :mod:`.specs` (one
+:class:`~rubberfriction.driver.sliding.spec.SlidingSpec` per run from the scene's numerical
+settings) -> the planners of :mod:`.cascade` and :mod:`.separated` ->
+:mod:`~rubberfriction.driver.runtime.farm` (serial or MPI) with the
+:mod:`~rubberfriction.driver.runtime.store` -> :mod:`.report`.  :func:`run_scene` is what
+``rubberfriction run`` calls.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import datetime as _dt
-import json
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
-
-import numpy as np
 
 # MPI is initialised here, before anything imports DOLFINx/PETSc (which would initialise it with
 # MPI_THREAD_FUNNELED): the farm's dispatcher thread on rank 0 needs MPI_THREAD_MULTIPLE.
 from mpi4py import MPI  # isort: skip
 
-from rubberfriction.driver.runtime.farm import Executor, default_runner, hard_timeout, run_farm
 from rubberfriction.driver.multiscale.cascade import CampaignPlanner, RoughCascade
-from rubberfriction.driver.multiscale.results import Point, PointResult, ScaleSet
-from rubberfriction.driver.multiscale.separated import SeparatedTwoScale
-from rubberfriction.driver.runtime.progress import Progress
+from rubberfriction.driver.multiscale.report import (
+    plot_sample_study,
+    study_rows,
+    write_csv,
+    write_report,
+)
+from rubberfriction.driver.multiscale.results import Point, PointResult
+from rubberfriction.driver.multiscale.scales import Scales, build_scales
 from rubberfriction.driver.multiscale.scene import Scene, SceneError
-from rubberfriction.driver.runtime.store import Outcome, Store, code_version, git_describe
-
-
-@dataclass(frozen=True)
-class PeriodicSample:
-    """A periodic surface sample built here (sine waves): x 0..period inclusive, h[-1] == h[0]."""
-
-    x: np.ndarray
-    h: np.ndarray
-    period: float
-    source: str = "generated"
-
-    @property
-    def rms_height(self) -> float:
-        return float(np.std(self.h[:-1]))
-
-    @property
-    def rms_slope(self) -> float:
-        return float(np.sqrt(np.mean((np.diff(self.h) / np.diff(self.x)) ** 2)))
-
-
-def sine_sample(amplitudes: list[float], wavelengths: list[float], length: float,
-                points_per_wavelength: int) -> PeriodicSample:
-    """sum_i a_i sin(2 pi x / lambda_i) on [0, length], sampled with points_per_wavelength vertices
-    per shortest wavelength (endpoint included)."""
-    m = int(round(points_per_wavelength * length / min(wavelengths)))
-    x = np.linspace(0.0, length, m + 1)
-    h = sum(a * np.sin(2.0 * np.pi * x / lam) for a, lam in zip(amplitudes, wavelengths))
-    h = np.asarray(h, dtype=float)
-    h[-1] = h[0]
-    return PeriodicSample(x, h, float(length))
-
-
-@dataclass
-class Scales:
-    """The scales of a scene with their samples (and the full-profile sample for a reference)."""
-
-    sets: list[ScaleSet]
-    full_sample: Any = None
-    description: str = ""
-    provenance: dict = field(default_factory=dict)
-
-
-def build_scales(scene: Scene, n_samples: int) -> Scales:
-    """Band-pass scales (eq. 6.10, 6.14) and ``n_samples`` periodic samples per scale (6.3.1)."""
-    s = scene.surface
-    if s.source == "sines":
-        sets = []
-        names = list(s.names) or _scale_names(len(s.wavelengths))
-        for i, (a, lam) in enumerate(zip(s.amplitudes, s.wavelengths)):
-            L = s.block_lengths[i] if s.block_lengths else s.periods_per_block * lam
-            if abs(L / lam - round(L / lam)) > 1e-9:
-                raise SceneError(f"{scene.source}: [surface].block_lengths[{i}] = {L:g}: expected "
-                                 f"a whole number of wavelengths {lam:g} mm (a periodic sample)")
-            band = (s.edges[i], s.edges[i + 1]) if s.edges else (lam, lam)
-            smp = sine_sample([a], [lam], L, s.points_per_wavelength)
-            sets.append(ScaleSet(names[i], band, tuple([smp] * n_samples)))
-        L0 = sets[0].samples[0].period
-        full = None
-        for lam in s.wavelengths:
-            if abs(L0 / lam - round(L0 / lam)) > 1e-9:
-                break
-        else:
-            full = sine_sample(list(s.amplitudes), list(s.wavelengths), L0, s.points_per_wavelength)
-        desc = "sines: " + " + ".join(f"{a:g} sin(2 pi x / {lam:g})" for a,
-                                      lam in zip(s.amplitudes, s.wavelengths))
-        return Scales(sets, full, desc, {"source": "sines", "amplitudes": list(s.amplitudes),
-                                         "wavelengths": list(s.wavelengths)})
-    from rubberfriction.driver.surfaces import (
-        SurfaceError,
-        default_road,
-        load_profile,
-        multiscale_from_measurements,
-    )
-
-    try:
-        if s.source == "default_road":
-            road = default_road(edges=s.edges)
-        else:
-            profiles = [load_profile(p) for p in s.files]
-            road = multiscale_from_measurements(profiles, s.edges, names=list(s.names) or None,
-                                                block_lengths=list(s.block_lengths) or None,
-                                                name=scene.name)
-        if s.names:
-            for sc, nm in zip(road.scales, s.names):
-                sc.name = nm
-        if s.block_lengths:
-            for sc, b in zip(road.scales, s.block_lengths):
-                sc.block_length = float(b)
-        samples = road.extract_samples(n=n_samples, seed=s.seed, top_fraction=s.top_fraction)
-    except SurfaceError as err:
-        raise SceneError(f"{scene.source}: [surface] (source = {s.source!r}, edges = "
-                         f"{list(s.edges)}): {err}") from None
-    sets = [ScaleSet(sc.name, tuple(sc.band), tuple(smp)) for sc, smp in zip(road.scales, samples)]
-    full = None
-    if scene.variant == "separated" and scene.separated is not None and scene.separated.reference:
-        full = _full_sample(scene, road)
-    return Scales(sets, full, road.describe(), road.to_dict())
-
-
-def _full_sample(scene: Scene, road: Any) -> Any:
-    """A macro-length sample of the sum of both bands (reference run of the separated variant)."""
-    from rubberfriction.driver.surfaces import extract_samples
-
-    a, b = road.scales
-    if a.profile.x.shape != b.profile.x.shape or not np.allclose(a.profile.x, b.profile.x):
-        raise SceneError(f"{scene.source}: [separated].reference = true needs both scales cut from "
-                         f"one "
-                         "measurement (the full profile is their sum); set reference = false")
-    full = a.profile.with_h(a.profile.h + b.profile.h)
-    full.meta.update(a.profile.meta)
-    return extract_samples(full, a.block_length, 1, scene.surface.seed, carrier=a.carrier,
-                           top_fraction=scene.surface.top_fraction)[0]
-
-
-def _scale_names(n: int) -> list[str]:
-    from rubberfriction.driver.surfaces.multiscale import scale_names
-
-    return scale_names(n)
-
-
-def refined_master(x: np.ndarray, h: np.ndarray, period: float, lam_min: float,
-                   points_per_wavelength: int) -> tuple[np.ndarray, np.ndarray]:
-    """The rigid master polyline of a periodic sample with at least ``points_per_wavelength``
-    vertices per shortest wavelength ``lam_min`` of its band: band-limited interpolation
-    (``surfaces.samples.refine_periodic``) by a whole factor, so every measured point stays a
-    vertex.  Samples already that fine, non-uniform ones and ``points_per_wavelength = 0`` pass
-    as they are.  The default road's micro2 samples (0.04-0.003 mm band at 0.0005 mm spacing,
-    rms slope 4) have 6 points per shortest wavelength; refined to 36, the default scene's micro2
-    failures went from 5 of 6 runs to 1 of 6."""
-    from rubberfriction.driver.surfaces.profile import UNIFORM_RTOL
-    from rubberfriction.driver.surfaces.samples import refine_periodic
-
-    n = x.size
-    if points_per_wavelength <= 0 or n < 4 or not period > 0.0:
-        return x, h
-    dx = period / n
-    if not np.allclose(np.diff(x), dx, rtol=UNIFORM_RTOL, atol=0.0):
-        return x, h
-    factor = math.ceil(points_per_wavelength * dx / lam_min - 1e-9)
-    if factor <= 1:
-        return x, h
-    return x[0] + np.arange(n * factor) * (dx / factor), refine_periodic(h, factor)
-
-
-class SpecBuilder:
-    """SlidingSpec of one run from the scene's settings (the ``make_spec`` of the planners)."""
-
-    def __init__(self, scene: Scene, compounds: dict[str, Any]):
-        self.scene = scene
-        self.compounds = compounds
-
-    def __call__(self, point: Point, scale: int, sample: Any, pressure: float, friction: Any,
-                 role: str) -> Any:
-        from rubberfriction.driver.sliding.spec import SlidingSpec, default_h_contact
-
-        num = self.scene.numerics
-        window, slide = num.window_start, num.slide_periods
-        if role == "micro" and self.scene.separated is not None:
-            sep = self.scene.separated
-            window, slide = sep.micro_window_start, sep.micro_slide_periods
-        x, h, period = np.asarray(sample.x, float), np.asarray(sample.h,
-                                                               float), float(sample.period)
-        if x.size > 1 and abs(x[-1] - x[0] - period) < 1e-9 * period:
-            x, h = x[:-1], h[:-1]  # one period given: the closing vertex repeats the first
-        band = getattr(sample, "band", None)
-        lam_band = float(band[1]) if band is not None and np.isfinite(band[1]) and band[1] > 0 \
-            else None  # the band's short edge, where the sample knows its band
-        if lam_band is not None:
-            x, h = refined_master(x, h, period, lam_band, num.master_points_per_wavelength)
-        base = SlidingSpec(surface_x=x, surface_h=h, period=period, pressure=float(pressure),
-                           velocity=float(point.velocity), compound=self.compounds[point.compound],
-                           temperature=self.scene.conditions.T0, friction=friction,
-                           element=num.element,
-                           contact=num.contact, elements_per_wavelength=num.elements_per_wavelength,
-                           grading=num.grading, compression_steps=num.compression_steps,
-                           window_start=window, max_cutbacks=num.max_cutbacks,
-                           penalty_alpha=num.penalty_alpha)
-        # contact element size: the shortest wavelength of the sample / elements_per_wavelength;
-        # the shortest wavelength is the band's short edge (thesis 6.5.1), else (or if shorter)
-        # the run's estimate from slope sign changes
-        hc = float(default_h_contact(base))
-        if lam_band is not None:
-            hc = min(hc, lam_band / num.elements_per_wavelength)
-        return dataclasses.replace(base, h_contact=hc, step_length=num.step_per_element * hc,
-                                   slide_distance=slide * period)
-
-
-def load_compounds(scene: Scene) -> dict[str, Any]:
-    """Compounds of the scene by the name written in it; elastic (no Prony) without hysteresis."""
-    from rubberfriction.forms.materials import load_compound
-
-    out = {}
-    for i, (name, path) in enumerate(zip(scene.conditions.compounds,
-                                         scene.conditions.compound_paths)):
-        try:
-            c = load_compound(path)
-        except ValueError as err:
-            raise SceneError(f"{scene.source}: [conditions].compounds[{i}] = {name!r}: "
-                             f"{err}") from None
-        if not scene.physics.hysteresis:
-            c = dataclasses.replace(c, prony=None)  # no history variables are built
-        out[name] = c
-    return out
+from rubberfriction.driver.multiscale.separated import SeparatedTwoScale
+from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
+from rubberfriction.driver.multiscale.statistics import sample_count_study
+from rubberfriction.driver.runtime.farm import Executor, StaticPlanner, Task, hard_timeout, run_farm
+from rubberfriction.driver.runtime.progress import Progress
+from rubberfriction.driver.runtime.store import Outcome, Store, code_version, git_describe, run_key
+from rubberfriction.driver.sliding.run import sliding_runner
+from rubberfriction.driver.surfaces.multiscale import scale_names
 
 
 def points(scene: Scene) -> list[Point]:
     c = scene.conditions
     return [Point(name, p, v) for name in c.compounds for p in c.pressures for v in c.velocities]
+
+
+def runs_per_point(scene: Scene) -> tuple[int, str]:
+    """Single-scale runs one (compound, p, v) point of the scene needs, and how they add up."""
+    n = scene.n_scales
+    if scene.variant == "rough":
+        k, j = scene.samples.pressure, scene.samples.friction
+        down = (n - 1) if n > 1 else (1 if scene.physics.adhesion else 0)
+        per = down * k + n * j
+        how = f"{down} scale(s) x k={k} pressure samples + {n} scale(s) x j={j} friction samples"
+    else:
+        sep = scene.separated
+        npg = len(sep.pressures) or len(sep.pressure_factors)
+        nvg = len(sep.velocities) or len(sep.velocity_factors)
+        per = 2 + npg * nvg + (1 if sep.reference else 0)
+        how = f"frictionless macro + {npg}x{nvg} micro grid + macro with the law"
+        if sep.reference:
+            how += " + reference"
+    return per, how
+
+
+
+def check_scene(scene: Scene) -> None:
+    """What ``run --check`` does besides validating the TOML: load every compound the scene names
+    and build its scales and samples (reads the surface files), so that bad material data or a
+    surface that cannot give the samples fails before a campaign starts (SceneError naming the
+    field)."""
+    load_compounds(scene)
+    build_scales(scene, max(scene.samples.pressure, scene.samples.friction))
 
 
 def make_planner(scene: Scene, scales: Scales, make_spec: Callable[..., Any]) -> CampaignPlanner:
@@ -340,7 +175,7 @@ def _runner_and_timeout(scene: Scene, runner: Callable[[Any], Any] | None
     timeout = scene.numerics.run_timeout
     if runner is not None:
         return runner, timeout
-    return default_runner(wall_limit=timeout), hard_timeout(timeout)
+    return sliding_runner(wall_limit=timeout), hard_timeout(timeout)
 
 
 def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = False,
@@ -381,23 +216,10 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
                                 time.perf_counter() - t0, progress.workers if progress else 1,
                                 started, store)
         if report:
-            from rubberfriction.driver.multiscale.report import write_report
-
             write_report(result, quiet=quiet)
         return result
     finally:
         store.unlock()
-
-
-def campaign_json(result: CampaignResult) -> str:
-    def default(o: Any) -> Any:
-        if isinstance(o, (np.floating, np.integer)):
-            return o.item()
-        if isinstance(o, float) and math.isnan(o):
-            return None
-        return str(o)
-
-    return json.dumps(result.provenance(), indent=2, default=default)
 
 
 def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 30,
@@ -412,15 +234,11 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
     study (:class:`~rubberfriction.driver.multiscale.cascade.SampleCountStudy`), the outcomes and the
     files written.
     """
-    from rubberfriction.driver.runtime.farm import StaticPlanner, Task
-    from rubberfriction.driver.multiscale.statistics import sample_count_study
-    from rubberfriction.driver.runtime.store import run_key
-
     comm = _comm() if comm is None else comm
     rank = comm.Get_rank()
     out = Path(output) if output is not None else scene.output
     runner, timeout = _runner_and_timeout(scene, runner)
-    names = _scale_names(scene.n_scales) if not scene.surface.names else list(scene.surface.names)
+    names = scale_names(scene.n_scales) if not scene.surface.names else list(scene.surface.names)
     if scale is None:
         si = scene.n_scales - 1
     elif isinstance(scale, int) or str(scale).isdigit():
@@ -470,13 +288,11 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
         outcomes = planner.ordered()
         values = [o.value("mu_force") if o.ok else math.nan for o in outcomes]
         study = sample_count_study(values, orders=orders)
-        from rubberfriction.driver.multiscale.report import _write_csv, plot_sample_study, study_rows
-
         folder = out / "samples-study"
         folder.mkdir(parents=True, exist_ok=True)
         stem = f"{holder['scale'].name}_p{p:g}_v{v:g}_{comp}"
-        files = [_write_csv(folder / f"{stem}.csv", study_rows(study)),
-                 _write_csv(folder / f"{stem}_samples.csv",
+        files = [write_csv(folder / f"{stem}.csv", study_rows(study)),
+                 write_csv(folder / f"{stem}_samples.csv",
                             [{"sample": k, "status": o.status,
                               "reason": o.reason.splitlines()[0] if o.reason else "",
                               "mu_force": o.value("mu_force"),

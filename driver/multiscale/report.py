@@ -16,7 +16,7 @@ Files written into the campaign's output folder:
   results, wall time, whether it was reused, store key.
 * ``mu_v.png``, ``mu_p.png`` -- the curves with 95 % CI error bars.  ``mu_v.png`` also shows,
   per (compound, p), the analytical baselines of the same surface PSD and compound (Persson line
-  roughness = plane strain and isotropic eq. 2.10, at the scene's T0; ``driver/cli/theory.py``)
+  roughness = plane strain and isotropic eq. 2.10, at the scene's T0; ``baseline.py``)
   in the colour of the FE points; the summary lists them at the FE speeds (``theory:`` lines),
   or why they are missing.  ``write_report(..., theory=False)`` or ``rubberfriction run
   --no-theory`` leaves them out.
@@ -32,6 +32,7 @@ Files written into the campaign's output folder:
 from __future__ import annotations
 
 import csv
+import json
 import math
 import re
 from pathlib import Path
@@ -39,7 +40,9 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from rubberfriction.driver.multiscale import baseline
 from rubberfriction.driver.multiscale.results import PointResult
+from rubberfriction.driver.multiscale.separated import _law_from_dict
 from rubberfriction.driver.multiscale.statistics import SampleCountStudy, SampleStats
 
 
@@ -69,7 +72,7 @@ def _stats(prefix: str, st: SampleStats | None) -> dict[str, Any]:
     return st.as_dict(prefix)
 
 
-def _write_csv(path: Path, rows: list[dict[str, Any]]) -> Path:
+def write_csv(path: Path, rows: list[dict[str, Any]]) -> Path:
     keys: list[str] = []
     for r in rows:
         for k in r:
@@ -275,12 +278,10 @@ def draw_theory(ax: Any, scene: Any, compound: str, pressure: float, v_fe: Seque
     """
     head = f"{compound}, p = {pressure:g} MPa"
     try:
-        from rubberfriction.driver.cli.theory import draw_beside_fe
-
         cond = scene.conditions
         path = dict(zip(cond.compounds, cond.compound_paths)).get(compound, compound)
         n_before = len(ax.lines)
-        curves, notes = draw_beside_fe(ax, scene, v_fe=list(v_fe), compound=str(path),
+        curves, notes = baseline.draw_beside_fe(ax, scene, v_fe=list(v_fe), compound=str(path),
                                        pressure=float(pressure), T0=cond.T0)
         for line in ax.lines[n_before:]:
             if color is not None:
@@ -432,8 +433,6 @@ def plot_separated(points: Sequence[PointResult], out: Path) -> list[Path]:
         e = r.extra
         if "law" not in e:
             continue
-        from rubberfriction.driver.multiscale.separated import _law_from_dict
-
         law = _law_from_dict(e["law"])
         P, V = e["grid_p"], e["grid_v"]
         pp = np.linspace(P.min(), P.max(), 40)
@@ -509,6 +508,19 @@ def study_rows(study: SampleCountStudy) -> list[dict[str, Any]]:
             for k, s, se in zip(study.n, study.S, study.S_exact)]
 
 
+def campaign_json(result: Any) -> str:
+    """The campaign's provenance as JSON (``campaign.json``)."""
+    def default(o: Any) -> Any:
+        if isinstance(o, (np.floating, np.integer)):
+            return o.item()
+        if isinstance(o, float) and math.isnan(o):
+            return None
+        return str(o)
+
+    return json.dumps(result.provenance(), indent=2, default=default)
+
+
+
 # ----------------------------------------------------------------------------------------------
 # all of it
 # ----------------------------------------------------------------------------------------------
@@ -520,14 +532,12 @@ def write_report(result: Any, quiet: bool = False, theory: bool = True) -> list[
     ``theory``: draw the analytical baselines beside the FE mu(v) points (see the module
     docstring); their figures and notes go into the summary as ``theory:`` lines.
     """
-    from rubberfriction.driver.multiscale.campaign import campaign_json
-
     out = Path(result.output)
     out.mkdir(parents=True, exist_ok=True)
     pts = result.points
-    files = [_write_csv(out / "results.csv", point_rows(pts)),
-             _write_csv(out / "scales.csv", scale_rows(pts)),
-             _write_csv(out / "samples.csv", sample_rows(pts))]
+    files = [write_csv(out / "results.csv", point_rows(pts)),
+             write_csv(out / "scales.csv", scale_rows(pts)),
+             write_csv(out / "samples.csv", sample_rows(pts))]
     theory_notes: list[str] = []
     files += plot_curves(pts, out, scene=result.scene if theory else None, notes=theory_notes)
     for r in pts:

@@ -42,7 +42,6 @@ every rank sees (one small file per run; thousands are fine, millions would want
 
 from __future__ import annotations
 
-import inspect
 import os
 import queue
 import sys
@@ -132,39 +131,6 @@ def hard_timeout(run_timeout: float) -> float:
     """Watchdog time of a run whose runner stops itself after ``run_timeout`` s (between Newton
     solves): 10 % + 60 s of grace, so the watchdog only catches runs stuck in compiled code."""
     return 1.1 * run_timeout + 60.0 if run_timeout > 0.0 else 0.0
-
-
-def default_runner(wall_limit: float = 0.0) -> Callable[[Any], Any]:
-    """``run_sliding`` from :mod:`rubberfriction.driver.sliding.run`, called on ``MPI.COMM_SELF``.
-
-    ``wall_limit`` > 0: each run stops itself with a structured failure after that many seconds.
-    Raises ImportError with a clear message when the sliding driver has no ``run_sliding``.
-    """
-    from rubberfriction.driver.sliding import run as sliding
-
-    fn = getattr(sliding, "run_sliding", None)
-    if fn is None:
-        raise ImportError("rubberfriction.driver.sliding.run.run_sliding is not available in this "
-                          "build (the single-scale run with its default mesh and contact "
-                          "factories)")
-    try:
-        params = inspect.signature(fn).parameters
-    except (TypeError, ValueError):
-        params = {}
-    kwargs: dict[str, Any] = {}
-    if "comm" in params:
-        from mpi4py import MPI
-
-        kwargs["comm"] = MPI.COMM_SELF
-    if wall_limit > 0.0 and "wall_limit" in params:
-        kwargs["wall_limit"] = float(wall_limit)
-    if not kwargs:
-        return fn
-
-    def runner(spec: Any) -> Any:
-        return fn(spec, **kwargs)
-
-    return runner
 
 
 class Executor:

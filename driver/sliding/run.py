@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import time
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -493,3 +494,15 @@ def run_sliding(spec: SlidingSpec, progress=None, observers=(),
                           observers=observers, wall_limit=wall_limit).run()
     except Exception as err:  # a campaign never dies of one run; the reason is recorded
         return SlidingResult("failed", reason=f"{type(err).__name__}: {err}")
+
+
+def sliding_runner(wall_limit: float = 0.0) -> Callable[[SlidingSpec], SlidingResult]:
+    """The run function of a campaign: :func:`run_sliding` with the scene's per-run wall-time
+    limit (``wall_limit`` > 0: a run still going after that many seconds stops itself with a
+    structured failure, stored as 'timeout')."""
+    limit = float(wall_limit)
+
+    def runner(spec: SlidingSpec) -> SlidingResult:
+        return run_sliding(spec, wall_limit=limit)
+
+    return runner

@@ -1,0 +1,129 @@
+"""The scales of a scene and their periodic surface samples (thesis 6.3.1, eq. 6.10, 6.14).
+
+A rough scene's surface (the default road or measured profiles) is split into band-pass scales
+by :mod:`rubberfriction.driver.surfaces`; a sines scene gives one sine wave per scale.  Each scale
+carries the periodic samples its runs slide over.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from rubberfriction.driver.multiscale.results import ScaleSet
+from rubberfriction.driver.multiscale.scene import Scene, SceneError
+from rubberfriction.driver.surfaces import (
+    SurfaceError,
+    default_road,
+    extract_samples,
+    load_profile,
+    multiscale_from_measurements,
+)
+from rubberfriction.driver.surfaces.multiscale import scale_names
+
+
+@dataclass(frozen=True)
+class PeriodicSample:
+    """A periodic surface sample built here (sine waves): x 0..period inclusive, h[-1] == h[0]."""
+
+    x: np.ndarray
+    h: np.ndarray
+    period: float
+    source: str = "generated"
+
+    @property
+    def rms_height(self) -> float:
+        return float(np.std(self.h[:-1]))
+
+    @property
+    def rms_slope(self) -> float:
+        return float(np.sqrt(np.mean((np.diff(self.h) / np.diff(self.x)) ** 2)))
+
+
+def sine_sample(amplitudes: list[float], wavelengths: list[float], length: float,
+                points_per_wavelength: int) -> PeriodicSample:
+    """sum_i a_i sin(2 pi x / lambda_i) on [0, length], sampled with points_per_wavelength vertices
+    per shortest wavelength (endpoint included)."""
+    m = int(round(points_per_wavelength * length / min(wavelengths)))
+    x = np.linspace(0.0, length, m + 1)
+    h = sum(a * np.sin(2.0 * np.pi * x / lam) for a, lam in zip(amplitudes, wavelengths))
+    h = np.asarray(h, dtype=float)
+    h[-1] = h[0]
+    return PeriodicSample(x, h, float(length))
+
+
+@dataclass
+class Scales:
+    """The scales of a scene with their samples (and the full-profile sample for a reference)."""
+
+    sets: list[ScaleSet]
+    full_sample: Any = None
+    description: str = ""
+    provenance: dict = field(default_factory=dict)
+
+
+def build_scales(scene: Scene, n_samples: int) -> Scales:
+    """Band-pass scales (eq. 6.10, 6.14) and ``n_samples`` periodic samples per scale (6.3.1)."""
+    s = scene.surface
+    if s.source == "sines":
+        sets = []
+        names = list(s.names) or scale_names(len(s.wavelengths))
+        for i, (a, lam) in enumerate(zip(s.amplitudes, s.wavelengths)):
+            L = s.block_lengths[i] if s.block_lengths else s.periods_per_block * lam
+            if abs(L / lam - round(L / lam)) > 1e-9:
+                raise SceneError(f"{scene.source}: [surface].block_lengths[{i}] = {L:g}: expected "
+                                 f"a whole number of wavelengths {lam:g} mm (a periodic sample)")
+            band = (s.edges[i], s.edges[i + 1]) if s.edges else (lam, lam)
+            smp = sine_sample([a], [lam], L, s.points_per_wavelength)
+            sets.append(ScaleSet(names[i], band, tuple([smp] * n_samples)))
+        L0 = sets[0].samples[0].period
+        full = None
+        for lam in s.wavelengths:
+            if abs(L0 / lam - round(L0 / lam)) > 1e-9:
+                break
+        else:
+            full = sine_sample(list(s.amplitudes), list(s.wavelengths), L0, s.points_per_wavelength)
+        desc = "sines: " + " + ".join(f"{a:g} sin(2 pi x / {lam:g})" for a,
+                                      lam in zip(s.amplitudes, s.wavelengths))
+        return Scales(sets, full, desc, {"source": "sines", "amplitudes": list(s.amplitudes),
+                                         "wavelengths": list(s.wavelengths)})
+    try:
+        if s.source == "default_road":
+            road = default_road(edges=s.edges)
+        else:
+            profiles = [load_profile(p) for p in s.files]
+            road = multiscale_from_measurements(profiles, s.edges, names=list(s.names) or None,
+                                                block_lengths=list(s.block_lengths) or None,
+                                                name=scene.name)
+        if s.names:
+            for sc, nm in zip(road.scales, s.names):
+                sc.name = nm
+        if s.block_lengths:
+            for sc, b in zip(road.scales, s.block_lengths):
+                sc.block_length = float(b)
+        samples = road.extract_samples(n=n_samples, seed=s.seed, top_fraction=s.top_fraction)
+    except SurfaceError as err:
+        raise SceneError(f"{scene.source}: [surface] (source = {s.source!r}, edges = "
+                         f"{list(s.edges)}): {err}") from None
+    sets = [ScaleSet(sc.name, tuple(sc.band), tuple(smp)) for sc, smp in zip(road.scales, samples)]
+    full = None
+    if scene.variant == "separated" and scene.separated is not None and scene.separated.reference:
+        full = _full_sample(scene, road)
+    return Scales(sets, full, road.describe(), road.to_dict())
+
+
+def _full_sample(scene: Scene, road: Any) -> Any:
+    """A macro-length sample of the sum of both bands (reference run of the separated variant)."""
+    a, b = road.scales
+    if a.profile.x.shape != b.profile.x.shape or not np.allclose(a.profile.x, b.profile.x):
+        raise SceneError(f"{scene.source}: [separated].reference = true needs both scales cut from "
+                         f"one "
+                         "measurement (the full profile is their sum); set reference = false")
+    full = a.profile.with_h(a.profile.h + b.profile.h)
+    full.meta.update(a.profile.meta)
+    return extract_samples(full, a.block_length, 1, scene.surface.seed, carrier=a.carrier,
+                           top_fraction=scene.surface.top_fraction)[0]
+
+
