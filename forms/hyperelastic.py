@@ -28,7 +28,7 @@ import ufl
 
 
 class MooneyRivlinLike(Protocol):
-    """What the forms need from a material (``rubberfriction.forms.materials.MooneyRivlin``)."""
+    """What the forms need from a material (``rubberfriction.forms.compound.MooneyRivlin``)."""
 
     C10: float
     C01: float

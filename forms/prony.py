@@ -28,7 +28,7 @@ from typing import Any, Sequence
 import numpy as np
 from scipy.optimize import linprog, nnls
 
-from rubberfriction.forms.materials import PronySeries
+from rubberfriction.forms.compound import PronySeries
 
 FREQ_UNITS = {"Hz": 2.0 * math.pi, "rad/s": 1.0}
 MODULUS_UNITS = {"Pa": 1e-6, "kPa": 1e-3, "MPa": 1.0, "GPa": 1e3}

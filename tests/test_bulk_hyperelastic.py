@@ -11,7 +11,7 @@ from scipy.optimize import brentq
 from fe_helpers import cauchy_at_points, mooney_rivlin_cauchy, n_full, solve, unit_square
 from rubberfriction.driver.fe.constraints import ConstraintSpec
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
-from rubberfriction.forms.materials import Compound, MooneyRivlin
+from rubberfriction.forms.compound import Compound, MooneyRivlin
 
 C10, C01, D1 = 0.174, 0.300, 0.0208  # compound m1, table C.2
 

@@ -14,7 +14,7 @@ from mpi4py import MPI
 from fe_helpers import n_full, solve
 from rubberfriction.driver.fe.constraints import ConstraintSpec
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
-from rubberfriction.forms.materials import Compound, MooneyRivlin
+from rubberfriction.forms.compound import Compound, MooneyRivlin
 
 E, NU, LOAD = 250.0, 0.4999, 1.0  # MPa, -, N per unit depth on the free edge (small: linear regime)
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from rubberfriction.driver.verification.relaxation import harmonic_shear, ramp_hold
-from rubberfriction.forms.materials import MooneyRivlin
+from rubberfriction.forms.compound import MooneyRivlin
 
 M1 = MooneyRivlin(0.174, 0.300, 0.0208)  # compound m1, table C.2
 GAMMA_K, TAU_K = [0.5, 0.3], [0.01, 0.1]

@@ -104,7 +104,7 @@ def _env(**extra: str) -> dict:
 
 def test_serial_farm_records_failures_and_runs_each_key_once(tmp_path: Path, toy):
     from rubberfriction.driver.sliding.spec import SlidingSpec
-    from rubberfriction.forms.materials import load_compound
+    from rubberfriction.forms.material_files import load_compound
 
     c = load_compound("tread_default")
     x = np.linspace(0, 1, 16, endpoint=False)

@@ -15,7 +15,7 @@ from mpi4py import MPI
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
 from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
 from rubberfriction.forms.heat import heat_residual
-from rubberfriction.forms.materials import load_compound
+from rubberfriction.forms.material_files import load_compound
 
 
 def test_semi_infinite_constant_flux():

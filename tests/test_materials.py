@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rubberfriction.forms import materials as M
-from rubberfriction.forms.materials import (WLF, Compound, MooneyRivlin, PronySeries, Road, Thermal,
-                                            load_compound, load_road)
+from rubberfriction.forms import material_files, spectrum
+from rubberfriction.forms.compound import Compound, MooneyRivlin, PronySeries, Road, Thermal, WLF
+from rubberfriction.forms.material_files import load_compound, load_road
 from rubberfriction.forms.prony import loss_peak_omega
 
 C = 273.15  # K at 0 degC
@@ -345,10 +345,10 @@ def test_compound_bad_input(field: str, value) -> None:
 
 
 def test_all_files_load_and_match_tables() -> None:
-    names = M.available()
+    names = material_files.available()
     assert set(TABLES) | {"r1"} <= set(names)
     for name in names:
-        path = M.DATA_DIR / f"{name}.toml"
+        path = material_files.DATA_DIR / f"{name}.toml"
         kind = tomllib.loads(path.read_text())["kind"]
         obj = load_compound(name) if kind == "compound" else load_road(name)
         assert obj.name == name and obj.source
@@ -376,7 +376,7 @@ def test_thermal_and_wlf_tables() -> None:
 
 def test_default_compound_regenerates() -> None:
     """The stored default spectrum is exactly what its [prony.generator] table produces."""
-    regenerated = tomllib.loads(M.regenerate_prony_toml())
+    regenerated = tomllib.loads(spectrum.regenerate_prony_toml())
     stored = load_compound("tread_default").prony
     np.testing.assert_allclose(regenerated["gamma"], stored.gamma, rtol=1e-8, atol=1e-12)
     np.testing.assert_allclose(regenerated["tau"], stored.tau, rtol=1e-12)
@@ -384,7 +384,7 @@ def test_default_compound_regenerates() -> None:
 
 def test_default_compound_physics() -> None:
     d = load_compound("tread_default")
-    gen, _ = M.spectrum_generator()
+    gen, _ = spectrum.spectrum_generator()
     # Tg = -25 degC at 10 Hz: log10 a = 7.95*45/(109.32-45) = 357.75/64.32 = 5.5620335821
     f_peak = 10.0 * 10**5.5620335821
     assert gen.peak_frequency_Hz(d.wlf) == pytest.approx(f_peak, rel=1e-9)

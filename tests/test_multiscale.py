@@ -44,7 +44,7 @@ COMPOUND = None
 def _compound():
     global COMPOUND
     if COMPOUND is None:
-        from rubberfriction.forms.materials import load_compound
+        from rubberfriction.forms.material_files import load_compound
 
         COMPOUND = load_compound("tread_default")
     return COMPOUND
@@ -302,7 +302,7 @@ def full_contact_scene(tmp_path: Path) -> tuple[Path, float]:
         full_contact_pressure_sinusoid,
         mu_full_contact_sinusoid,
     )
-    from rubberfriction.forms.materials import load_compound
+    from rubberfriction.forms.material_files import load_compound
 
     (tmp_path / "toy_soft.toml").write_text(TOY_COMPOUND)
     c = load_compound(tmp_path / "toy_soft.toml")

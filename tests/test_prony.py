@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rubberfriction.forms.materials import PronySeries
+from rubberfriction.forms.compound import PronySeries
 from rubberfriction.forms.prony import (default_tau, fit_prony, havriliak_negami,
                                         hn_loss_peak_omega, minimax_rel_error_bound, plot_fit,
                                         read_dma_csv, validate_dma)

@@ -19,9 +19,6 @@ from typing import Any
 import numpy as np
 import pytest
 
-pytest.importorskip("matplotlib")
-pytest.importorskip("rubberfriction.forms.materials")
-
 AMPLITUDE, WAVELENGTH = 0.01, 5.0  # mm
 PRESSURES = (2.0, 3.0)  # MPa, both above the full-contact pressure of this sine
 VELOCITIES = (1.0, 50.0)  # mm/s
@@ -66,7 +63,7 @@ def fake_result(tmp_path: Path, scene_text: str = SCENE) -> Any:
 def closed_form(p: float, v: float, T: float | None) -> float:
     from rubberfriction.driver.theory import rubber_from_compound
     from rubberfriction.driver.theory.persson import mu_full_contact_sinusoid
-    from rubberfriction.forms.materials import load_compound
+    from rubberfriction.forms.material_files import load_compound
 
     rub = rubber_from_compound(load_compound("tread_default"))
     k = 2 * math.pi / WAVELENGTH

@@ -9,7 +9,8 @@ from rubberfriction.driver.sliding.run import run_sliding
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.sliding.sinusoid import effective_modulus
 from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
-from rubberfriction.forms.materials import Compound, PronySeries, load_compound
+from rubberfriction.forms.compound import Compound, PronySeries
+from rubberfriction.forms.material_files import load_compound
 
 M1 = load_compound("m1")
 

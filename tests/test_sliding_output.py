@@ -26,7 +26,7 @@ from rubberfriction.driver.sliding.outputs import (
     write_run_outputs,
     write_series_csv,
 )
-from rubberfriction.forms.materials import load_compound
+from rubberfriction.forms.material_files import load_compound
 
 WAVELENGTH, AMPLITUDE, PRESSURE = 1.0, 0.002, 0.1
 EVERY = 2  # field output every 2nd of the 16 steps

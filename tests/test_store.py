@@ -18,7 +18,7 @@ import pytest
 from rubberfriction.driver.runtime.farm import Executor, Task
 from rubberfriction.driver.sliding.spec import SlidingResult, SlidingSpec
 from rubberfriction.driver.runtime.store import Store, StoreError, canonical, canonical_json, run_key
-from rubberfriction.forms.materials import load_compound
+from rubberfriction.forms.material_files import load_compound
 
 
 @pytest.fixture(scope="module")

@@ -586,8 +586,8 @@ def test_bad_inputs_raise_clear_errors(call, match: str) -> None:
 
 def test_rubber_from_compound_matches_compound() -> None:
     """The theories' modulus of a compound is the compound's own E*(omega, T) (eq. 3.34, WLF)."""
-    materials = pytest.importorskip("rubberfriction.forms.materials")
     from rubberfriction.driver.theory import rubber_from_compound
+    from rubberfriction.forms import material_files as materials
 
     comp = materials.load_compound("tread_default")
     rub = rubber_from_compound(comp)
@@ -687,10 +687,9 @@ def test_theory_request_from_a_multiscale_scene(tmp_path) -> None:
 
 def test_cli_theory_sines_scene_full_contact_exact(tmp_path, capsys) -> None:
     """A sine scene gives the line-spectrum theory; in full contact it is the exact result."""
-    pytest.importorskip("rubberfriction.forms.materials")
     from rubberfriction.driver.cli.main import main
     from rubberfriction.driver.theory import rubber_from_compound
-    from rubberfriction.forms.materials import load_compound
+    from rubberfriction.forms.material_files import load_compound
 
     scene = tmp_path / "sines.toml"
     scene.write_text('[surface]\nsource = "sines"\namplitudes = [0.01]\nwavelengths = [5.0]\n'

@@ -21,7 +21,7 @@ from mpi4py import MPI
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
 from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
-from rubberfriction.forms.materials import load_compound
+from rubberfriction.forms.material_files import load_compound
 
 
 def run_size(n: int, element: str, compound: str) -> dict:

@@ -24,7 +24,7 @@ import numpy as np
 from rubberfriction.driver.sliding.run import run_sliding
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
-from rubberfriction.forms.materials import load_compound
+from rubberfriction.forms.material_files import load_compound
 
 
 def accuracy(quick: bool) -> None:

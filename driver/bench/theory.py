@@ -60,7 +60,7 @@ def fe_single_run(temperature: float | None, mesh: int, periods: float,
     (force, eq. 6.2) against the closed form of ``viscoelastic_sinusoid``.
     """
     from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
-    from rubberfriction.forms.materials import load_compound
+    from rubberfriction.forms.material_files import load_compound
 
     comp = load_compound("tread_default")
     times, out = [], None

@@ -18,7 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rubberfriction.forms import materials as M
+from rubberfriction.forms import compound as M
+from rubberfriction.forms import material_files
 
 SHOW_FREQUENCIES_HZ = (1e-2, 1e-1, 1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8)
 WLF_TABLE_C = (-40.0, -20.0, 0.0, 20.0, 40.0, 60.0, 80.0, 100.0)
@@ -49,7 +50,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     fit.add_argument("--T-C", type=float, default=None,
                      help="temperature (degC) of the master curve; default: the base "
                           "compound's WLF T_ref")
-    fit.add_argument("--base", default=M.DEFAULT_COMPOUND,
+    fit.add_argument("--base", default=material_files.DEFAULT_COMPOUND,
                      help="compound providing Mooney-Rivlin, WLF and thermal data for --toml")
     fit.add_argument("--fix-E-inf", action="store_true",
                      help="fix E_inf to the base compound's Mooney-Rivlin long-term modulus")
@@ -70,7 +71,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _kind(name: str) -> str:
-    with M.resolve_data_path(name).open("rb") as fh:
+    with material_files.resolve_data_path(name).open("rb") as fh:
         return str(tomllib.load(fh).get("kind"))
 
 
@@ -78,9 +79,9 @@ def run_show(args: argparse.Namespace) -> int:
     try:
         kind = _kind(args.name)
         if kind == "road":
-            print(M.load_road(args.name).summary())
+            print(material_files.load_road(args.name).summary())
             return 0
-        compound = M.load_compound(args.name)
+        compound = material_files.load_compound(args.name)
     except ValueError as err:
         print(f"error: {err}")
         return 1
@@ -134,7 +135,7 @@ def run_fit(args: argparse.Namespace) -> int:
     from rubberfriction.forms import prony as P
 
     try:
-        base = M.load_compound(args.base)
+        base = material_files.load_compound(args.base)
         omega, E1, E2 = P.read_dma_csv(args.dma, freq_unit=args.freq_unit,
                                        columns=tuple(args.columns))
         fixed = base.E_inf if args.fix_E_inf else None
@@ -194,7 +195,7 @@ def write_compound_toml(args: argparse.Namespace, fit, base: M.Compound) -> Path
             + "\n[prony]  # gamma_k = E_k/E0, tau_k in s at T_ref\n" + prony_toml(series)
             + _wlf_block(base.wlf) + _thermal_block(base.thermal))
     args.toml.write_text(text)
-    M.load_compound(args.toml)  # the file must load
+    material_files.load_compound(args.toml)  # the file must load
     print(f"compound file: {args.toml} ({len(series)} non-zero terms)")
     if abs(ratio - 1) > 0.05:
         print(f"note: fitted E_inf = {fit.E_inf:.4g} MPa differs from {base.name}'s "

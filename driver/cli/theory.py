@@ -42,7 +42,7 @@ from rubberfriction.driver.multiscale.scene import SceneError, load_scene
 from rubberfriction.driver.theory.adhesion import BellLaw
 from rubberfriction.driver.theory.curves import MODELS, plot_curves
 from rubberfriction.driver.theory.errors import TheoryInputError
-from rubberfriction.forms.materials import DEFAULT_COMPOUND
+from rubberfriction.forms.material_files import DEFAULT_COMPOUND
 
 
 def _velocities(args: argparse.Namespace) -> tuple[float, ...] | None:

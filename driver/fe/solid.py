@@ -1,16 +1,16 @@
 """The viscoelastic rubber body: function spaces, bulk residual, history, boundary dofs.
 
 One `SolidProblem` per body and run.  It assembles nothing itself; `newton.py` does, with the
-constraints and contact hooks the driver adds.  Elements (``SolidSettings.element``):
+constraints and contact hooks the driver adds.  The weak form is ``forms/bulk.py``.  Elements
+(``SolidSettings.element``):
 
 * ``"Q1P0"`` (default): bilinear displacement, piecewise-constant pressure, the mixed element of the
   thesis' ABAQUS hybrid elements (CPE4H), perturbed-Lagrangian form  int (J - 1 - p/K) dp = 0 that
   stays well posed as K -> infinity and avoids volumetric locking (thesis 3.3.3, eq. 3.61).
 * ``"Q1"``: displacement only, for comparison (locks when nearly incompressible).
 
-Bulk stress: S = S_vol + J^(-2/3) DEV{Sbar + beta Sbar + Hstar}  (``hyperelastic.py``,
-``viscoelastic.py``), residual  int (F S) : grad(v) dV  in the reference configuration (eq. 3.85),
-plane strain.
+Bulk stress and residual: :func:`rubberfriction.forms.bulk.second_piola` and
+:func:`~rubberfriction.forms.bulk.bulk_residual` (eq. 3.77, 3.85, 3.61), plane strain.
 """
 
 from __future__ import annotations
@@ -24,20 +24,10 @@ from dolfinx import cpp as _cpp
 from dolfinx import fem
 from scipy.spatial import cKDTree
 
-from rubberfriction.forms.hyperelastic import (
-    dev,
-    equilibrium_stress,
-    fictitious_stress,
-    isochoric_stress,
-    pressure_stress,
-    volumetric_stress,
-)
-from rubberfriction.forms.kinematics import deformation_gradient, embed_gradient, vector_from_tensor3
-from rubberfriction.forms.viscoelastic import (
-    ViscoelasticHistory,
-    quadrature_rule,
-    viscous_stress,
-)
+from rubberfriction.forms.bulk import bulk_residual, second_piola
+from rubberfriction.forms.hyperelastic import dev, fictitious_stress
+from rubberfriction.forms.kinematics import deformation_gradient, vector_from_tensor3
+from rubberfriction.forms.viscoelastic import ViscoelasticHistory, quadrature_rule
 
 ELEMENTS = ("Q1P0", "Q1")
 
@@ -76,7 +66,7 @@ class SolidProblem:
     """Rubber body with Mooney-Rivlin equilibrium and optional Prony viscoelasticity.
 
     material: an object with ``hyperelastic`` (C10, C01, D1, form), optionally ``prony`` (gamma,
-    tau) and ``wlf`` (aT(T)) -- a ``rubberfriction.forms.materials.Compound``.
+    tau) and ``wlf`` (aT(T)) -- a ``rubberfriction.forms.compound.Compound``.
     """
 
     def __init__(self, mesh, facet_tags, material, settings: SolidSettings | None = None,
@@ -144,30 +134,12 @@ class SolidProblem:
     def second_piola(self):
         """Total second Piola-Kirchhoff stress S (3x3 UFL) of the current state."""
         u, p = self.split()
-        F = deformation_gradient(u)
-        hyp = self.hyperelastic
-        if hyp.form == "feap":
-            S = equilibrium_stress(F, hyp)
-            Sbar = None
-        else:
-            Sbar = fictitious_stress(F, hyp)
-            S = isochoric_stress(F, Sbar)
-            S = S + (pressure_stress(F, p) if p is not None else volumetric_stress(F, hyp.D1))
-        if self.history is not None:
-            if Sbar is None:
-                raise ValueError("viscoelasticity needs the split Mooney-Rivlin form (3.58)")
-            S = S + viscous_stress(F, Sbar, self.history.Hstar, self.history.beta)
-        return S
+        return second_piola(u, p, self.hyperelastic, self.history)
 
     def _bulk_residual(self):
         u, p = self.split()
         v, q = self.test_functions()
-        F = deformation_gradient(u)
-        R = ufl.inner(F * self.second_piola(), embed_gradient(v)) * self.dx
-        if p is not None:
-            K = 2.0 / self.hyperelastic.D1
-            R += (ufl.det(F) - 1.0 - p / K) * q * self.dx
-        return R
+        return bulk_residual(u, p, v, q, self.hyperelastic, self.dx, self.history)
 
     def add_traction(self, tag: int, traction) -> None:
         """Dead-load traction (force per reference length, N/mm^2 per unit depth) on facets `tag`."""

@@ -45,7 +45,7 @@ from rubberfriction.driver.theory.errors import TheoryInputError
 from rubberfriction.driver.theory.persson import PerssonOptions
 from rubberfriction.driver.theory.rubber import Rubber, rubber_from_compound
 from rubberfriction.driver.theory.spectrum import line_spectrum
-from rubberfriction.forms.materials import DEFAULT_COMPOUND, load_compound
+from rubberfriction.forms.material_files import DEFAULT_COMPOUND, load_compound
 
 DEFAULT_N = 50
 DEFAULT_VRANGE = (1e-3, 1e4)  # mm/s
@@ -176,7 +176,7 @@ def surface_psd(surface: str | None = "default", lambda_max: float | None = None
 
 
 def load_rubber(compound: str, nu: float | None = None) -> tuple[Rubber, str]:
-    """Rubber for the theories from a compound name or TOML file (forms.materials)."""
+    """Rubber for the theories from a compound name or TOML file (forms.material_files)."""
     comp = load_compound(compound)
     rubber = rubber_from_compound(comp)
     if nu is not None:

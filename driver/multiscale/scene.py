@@ -438,7 +438,7 @@ def _resolve_file(origin: str, base: Path | None, where: str, text: str) -> Path
 
 
 def _compound_path(origin: str, base: Path | None, i: int, text: str) -> str:
-    from rubberfriction.forms.materials import available, resolve_data_path
+    from rubberfriction.forms.material_files import available, resolve_data_path
 
     where = f"[conditions].compounds[{i}]"
     if text.endswith(".toml") or "/" in text:

@@ -18,7 +18,7 @@ from rubberfriction.driver.multiscale.scene import Scene, SceneError
 from rubberfriction.driver.sliding.spec import SlidingSpec, default_h_contact
 from rubberfriction.driver.surfaces.profile import UNIFORM_RTOL
 from rubberfriction.driver.surfaces.samples import refine_periodic
-from rubberfriction.forms.materials import load_compound
+from rubberfriction.forms.material_files import load_compound
 
 
 def refined_master(x: np.ndarray, h: np.ndarray, period: float, lam_min: float,

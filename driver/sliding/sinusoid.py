@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rubberfriction.forms.materials import Compound
+from rubberfriction.forms.compound import Compound
 
 
 def effective_modulus(compound: Compound, omega: float, temperature: float | None = None) -> complex:

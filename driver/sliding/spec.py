@@ -26,7 +26,7 @@ class SlidingSpec:
     period: float  # > 0: periodic master and periodic cell of this length
     pressure: float
     velocity: float
-    compound: object  # rubberfriction.forms.materials.Compound
+    compound: object  # rubberfriction.forms.compound.Compound
     block_length: float = 0.0  # 0: = period (micro cell)
     block_height: float = 0.0  # 0: = block_length (thesis 6.2.2)
     temperature: float | None = None  # K; None: the WLF reference temperature

@@ -144,7 +144,7 @@ def prony_modulus(E_inf: float, E_i: np.ndarray,
 
 
 def rubber_from_compound(compound: Any, T_ref: float | None = None) -> Rubber:
-    """A :class:`Rubber` from a ``forms.materials.Compound`` (duck-typed).
+    """A :class:`Rubber` from a ``forms.compound.Compound`` (duck-typed).
 
     Uses ``compound.complex_modulus(omega)`` (Young's modulus E* in MPa at the WLF reference
     temperature), ``compound.hyperelastic.nu``, ``compound.wlf.log10_aT`` and

@@ -46,7 +46,7 @@ from rubberfriction.driver.verification import check
 
 def elastic_compound(E: float, nu: float):
     """Neo-Hooke compound with small-strain Young's modulus E [MPa] and Poisson ratio nu."""
-    from rubberfriction.forms.materials import Compound, MooneyRivlin
+    from rubberfriction.forms.compound import Compound, MooneyRivlin
 
     G = E / (2.0 * (1.0 + nu))
     K = E / (3.0 * (1.0 - 2.0 * nu))

@@ -25,7 +25,7 @@ from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonS
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.verification import check
 from rubberfriction.forms.kinematics import deformation_gradient
-from rubberfriction.forms.materials import Compound, MooneyRivlin, PronySeries
+from rubberfriction.forms.compound import Compound, MooneyRivlin, PronySeries
 
 
 class ShearCell:

@@ -13,7 +13,7 @@ import argparse
 from rubberfriction.driver.sliding.run import run_sliding
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.surfaces import sawtooth_profile
-from rubberfriction.forms.materials import load_compound
+from rubberfriction.forms.material_files import load_compound
 
 
 def sawtooth_mu(compound, *, wavelength: float = 1.0, height: float = 0.02, steep_fraction: float = 0.2,

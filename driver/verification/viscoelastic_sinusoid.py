@@ -23,7 +23,8 @@ from rubberfriction.driver.sliding.run import run_sliding
 from rubberfriction.driver.sliding.sinusoid import closed_form_mu, full_contact_pressure
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.verification import check
-from rubberfriction.forms.materials import Compound, load_compound
+from rubberfriction.forms.compound import Compound
+from rubberfriction.forms.material_files import load_compound
 
 
 def simulate(compound: Compound, *, wavelength: float = 1.0, amplitude: float = 0.002,

@@ -1,0 +1,65 @@
+"""The bulk weak form of the rubber: finite-strain viscoelastic stress and its residual.
+
+Stress (thesis 3.3.3, 3.3.4; eq. 3.77, 3.78), plane strain embedded in 3D:
+
+    S = S_vol + J^(-2/3) DEV{Sbar + beta Sbar + Hstar}
+
+with the fictitious Mooney-Rivlin stress Sbar (``hyperelastic.py``) and the collapsed Prony
+history (Hstar, beta) of ``viscoelastic.py``.  S_vol is the penalty volumetric stress of the
+displacement-only element or J p C^-1 with an independent pressure p (mixed element).
+
+Residual in the reference configuration (eq. 3.85) with the perturbed-Lagrangian constraint of the
+mixed element (eq. 3.61), which stays well posed as K -> infinity:
+
+    R(u, p; v, q) = int (F S) : grad(v) dV + int (J - 1 - p/K) q dV
+
+External loads (tractions) and contact are added by the caller.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import ufl
+
+from rubberfriction.forms.hyperelastic import (
+    MooneyRivlinLike,
+    equilibrium_stress,
+    fictitious_stress,
+    isochoric_stress,
+    pressure_stress,
+    volumetric_stress,
+)
+from rubberfriction.forms.kinematics import deformation_gradient, embed_gradient
+from rubberfriction.forms.viscoelastic import viscous_stress
+
+
+def second_piola(u: Any, p: Any, material: MooneyRivlinLike, history: Any = None) -> Any:
+    """Total second Piola-Kirchhoff stress S (3x3 UFL) of displacement u and pressure p.
+
+    ``p`` is the independent pressure of a mixed element or None (displacement-only: the
+    volumetric stress follows from D1).  ``history``: an object with the UFL fields ``Hstar``
+    and ``beta`` (:class:`~rubberfriction.forms.viscoelastic.ViscoelasticHistory`) or None
+    (elastic)."""
+    F = deformation_gradient(u)
+    if material.form == "feap":
+        if history is not None:
+            raise ValueError("viscoelasticity needs the split Mooney-Rivlin form (3.58)")
+        return equilibrium_stress(F, material)
+    Sbar = fictitious_stress(F, material)
+    S = isochoric_stress(F, Sbar)
+    S = S + (pressure_stress(F, p) if p is not None else volumetric_stress(F, material.D1))
+    if history is not None:
+        S = S + viscous_stress(F, Sbar, history.Hstar, history.beta)
+    return S
+
+
+def bulk_residual(u: Any, p: Any, v: Any, q: Any, material: MooneyRivlinLike, dx: Any,
+                  history: Any = None) -> Any:
+    """Residual form of eq. (3.85) plus, for a mixed element (p, q given), eq. (3.61)."""
+    F = deformation_gradient(u)
+    R = ufl.inner(F * second_piola(u, p, material, history), embed_gradient(v)) * dx
+    if p is not None:
+        K = 2.0 / material.D1
+        R += (ufl.det(F) - 1.0 - p / K) * q * dx
+    return R
