@@ -8,10 +8,10 @@ import os
 import shutil
 import subprocess
 import sys
-import tomllib
 from pathlib import Path
 
 import pytest
+import tomllib
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = tomllib.loads((ROOT / "pyproject.toml").read_text())
@@ -93,3 +93,10 @@ def test_wheel_installs_into_a_fresh_venv_and_runs_outside_the_checkout(tmp_path
     assert abs(checks["total contact force F_z"] - par["pressure"] * par["length"]) <= 1e-8 * par["pressure"]
     p_min, p_max = checks["contact pressure min"], checks["contact pressure max"]
     assert abs(p_max - p_min) <= 1e-8 * par["pressure"]
+
+
+def test_version_is_stated_once_per_file_and_agrees() -> None:
+    """The run keys contain ``rubberfriction.__version__``; pyproject.toml must say the same."""
+    import rubberfriction
+
+    assert CONFIG["project"]["version"] == rubberfriction.__version__

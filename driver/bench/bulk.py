@@ -19,7 +19,11 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.newton import (
+    ConstrainedNonlinearProblem,
+    NewtonSettings,
+    NewtonSolver,
+)
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.forms.material_files import load_compound
 

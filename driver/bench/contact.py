@@ -20,6 +20,12 @@ import argparse
 import time
 
 import numpy as np
+from petsc4py import PETSc
+
+from rubberfriction.driver.fe.constraints import ConstraintMap
+from rubberfriction.driver.fe.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
+from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSolver
+from rubberfriction.driver.verification import contact_cases as cc
 
 
 def rough_profile(n: int, length: float, rms: float, seed: int = 1, k_max: int | None = None) -> np.ndarray:
@@ -36,9 +42,7 @@ def rough_profile(n: int, length: float, rms: float, seed: int = 1, k_max: int |
 
 
 def bench_scaling(n: int, repeat: int = 3) -> dict:
-    from petsc4py import PETSc
 
-    from rubberfriction.driver.fe.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
 
     L = 1.0
     V = rough_profile(4 * n, L, 0.002)
@@ -74,9 +78,6 @@ def bench_scaling(n: int, repeat: int = 3) -> dict:
 
 
 def bench_newton_share(nx: int, steps: int = 3, friction=0.5, step_fraction: float = 0.5, penalty=None) -> dict:
-    from rubberfriction.driver.fe.constraints import ConstraintMap
-    from rubberfriction.driver.fe.contact import Contact, RigidMaster, SlaveSurface
-    from rubberfriction.driver.verification import contact_cases as cc
 
     L = 1.0
     body, sp, spec, top_x, top_z = cc._block_setup(E=6.0, nu=0.4999, length=L, height=L, n_contact=nx,
@@ -95,7 +96,6 @@ def bench_newton_share(nx: int, steps: int = 3, friction=0.5, step_fraction: flo
         timer["contact"] += time.perf_counter() - t0
         timer["calls"] += 1
 
-    from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSolver
 
     pb = ConstrainedNonlinearProblem(sp.residual, sp.jacobian(), sp.w, cmap, hooks=[timed_hook],
                                      extra_couplings=contact.couplings())
@@ -158,7 +158,6 @@ def main(argv: list[str] | None = None) -> int:
               f"{100 * r['contact_share']:>13.1f}%")
 
     print("\n3. Hertz (R = 10 mm, E = 6 MPa, nu = 0.3, a = 0.02 R): error vs wall time")
-    from rubberfriction.driver.verification import contact_cases as cc
 
     res = cc.hertz(nu=0.3, elements_per_a=tuple(args.hertz))
     print(f"{'el./a':>6} {'dofs':>7} {'Newton its':>10} {'wall s':>7} {'err a':>9} {'err p0':>9} {'L2 err p':>9}")

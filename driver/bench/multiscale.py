@@ -26,9 +26,13 @@ import os
 import subprocess
 import sys
 import time
-import tomllib
+from importlib import resources
 from pathlib import Path
 from typing import Any
+
+import tomllib
+
+from rubberfriction.driver.runtime.store import Store
 
 
 def _children(root: int) -> list[int]:
@@ -102,7 +106,6 @@ def _toml(doc: dict) -> str:
 
 def point_scene(samples: int, velocity: float) -> str:
     """The default scene reduced to one velocity with k = j = samples."""
-    from importlib import resources
 
     scenes = resources.files("rubberfriction.driver.scenes")
     doc = tomllib.loads(scenes.joinpath("default.toml").read_text())
@@ -130,7 +133,6 @@ def time_shares(out: Path) -> dict[str, float]:
 
 
 def _same_store(a: Path, b: Path) -> str:
-    from rubberfriction.driver.runtime.store import Store
 
     sa, sb = Store(a / "store"), Store(b / "store")
     if sa.keys() != sb.keys():

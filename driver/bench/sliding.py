@@ -23,6 +23,7 @@ import numpy as np
 
 from rubberfriction.driver.sliding.run import run_sliding
 from rubberfriction.driver.sliding.spec import SlidingSpec
+from rubberfriction.driver.surfaces import default_road
 from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
 from rubberfriction.forms.material_files import load_compound
 
@@ -46,7 +47,6 @@ def accuracy(quick: bool) -> None:
 
 def rough_sample():
     """First sample of the micro1 scale (0.3-0.04 mm band) of the default road, period 0.3 mm."""
-    from rubberfriction.driver.surfaces import default_road
 
     return default_road().extract_samples(1, seed=1)[2][0]
 

@@ -21,6 +21,16 @@ from typing import Any, Callable
 
 import numpy as np
 
+from rubberfriction.driver.surfaces import (
+    band_split,
+    log_bin,
+    multiscale_from_measurements,
+    psd_1d,
+    self_affine_profile,
+)
+from rubberfriction.driver.surfaces.default_road import DEFAULT_EDGES
+from rubberfriction.driver.surfaces.profile import Profile
+
 
 def _best(fn: Callable[[], Any], repeat: int) -> tuple[float, Any]:
     best, out = np.inf, None
@@ -34,15 +44,6 @@ def _best(fn: Callable[[], Any], repeat: int) -> tuple[float, Any]:
 def run(points: int = 2_000_000, samples: int = 10, seed: int = 1, repeat: int = 1,
         dx: float = 0.0015) -> dict[str, Any]:
     """Run the benchmark and return the timings (s) and sizes."""
-    from rubberfriction.driver.surfaces import (
-        band_split,
-        log_bin,
-        multiscale_from_measurements,
-        psd_1d,
-        self_affine_profile,
-    )
-    from rubberfriction.driver.surfaces.default_road import DEFAULT_EDGES
-    from rubberfriction.driver.surfaces.profile import Profile
 
     t_gen, prof = _best(lambda: self_affine_profile(points * dx, dx, H=0.8, rms_height=1.0,
                                                     q_rolloff=2 * np.pi / 20.0, seed=seed), 1)

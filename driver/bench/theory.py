@@ -33,10 +33,15 @@ from typing import Any, Callable
 
 import numpy as np
 
+from rubberfriction.driver.multiscale.baseline import load_rubber, surface_psd
+from rubberfriction.driver.multiscale.campaign import runs_per_point
+from rubberfriction.driver.multiscale.scene import load_scene
 from rubberfriction.driver.theory.curves import iso_psd_from_profile_psd
 from rubberfriction.driver.theory.kluppel import descriptors_from_psd, kluppel_heinrich_friction
 from rubberfriction.driver.theory.persson import persson_friction
 from rubberfriction.driver.theory.spectrum import spectrum_from_psd
+from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
+from rubberfriction.forms.material_files import load_compound
 
 #: the theory row the FE is compared with
 REFERENCE_CASE = "Persson line roughness (1D), isothermal"
@@ -59,8 +64,6 @@ def fe_single_run(temperature: float | None, mesh: int, periods: float,
     compilation), the run's size (dofs, sliding steps, Newton iterations) and mu from the FE
     (force, eq. 6.2) against the closed form of ``viscoelastic_sinusoid``.
     """
-    from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
-    from rubberfriction.forms.material_files import load_compound
 
     comp = load_compound("tread_default")
     times, out = [], None
@@ -81,7 +84,6 @@ def fe_single_run(temperature: float | None, mesh: int, periods: float,
 
 def main(argv: list[str] | None = None) -> int:
     """Print the benchmark table; ``--json FILE`` also writes the figures."""
-    from rubberfriction.driver.multiscale.baseline import load_rubber, surface_psd
 
     ap = argparse.ArgumentParser(prog="rubberfriction bench theory",
                                  description=(__doc__ or "").split("\n\n")[0])
@@ -172,8 +174,6 @@ def main(argv: list[str] | None = None) -> int:
                          f"{fe['status']}, mu {fe['mu_fe']:.4g} vs closed form "
                          f"{fe['mu_exact']:.4g} ({100 * err:.1f} %)"))
         try:
-            from rubberfriction.driver.multiscale.campaign import runs_per_point
-            from rubberfriction.driver.multiscale.scene import load_scene
 
             scene = load_scene(args.scene)
             runs, how = runs_per_point(scene)

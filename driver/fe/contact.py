@@ -51,6 +51,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from petsc4py import PETSc
 
 from rubberfriction import _contact
 from rubberfriction.driver.fe.friction_law import as_cpp_law
@@ -308,8 +309,6 @@ class Contact:
 
     def sparsity_pairs(self, margin: float | None = None, u: np.ndarray | None = None):
         """(rows, cols) arrays (PETSc.IntType) of every entry the contact may write."""
-        from petsc4py import PETSc
-
         r, c = self._c.sparsity_pairs(None if u is None else np.asarray(u, float), -1.0 if margin is None else float(margin))
         return r.astype(PETSc.IntType), c.astype(PETSc.IntType)
 

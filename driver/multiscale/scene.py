@@ -24,21 +24,22 @@ Variants (``variant``):
 
 from __future__ import annotations
 
-import difflib
-import math
-import tomllib
 from dataclasses import dataclass, field, fields, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
+import tomllib
+
+from rubberfriction import validation as V
 from rubberfriction.driver.theory.adhesion import BellLaw
+from rubberfriction.forms.material_files import available, resolve_data_path
 
 #: Shipped scenes (``driver/scenes/<name>.toml``); ``load_scene("two_sine")`` finds them by name.
 SCENES_PACKAGE = "rubberfriction.driver.scenes"
 
 
-class SceneError(ValueError):
+class SceneError(V.InputError):
     """A scene that cannot be run; the message names the key, the value and what is expected."""
 
 
@@ -348,60 +349,38 @@ def _where(section: str, key: str) -> str:
     return f"[{section}].{key}" if section else key
 
 
-def _suggest(name: str, allowed: list[str]) -> str:
-    close = difflib.get_close_matches(name, allowed, n=1, cutoff=0.6)
-    return f"; did you mean {close[0]!r}?" if close else ""
-
-
 def _check_value(origin: str, section: str, name: str, key: Key, value: Any) -> Any:
-    where = f"{origin}: {_where(section, name)} = {value!r}"
-
-    def number(v: Any, what: str) -> float:
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise SceneError(f"{where}: expected {what}")
-        v = float(v)
-        if not math.isfinite(v):
-            raise SceneError(f"{where}: expected a finite {what}")
-        if key.minimum is not None and v < key.minimum:
-            raise SceneError(f"{where}: expected {what} >= {key.minimum:g}")
-        if key.above is not None and v <= key.above:
-            raise SceneError(f"{where}: expected {what} > {key.above:g}")
-        if key.maximum is not None and v > key.maximum:
-            raise SceneError(f"{where}: expected {what} <= {key.maximum:g}")
-        return v
-
+    where = f"{origin}: {_where(section, name)}"
+    bounds = {"minimum": key.minimum, "above": key.above, "maximum": key.maximum,
+              "error": SceneError}
     k = key.kind
     if k == "str":
-        if not isinstance(value, str):
-            raise SceneError(f"{where}: expected a string")
-        if key.choices and value not in key.choices:
-            raise SceneError(f"{where}: expected one of {', '.join(map(repr, key.choices))}"
-                             f"{_suggest(value, list(key.choices))}")
-        return value
+        V.text(where, value, error=SceneError)
+        return V.choice(where, value, key.choices, error=SceneError) if key.choices else value
     if k == "bool":
         if not isinstance(value, bool):
-            raise SceneError(f"{where}: expected true or false")
+            V.fail(where, value, "true or false", SceneError)
         return value
     if k == "int":
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise SceneError(f"{where}: expected an integer")
-        return int(number(value, "an integer"))
+        V.integer(where, value, error=SceneError)
+        return int(V.number(where, value, what="an integer", **bounds))
     if k == "float":
-        return number(value, "a number")
+        return V.number(where, value, **bounds)
     if k == "opt_float":
-        return None if value is None else number(value, "a number")
+        return None if value is None else V.number(where, value, **bounds)
     if k in ("floats", "strs"):
         if isinstance(value, (int, float, str)) and not isinstance(value, bool):
             value = [value]  # a single value where a list is expected
         if not isinstance(value, list):
-            raise SceneError(f"{where}: expected a list")
+            V.fail(where, value, "a list", SceneError)
         if key.nonempty and not value:
-            raise SceneError(f"{where}: expected a non-empty list")
+            V.fail(where, value, "a non-empty list", SceneError)
         if k == "strs":
             if not all(isinstance(v, str) for v in value):
-                raise SceneError(f"{where}: expected a list of strings")
+                V.fail(where, value, "a list of strings", SceneError)
             return tuple(value)
-        return tuple(number(v, "a list of numbers") for v in value)
+        return tuple(V.number(where, v, what="a list of numbers", shown=value, **bounds)
+                     for v in value)
     raise AssertionError(k)  # pragma: no cover
 
 
@@ -416,7 +395,7 @@ def _table(origin: str, doc: dict, section: str) -> dict[str, Any]:
         if name not in allowed:
             what = "section" if not section and isinstance(table[name], dict) else "key"
             raise SceneError(f"{origin}: unknown {what} "
-                             f"{_where(section, name)!s}{_suggest(name, allowed)} "
+                             f"{_where(section, name)!s}{V.suggest(name, allowed)} "
                              f"(allowed: {', '.join(allowed)})")
     out = {}
     for name, key in keys.items():
@@ -438,8 +417,6 @@ def _resolve_file(origin: str, base: Path | None, where: str, text: str) -> Path
 
 
 def _compound_path(origin: str, base: Path | None, i: int, text: str) -> str:
-    from rubberfriction.forms.material_files import available, resolve_data_path
-
     where = f"[conditions].compounds[{i}]"
     if text.endswith(".toml") or "/" in text:
         return str(_resolve_file(origin, base, where, text))
@@ -448,7 +425,7 @@ def _compound_path(origin: str, base: Path | None, i: int, text: str) -> str:
     except ValueError:
         names = available("compound")
         raise SceneError(f"{origin}: {where} = {text!r}: no shipped compound of that name and no "
-                         f"such file{_suggest(text, names)} (shipped: "
+                         f"such file{V.suggest(text, names)} (shipped: "
                          f"{', '.join(names)})") from None
     return text
 
@@ -617,7 +594,7 @@ def load_scene(path: str | Path | None = None) -> Scene:
     if "/" not in name and not name.endswith(".toml") and name in shipped_scenes():
         text = resources.files(SCENES_PACKAGE).joinpath(f"{name}.toml").read_text()
         return parse_scene(text, f"embedded:{name}", None)
-    hint = _suggest(name, shipped_scenes())
+    hint = V.suggest(name, shipped_scenes())
     raise SceneError(f"scene {name!r}: no such file and no shipped scene of that name{hint} "
                      f"(shipped: {', '.join(shipped_scenes())})")
 

@@ -50,7 +50,10 @@ import time
 import traceback
 from collections import deque
 from dataclasses import dataclass, field
+from types import SimpleNamespace
 from typing import Any, Callable, Protocol
+
+from mpi4py import MPI
 
 from rubberfriction.driver.runtime.store import Outcome, Store
 
@@ -118,8 +121,6 @@ class FarmError(RuntimeError):
 
 def failure_result(reason: str) -> Any:
     """A SlidingResult-like failed result for a run that raised."""
-    from types import SimpleNamespace
-
     return SimpleNamespace(status="failed", reason=reason, series={}, stats={},
                            dissipation_by_depth=None,
                            mu_force=float("nan"), mu_energy=float("nan"),
@@ -200,8 +201,6 @@ class Executor:
                       "failed; exiting -- run the scene again to resume", file=sys.stderr,
                       flush=True)
                 try:
-                    from mpi4py import MPI
-
                     if MPI.Is_initialized() and MPI.COMM_WORLD.Get_size() > 1:
                         MPI.COMM_WORLD.Abort(3)
                 finally:
@@ -292,15 +291,14 @@ def run_serial(planner: Planner, execute: Callable[[Task], Outcome],
 def run_farm(make_planner: Callable[[], Planner], execute: Callable[[Task], Outcome],
              progress: ProgressLike | None = None, comm: Any = None,
              poll: float = 0.02) -> tuple[Planner | None, dict[str, Outcome]]:
-    """Run a campaign on all ranks of ``comm`` (default: COMM_WORLD, or serial without MPI).
+    """Run a campaign on all ranks of ``comm`` (default: COMM_WORLD; serial on one rank).
 
     Every rank calls this with the same arguments; ``make_planner`` is only called on rank 0.
     Returns ``(planner, outcomes)`` on rank 0 and ``(None, {})`` on the other ranks.  An
     exception raised while planning on rank 0 stops all workers and is re-raised on rank 0.
     """
-    if comm is None:
-        comm = _world()
-    if comm is None or comm.Get_size() == 1:
+    comm = MPI.COMM_WORLD if comm is None else comm
+    if comm.Get_size() == 1:
         planner = make_planner()
         return planner, run_serial(planner, execute, progress)
     comm = comm.Dup()
@@ -313,17 +311,7 @@ def run_farm(make_planner: Callable[[], Planner], execute: Callable[[Task], Outc
         comm.Free()
 
 
-def _world() -> Any:
-    try:
-        from mpi4py import MPI
-    except ImportError:  # pragma: no cover - mpi4py is a hard dependency of the FE stack
-        return None
-    return MPI.COMM_WORLD
-
-
 def _worker(comm: Any, execute: Callable[[Task], Outcome]) -> None:
-    from mpi4py import MPI
-
     status = MPI.Status()
     outcome: tuple[Task, Outcome] | None = None
     while True:
@@ -337,8 +325,6 @@ def _worker(comm: Any, execute: Callable[[Task], Outcome]) -> None:
 def _master(comm: Any, make_planner: Callable[[], Planner], execute: Callable[[Task], Outcome],
             progress: ProgressLike | None, poll: float) -> tuple[Planner | None,
                                                                  dict[str, Outcome]]:
-    from mpi4py import MPI
-
     nworkers = comm.Get_size() - 1
     local = MPI.Query_thread() >= MPI.THREAD_MULTIPLE
     if not local:
@@ -427,8 +413,6 @@ def _master(comm: Any, make_planner: Callable[[], Planner], execute: Callable[[T
 
 
 def _stop_all(comm: Any, nworkers: int) -> None:
-    from mpi4py import MPI
-
     st = MPI.Status()
     for _ in range(nworkers):
         comm.recv(source=MPI.ANY_SOURCE, tag=TAG_REQUEST, status=st)

@@ -69,10 +69,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterator
 
+import h5py
 import numpy as np
 
+import rubberfriction
+
 #: Bump when the canonical serialisation or the file layout changes (changes every key).
-STORE_SCHEMA = 1
+#: 2: classes enter keys by qualified name without their module (1: with the module path).
+STORE_SCHEMA = 2
 
 #: Scalar results every run file carries (NaN when the run failed).
 RESULT_SCALARS = ("mu_force", "mu_energy", "mean_pressure", "contact_fraction", "t_reached")
@@ -99,7 +103,7 @@ def canonical(obj: Any) -> Any:
     """A JSON-ready, order-independent image of ``obj`` that changes whenever its value does.
 
     Floats keep their exact value (Python's shortest round-trip repr), numpy arrays enter by
-    dtype, shape and sha256 of their bytes, dataclasses by their qualified class name and all
+    dtype, shape and sha256 of their bytes, dataclasses by their class name (no module) and all
     fields (sorted), mappings by sorted keys.  Objects that are none of these must provide
     ``canonical_state()`` or ``to_dict()``; anything else raises ``TypeError`` -- a run whose
     inputs cannot be written down cannot be keyed, and guessing (e.g. ``repr``) could make two
@@ -139,8 +143,9 @@ def canonical(obj: Any) -> Any:
 
 
 def _qualname(obj: Any) -> str:
-    t = type(obj)
-    return f"{t.__module__}.{t.__qualname__}"
+    """The class name that enters a key: its qualified name without the module, so that moving a
+    class to another module does not change the keys of the runs it is part of (schema 2)."""
+    return type(obj).__qualname__
 
 
 def canonical_json(obj: Any) -> str:
@@ -150,9 +155,7 @@ def canonical_json(obj: Any) -> str:
 
 def code_version() -> str:
     """``rubberfriction.__version__`` (part of every key)."""
-    from rubberfriction import __version__
-
-    return str(__version__)
+    return str(rubberfriction.__version__)
 
 
 @functools.lru_cache(maxsize=1)
@@ -331,8 +334,6 @@ class Store:
         dissipation_by_depth).  ``failure`` defaults to "physics" for a failed result; the farm
         passes "error" for a run that raised.
         """
-        import h5py
-
         status = str(getattr(result, "status", "failed"))
         reason = str(getattr(result, "reason", ""))
         if failure is None:
@@ -395,8 +396,6 @@ class Store:
 
     # --- reading -------------------------------------------------------------------------------
     def _open(self, key: str):
-        import h5py
-
         p = self.path(key)
         try:
             return h5py.File(p, "r")
@@ -462,8 +461,6 @@ class Store:
 
     def export(self, path: str | Path, keys: list[str] | None = None) -> Path:
         """Copy runs (default: all) into one HDF5 file ``/runs/<key>/...`` for sharing."""
-        import h5py
-
         path = Path(path)
         with h5py.File(path, "w") as out:
             out.attrs["schema"] = STORE_SCHEMA

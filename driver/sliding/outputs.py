@@ -30,6 +30,11 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+import ufl
+from dolfinx import fem
+from dolfinx.io import XDMFFile
+
+from rubberfriction.forms.kinematics import deformation_gradient
 
 #: columns of SlidingResult.series and their units (CSV header "name [unit]")
 SERIES_UNITS: dict[str, str] = {
@@ -68,8 +73,6 @@ def _step_lengths(s: np.ndarray) -> np.ndarray:
 
 def _point_weights(sp) -> np.ndarray:
     """(n_cells, n_points) reference-volume weight |det J| w_q of each bulk quadrature point."""
-    import ufl
-    from dolfinx import fem
 
     mesh = sp.mesh
     ncell = mesh.topology.index_map(mesh.topology.dim).size_local
@@ -82,8 +85,6 @@ def _point_weights(sp) -> np.ndarray:
 def _point_coordinates(sp) -> np.ndarray:
     """(n_cells * n_points, 2) reference coordinates of the bulk quadrature points, cell-major
     (the ordering of ``ViscoelasticHistory`` arrays)."""
-    import ufl
-    from dolfinx import fem
 
     mesh = sp.mesh
     ncell = mesh.topology.index_map(mesh.topology.dim).size_local
@@ -136,8 +137,6 @@ class FieldWriter:
     # --- observer interface ----------------------------------------------------------------
     def on_start(self, run) -> None:
         """Open the files afresh (a retried attempt overwrites the previous one's output)."""
-        from dolfinx import fem
-        from dolfinx.io import XDMFFile
 
         self.close()
         self.folder.mkdir(parents=True, exist_ok=True)
@@ -218,10 +217,7 @@ class FieldWriter:
     @staticmethod
     def _stress_expression(sp):
         """fem.Expression of (-tr(sigma)/3, von Mises) at the bulk quadrature points."""
-        import ufl
-        from dolfinx import fem
 
-        from rubberfriction.forms.kinematics import deformation_gradient
 
         u, _ = sp.split()
         F = deformation_gradient(u)

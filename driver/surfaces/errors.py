@@ -7,8 +7,10 @@ what was wrong, where (line, index, position in mm) and what to do about it.
 
 from __future__ import annotations
 
+from rubberfriction.validation import InputError
 
-class SurfaceError(ValueError):
+
+class SurfaceError(InputError):
     """Base class of all rough-surface input and processing errors."""
 
 

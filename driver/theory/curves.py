@@ -26,6 +26,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from rubberfriction.driver.surfaces.psd import log_bin, psd_iso_from_1d
 from rubberfriction.driver.theory.adhesion import BellLaw
 from rubberfriction.driver.theory.errors import TheoryInputError
 from rubberfriction.driver.theory.flash import FlashOptions
@@ -75,8 +76,6 @@ class TheoryCurve:
 def iso_psd_from_profile_psd(q: np.ndarray, C1D: np.ndarray, bins_per_decade: int = 20
                              ) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """Isotropic 2D PSD (Persson convention) from a profile PSD by the inverse Abel transform."""
-    from rubberfriction.driver.surfaces.psd import log_bin, psd_iso_from_1d
-
     q = np.asarray(q, dtype=float)
     C1D = np.asarray(C1D, dtype=float)
     ok = (q > 0) & (C1D > 0)

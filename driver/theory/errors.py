@@ -7,6 +7,8 @@ Every failure a user can trigger with bad input raises :class:`TheoryInputError`
 
 from __future__ import annotations
 
+from rubberfriction.validation import InputError
 
-class TheoryInputError(ValueError):
+
+class TheoryInputError(InputError):
     """Bad input to an analytical friction theory (PSD, material, conditions, options)."""

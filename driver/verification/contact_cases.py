@@ -26,6 +26,7 @@ of the closed forms; contact: ``driver.fe.contact`` (C++ mortar or node-to-segme
 from __future__ import annotations
 
 import argparse
+import inspect
 import math
 import time
 
@@ -33,20 +34,39 @@ import numpy as np
 import ufl
 from dolfinx import fem
 from mpi4py import MPI
+from scipy.spatial import cKDTree
 
+from rubberfriction.driver.fe import friction_law as fl
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
 from rubberfriction.driver.fe.contact import (
-    Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface, ThermalSettings)
-from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+    DEFAULT_ALPHA,
+    Contact,
+    DeformableMaster,
+    PenaltySettings,
+    RigidMaster,
+    SlaveSurface,
+    ThermalSettings,
+)
+from rubberfriction.driver.fe.newton import (
+    ConstrainedNonlinearProblem,
+    NewtonSettings,
+    NewtonSolver,
+)
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.verification import check
+from rubberfriction.forms.compound import Compound, MooneyRivlin
+from rubberfriction.forms.kinematics import deformation_gradient
+from rubberfriction.forms.viscoelastic import evaluate_at_points
+from rubberfriction.meshes.block import rubber_block
+from rubberfriction.meshes.common import build_body_mesh
+from rubberfriction.meshes.cylinder import hertz_cylinder
+from rubberfriction.meshes.patch import patch_test_pair
 
 # --------------------------------------------------------------------------------- helpers
 
 
 def elastic_compound(E: float, nu: float):
     """Neo-Hooke compound with small-strain Young's modulus E [MPa] and Poisson ratio nu."""
-    from rubberfriction.forms.compound import Compound, MooneyRivlin
 
     G = E / (2.0 * (1.0 + nu))
     K = E / (3.0 * (1.0 - 2.0 * nu))
@@ -66,7 +86,6 @@ def _mesh_arrays(body) -> tuple[np.ndarray, np.ndarray]:
 def merged_mesh(bodies, rules, levels=(), info=None):
     """One DOLFINx mesh holding several disconnected bodies (meshes.common.BodyMesh), with new
     facet rules (tag, predicate) -- the project's Newton works on one function space."""
-    from rubberfriction.meshes.common import build_body_mesh
 
     pts, cells, off = [], [], 0
     for b in bodies:
@@ -109,8 +128,6 @@ def solve_or_raise(solver, what: str):
 
 def cauchy_zz(sp) -> np.ndarray:
     """sigma_zz at every quadrature point."""
-    from rubberfriction.forms.kinematics import deformation_gradient
-    from rubberfriction.forms.viscoelastic import evaluate_at_points
 
     u, _ = sp.split()
     F = deformation_gradient(u)
@@ -160,7 +177,6 @@ def two_blocks(length, h_upper, h_lower, n_upper, n_lower, *, ny_upper=None, ny_
     """The patch-test pair (``meshes.patch``) as ONE mesh: upper [0, l] x [gap, gap + h_upper],
     lower [0, l] x [-h_lower, 0].  Facet tags: upper 1 contact (bottom), 2 top, 3 left, 4 right;
     lower 5 contact (top), 6 bottom, 7 left, 8 right.  Cell tags: 1 lower, 2 upper."""
-    from rubberfriction.meshes.patch import patch_test_pair
 
     up, lo = patch_test_pair(length, h_upper, h_lower, n_upper=n_upper, n_lower=n_lower, ny_upper=ny_upper,
                              ny_lower=ny_lower, gap=gap)
@@ -278,7 +294,6 @@ def mortar_average(x: np.ndarray, f, n: int = 400) -> np.ndarray:
 
 
 def _hertz_one(R, E, nu, P, h, method, element, c_N, alpha, grading):
-    from rubberfriction.meshes.cylinder import hertz_cylinder
 
     Es = plane_strain_modulus(E, nu)
     a_t, _ = hertz_solution(P, R, Es)
@@ -346,7 +361,6 @@ def hertz(*, R: float = 10.0, E: float = 6.0, nu: float = 0.3, P: float | None =
     closed form is evaluated at the load actually carried.  The half-width is measured by the second
     moment of the nodal pressures, Int p x^2 / Int p = a^2/4, and p0 is the pressure of the node at
     x = 0."""
-    from rubberfriction.driver.fe.contact import DEFAULT_ALPHA
 
     Es = plane_strain_modulus(E, nu)
     if P is None:
@@ -393,7 +407,6 @@ def westergaard(*, E: float = 6.0, nu: float = 0.4999, wavelength: float = 1.0, 
     distribution; every nodal pressure counts); checks: a, p* sin^2(pi a/lambda)
     against the applied p_mean, and the peak pressure 2 p_mean/sin(pi a/lambda).  depth >= 2 keeps
     the finite-layer correction below 1e-6."""
-    from rubberfriction.meshes.block import rubber_block
 
     Es = plane_strain_modulus(E, nu)
     lam, h = wavelength, amplitude
@@ -467,7 +480,6 @@ def convergence_orders(residuals, floor: float) -> list[float]:
 
 
 def _block_setup(*, E, nu, length, height, n_contact, periodic, element, edge_radius=0.0):
-    from rubberfriction.meshes.block import rubber_block
 
     if edge_radius > 0.0:
         body = rubber_block(length, height, h_contact=length / n_contact, grading=1.2,
@@ -512,7 +524,6 @@ def sliding_block(*, E: float = 6.0, nu: float = 0.45, pressure: float = 0.2, ve
     The Newton residuals of the last sliding step of each run are returned with the estimated
     convergence orders (quadratic: ~2).
     """
-    from rubberfriction.driver.fe import friction_law as fl
 
     Es = plane_strain_modulus(E, nu)
     if law is None:
@@ -598,7 +609,6 @@ def mixed_surface(mesh, facet_tags, tag, Xu, du, XT, dT):
     """Nodes of the facets `tag` with their displacement and temperature dofs, segments oriented
     counter-clockwise around the owning body (cell centroid on the left)."""
     from dolfinx import cpp as _cpp
-    from scipy.spatial import cKDTree
 
     tdim = mesh.topology.dim
     facets = facet_tags.indices[facet_tags.values == tag]
@@ -640,7 +650,6 @@ def thermal_bars(*, L1: float = 0.5, L2: float = 1.0, k1: float = 0.25, k2: floa
        in one step dt with friction mu; the heat leaving through the two ends must equal
        kappa W and (1 - kappa) W with W = mu p v A, v = (slide - mu p/c_T)/dt, A = w - slide.
     Heat flows are the reactions at the fixed-temperature ends (per unit depth)."""
-    from dolfinx.fem import petsc as fem_petsc  # noqa: F401  (registers PETSc assemblers)
 
     gap = 0.01 * width
     body = two_blocks(width, L1, L2, n_upper, n_lower, ny_upper=6, ny_lower=8, gap=gap)
@@ -798,7 +807,6 @@ def _case_of(parser) -> str:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """One --option per keyword parameter of the case function (defaults shown in --help)."""
-    import inspect
 
     fn = CASE_FUNCTIONS[_case_of(parser)]
     for name, prm in inspect.signature(fn).parameters.items():
@@ -816,7 +824,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> dict:
-    import inspect
 
     fn = CASE_FUNCTIONS[args.case]
     kwargs = {}

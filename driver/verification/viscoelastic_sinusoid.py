@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rubberfriction.driver.sliding.outputs import DissipationByDepth, FieldWriter, write_run_outputs
 from rubberfriction.driver.sliding.run import run_sliding
 from rubberfriction.driver.sliding.sinusoid import closed_form_mu, full_contact_pressure
 from rubberfriction.driver.sliding.spec import SlidingSpec
@@ -67,7 +68,6 @@ def run(args: argparse.Namespace) -> dict:
     folder = getattr(args, "out", None)
     observers = []
     if folder:
-        from rubberfriction.driver.sliding.outputs import DissipationByDepth, FieldWriter
 
         observers = [FieldWriter(Path(folder) / "fields"), DissipationByDepth()]
     out = simulate(comp, wavelength=args.wavelength, amplitude=args.amplitude, pressure=args.pressure,
@@ -78,7 +78,6 @@ def run(args: argparse.Namespace) -> dict:
     notes = [f"run status: {res.status} {res.reason}", f"wall time {res.stats.get('wall_time', 0):.2f} s",
              f"full contact needs p > {out['p_full_contact']:.4g} MPa"]
     if folder:
-        from rubberfriction.driver.sliding.outputs import write_run_outputs
 
         written = write_run_outputs(res, out["spec"], folder)
         notes.append(f"outputs in {folder}: fields/{observers[0].xdmf_path.name}, "
