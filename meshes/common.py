@@ -2,7 +2,7 @@
 structured quadrilateral grids and the conversion of point/cell arrays into a checked
 DOLFINx mesh with cell and facet tags.
 
-Conventions (CONTRIBUTING.md, DESIGN.md): units mm; plane strain in the x-z plane stored as
+Conventions (README "Conventions", CONTRIBUTING.md): units mm; plane strain in the x-z plane stored as
 (x, y) with x the sliding direction and z up. Every body carries facet tags
 
     1 = contact face, 2 = the face opposite to it, 3 = left (x = x_min), 4 = right (x = x_max)

@@ -1,5 +1,4 @@
-"""Cylinder for the Hertz contact verification case (plane strain, thesis 5.3 / DESIGN.md:
-verify against closed forms).
+"""Cylinder for the Hertz contact verification case (plane strain, thesis 5.3).
 
 Geometry: the lower half of the disc of radius R centred at (0, R), so the lowest point
 (0, 0) touches the plane z = 0; the flat cut z = R is on top (the load is applied there).

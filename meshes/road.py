@@ -1,8 +1,8 @@
 """Road body mesh for the thermomechanical macro scale (thesis 8.3, 8.4.1).
 
 The road is the rectangle [0, l] x [-d, 0] under the contact plane z = 0. Only thermal
-macro runs need it (a rigid road is a polyline, DESIGN.md). Thesis 8.4.1: both bodies are
-"refined equally in z-direction", the reference mesh has its first node at z = 0.01 mm, so
+macro runs need it (model only what a scene requires: a rigid road is a polyline). Thesis
+8.4.1: both bodies are "refined equally in z-direction", the reference mesh has its first node at z = 0.01 mm, so
 the element heights grow geometrically downward from `first_layer` (default 0.01 mm) with
 ratio at most `grading` (:mod:`rubberfriction.meshes.grading`); along x the elements are equal
 (h_surface; the road is the master body and may be coarser in x than the rubber).

@@ -11,7 +11,7 @@ Dofs tied together form groups (union-find), each group is one reduced unknown, 
 contains a prescribed dof is prescribed as a whole.  P (n_full x n_red) has one 1 per row of a free
 dof.  The Newton solver works on P^T A P and P^T b; contact and bulk contributions are assembled in
 the full space and condensed here, which is why our C++ contact blocks need no special treatment
-for periodicity or ties (dolfinx_mpc condenses UFL forms only, see DESIGN.md).
+for periodicity or ties (dolfinx_mpc 0.5 condenses UFL forms only, not our C++ contact blocks).
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Campaign store: every single-scale run kept by the hash of its inputs (HDF5, one file per run).
 
 A single-scale run is a pure function of its :class:`~rubberfriction.driver.sliding.run.SlidingSpec`
-(DESIGN.md).  The store turns that into bookkeeping:
+(README, "Conventions").  The store turns that into bookkeeping:
 
 * **key** = sha256 of a canonical serialisation of the run inputs: every SlidingSpec field
   (surface arrays by their bytes, the compound with its Mooney-Rivlin, Prony, WLF and thermal

@@ -2,7 +2,7 @@
 
 Every failure a user can trigger with bad input raises :class:`TheoryInputError`, a
 ``ValueError``, with a message that names the quantity, the offending value and what is expected
-(DESIGN.md: "bad input fails early with a message that names the field").
+(the project convention, README "Conventions"; :mod:`rubberfriction.validation`).
 """
 
 from __future__ import annotations
