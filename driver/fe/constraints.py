@@ -7,7 +7,7 @@ prescribed:
 * periodic cells, eq. (6.5): x_r - x_l = X_r - X_l, i.e. u_r = u_l for each matched node pair;
 * the top edge of a block moves as one (thesis 6.2.2): all its vertical dofs share one unknown.
 
-Dofs tied together form groups (union-find), each group is one reduced unknown, and a group that
+Dofs tied together form groups (connected components), each group is one reduced unknown, and a group that
 contains a prescribed dof is prescribed as a whole.  P (n_full x n_red) has one 1 per row of a free
 dof.  The Newton solver works on P^T A P and P^T b; contact and bulk contributions are assembled in
 the full space and condensed here, which is why our C++ contact blocks need no special treatment
@@ -20,6 +20,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from petsc4py import PETSc
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
 
 @dataclass
@@ -50,21 +52,7 @@ class ConstraintMap:
 
     def __init__(self, spec: ConstraintSpec):
         n = spec.n_full
-        parent = np.arange(n)
-
-        def find(i: int) -> int:
-            root = i
-            while parent[root] != root:
-                root = parent[root]
-            while parent[i] != root:  # path compression
-                parent[i], i = root, parent[i]
-            return root
-
-        for a, b in spec.pairs:
-            ra, rb = find(a), find(b)
-            if ra != rb:
-                parent[max(ra, rb)] = min(ra, rb)
-        roots = np.array([find(i) for i in range(n)])
+        roots = tie_groups(n, spec.pairs)
         self.roots = roots
         fixed_roots: dict[int, float] = {}
         for d, v in spec.fixed.items():
@@ -103,6 +91,20 @@ class ConstraintMap:
             if r not in self.fixed_roots:
                 raise ValueError(f"dof {d} is not prescribed")
             self.fixed_roots[r] = float(value)
+
+
+def tie_groups(n: int, pairs: list[tuple[int, int]]) -> np.ndarray:
+    """The group of every dof: the smallest dof it is tied to through ``pairs`` (itself if none).
+
+    The groups are the connected components of the graph whose edges are the pairs
+    (``scipy.sparse.csgraph``); naming each by its smallest dof keeps the reduced numbering
+    ordered like the full one."""
+    edges = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
+    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    smallest = np.full(label.max() + 1 if n else 0, n, dtype=np.int64)
+    np.minimum.at(smallest, label, np.arange(n))
+    return smallest[label]
 
 
 def _aij_from_coo(m: int, n: int, rows, cols, vals) -> PETSc.Mat:
