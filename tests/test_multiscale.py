@@ -230,7 +230,7 @@ def test_sample_count_study_matches_drawing_without_replacement():
 
 
 def test_separated_variant_fits_the_law_and_hands_it_to_the_macro_run(tmp_path: Path):
-    pytest.importorskip("rubberfriction._contact")
+    import rubberfriction._contact  # noqa: F401  (the C++ core: a broken build must fail)
     macro = ScaleSet("macro", (5.0, 5.0), (sine_sample([0.075], [5.0], 5.0, 32),))
     micro = ScaleSet("micro", (0.5, 0.5), (sine_sample([0.01], [0.5], 0.5, 32),))
     full = sine_sample([0.075, 0.01], [5.0, 0.5], 5.0, 32)

@@ -586,8 +586,8 @@ def test_bad_inputs_raise_clear_errors(call, match: str) -> None:
 
 def test_rubber_from_compound_matches_compound() -> None:
     """The theories' modulus of a compound is the compound's own E*(omega, T) (eq. 3.34, WLF)."""
-    materials = pytest.importorskip("rubberfriction.forms.materials")
     from rubberfriction.driver.theory import rubber_from_compound
+    from rubberfriction.forms import materials
 
     comp = materials.load_compound("tread_default")
     rub = rubber_from_compound(comp)
@@ -619,8 +619,6 @@ def _write_profile(path) -> None:
 
 
 def test_cli_theory_scene_csv_json(tmp_path, capsys) -> None:
-    pytest.importorskip("rubberfriction.driver.surfaces")
-    pytest.importorskip("rubberfriction.forms.materials")
     from rubberfriction.driver.cli.main import main
 
     prof = tmp_path / "profile.txt"
@@ -673,7 +671,6 @@ def test_read_scene_multiscale_schema(tmp_path) -> None:
 
 def test_cli_theory_sines_scene_full_contact_exact(tmp_path, capsys) -> None:
     """A sine scene gives the line-spectrum theory; in full contact it is the exact result."""
-    pytest.importorskip("rubberfriction.forms.materials")
     from rubberfriction.driver.cli.main import main
     from rubberfriction.driver.theory import rubber_from_compound
     from rubberfriction.forms.materials import load_compound
@@ -694,7 +691,6 @@ def test_cli_theory_sines_scene_full_contact_exact(tmp_path, capsys) -> None:
 
 def test_draw_beside_fe(tmp_path) -> None:
     """The report hook draws the theory curves on given axes and never raises."""
-    pytest.importorskip("rubberfriction.forms.materials")
     import matplotlib
 
     matplotlib.use("Agg")
