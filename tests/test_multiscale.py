@@ -375,7 +375,15 @@ def test_two_sine_multiscale_agrees_with_the_reference_and_is_cheaper(tmp_path: 
           f"{e['time_multiscale']:.1f} s, "
           f"reference {e['time_reference']:.1f} s")
     assert abs(e["relative_difference"]) < 0.05  # thesis fig. 6.4 b
-    assert e["time_multiscale"] < e["time_reference"]  # thesis fig. 6.4 c
+    # thesis fig. 6.4 c, cheaper: counted as work (Newton iterations x dofs of the final attempt
+    # of every run), not wall time; achieved 0.95e6 vs 35.7e6 (the reference has 23x the dofs)
+    work: dict[str, float] = {}
+    for run_ in Store(tmp_path / "out" / "store").query(status="ok"):
+        branch = run_.label["branch"]
+        work[branch] = work.get(branch, 0.0) + run_.stats["newton_iterations"] * run_.stats["dofs"]
+    assert set(work) == {"macro0", "micro", "macro", "reference"}, work
+    multiscale = work["macro0"] + work["micro"] + work["macro"]
+    assert 0.0 < multiscale < 0.25 * work["reference"], work
     assert (tmp_path / "out" / "comparison.png").is_file()
 
 
