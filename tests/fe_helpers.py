@@ -52,3 +52,33 @@ def mooney_rivlin_cauchy(F: np.ndarray, C10: float, C01: float, D1: float) -> np
     s = (C10 + C01 * I1) * bbar - C01 * bbar @ bbar
     s = s - np.trace(s) / 3.0 * np.eye(3)
     return 2.0 / J * s + 2.0 * (J - 1.0) / D1 * np.eye(3)
+
+
+def plane_strain_compression(E: float, nu: float, q: float) -> tuple[float, float]:
+    """Homogeneous plane-strain state of the neo-Hooke solid (C10 = G/2, D1 = 2/K) under a dead
+    load q per reference length on its top, sides free: stretches (lambda_x, lambda_z) with
+    sigma_xx = 0 and -sigma_zz lambda_x = q, from the closed-form stress above (no UFL).  The
+    contact pressure of the patch test is then -sigma_zz = q / lambda_x."""
+    from scipy.optimize import root
+
+    G, K = E / (2.0 * (1.0 + nu)), E / (3.0 * (1.0 - 2.0 * nu))
+
+    def residual(lam):
+        s = mooney_rivlin_cauchy(np.diag([lam[0], lam[1], 1.0]), G / 2.0, 0.0, 2.0 / K)
+        return [s[0, 0] / q, (-s[1, 1] * lam[0] - q) / q]
+
+    sol = root(residual, [1.0, 1.0], tol=1e-15)  # (reports "no further improvement" at round-off)
+    assert max(abs(r) for r in residual(sol.x)) < 1e-13, sol
+    return float(sol.x[0]), float(sol.x[1])
+
+
+def checks_of(result: dict, expected: set[str]) -> dict:
+    """The checks of a verification result by quantity; every expected one must be there (an
+    empty or renamed check list fails)."""
+    by = {c["quantity"]: c for c in result["checks"]}
+    assert expected <= set(by), f"missing checks: {sorted(expected - set(by))}; got {sorted(by)}"
+    return by
+
+
+def rel(computed: float, exact: float) -> float:
+    return abs(computed - exact) / abs(exact)

@@ -2,8 +2,11 @@
 
 The mixed Q1-P0 element converges under refinement; the displacement-only Q1 element locks
 (its tip deflection is a fraction of the converged one on the same meshes).  No closed form
-exists; the test compares the two elements with each other and with refinement.
+exists; the test compares the two elements with each other and with refinement, and in the
+compressible case (nu = 0.3) with a 4x finer mesh of the other element.
 """
+
+import functools
 
 import numpy as np
 import pytest
@@ -57,14 +60,36 @@ def test_mixed_converges_and_q1_locks():
     assert q1[8] < 0.5 * ref and q1[16] < 0.7 * ref, (q1, mixed)
 
 
-@pytest.mark.parametrize("element", ["Q1P0", "Q1"])
-def test_compressible_elements_agree(element):
-    """Sanity: with nu = 0.3 both elements give nearly the same deflection (no locking)."""
+@functools.lru_cache(maxsize=None)
+def compressible_deflection(n: int, element: str) -> float:
+    """Tip deflection with nu = 0.3 (no locking)."""
     global NU
     saved, NU = NU, 0.3
     try:
-        d = tip_deflection(16, element)
-        d_ref = tip_deflection(16, "Q1P0")
+        return tip_deflection(n, element)
     finally:
         NU = saved
-    assert abs(d - d_ref) < 0.05 * d_ref
+
+
+#: the reference of the compressible case: 4x finer mesh (64 x 64) of the *other* element.  At
+#: nu = 0.3 both elements converge (from below) to the same deflection; on 64 x 64 they agree
+#: within 0.25 % (Q1P0 0.091702, Q1 0.091492 mm; 128 x 128: 0.091896, 0.091807).
+REFERENCE = {"Q1P0": "Q1", "Q1": "Q1P0"}
+
+
+def test_compressible_references_agree():
+    q1p0, q1 = compressible_deflection(64, "Q1P0"), compressible_deflection(64, "Q1")
+    assert q1p0 > 0.0 and abs(q1p0 - q1) < 0.005 * q1p0, (q1p0, q1)
+
+
+@pytest.mark.parametrize("element,tol", [("Q1P0", 0.03), ("Q1", 0.05)])
+def test_compressible_elements_agree(element, tol):
+    """With nu = 0.3 (no locking) the 16 x 16 mesh is within tol of the 64 x 64 reference of the
+    other element (achieved: Q1P0 1.6 %, Q1 3.5 %; Q1 is stiffer in bending) and both elements
+    agree on the same mesh within 5 %."""
+    d = compressible_deflection(16, element)
+    d_ref = compressible_deflection(64, REFERENCE[element])
+    assert 0.0 < d < d_ref  # both converge from below
+    assert abs(d - d_ref) < tol * d_ref, (d, d_ref)
+    other = compressible_deflection(16, REFERENCE[element])
+    assert abs(d - other) < 0.05 * other, (d, other)

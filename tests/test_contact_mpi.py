@@ -13,6 +13,8 @@ from pathlib import Path
 
 import pytest
 
+from conftest import missing
+
 ROOT = Path(__file__).resolve().parents[1]
 
 SCRIPT = textwrap.dedent("""
@@ -55,7 +57,7 @@ SCRIPT = textwrap.dedent("""
 def test_two_ranks_farming_and_refusal(tmp_path):
     mpirun = shutil.which("mpirun")
     if mpirun is None:
-        pytest.skip("mpirun not available")
+        missing("mpirun not available (openmpi-bin, installed by scripts/setup.sh)")
     script = tmp_path / "run.py"
     script.write_text(SCRIPT.format(root=str(ROOT)))
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1")

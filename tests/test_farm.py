@@ -285,11 +285,12 @@ def test_a_hung_run_is_recorded_and_the_campaign_exits_for_resume(tmp_path: Path
         ex(Task("ab" * 32, {"what": "hangs"}, {"sample": 0}))
         print("not reached")
     ''').replace("ROOT", repr(str(ROOT))))
-    t0 = time.time()
+    # hang guard only (the former bound of 60 s): without the watchdog the run sleeps 600 s and
+    # subprocess.TimeoutExpired fails the test
     r = subprocess.run([sys.executable, str(script), str(tmp_path / "s")], env=_env(),
                        capture_output=True,
-                       text=True, timeout=120)
-    assert r.returncode == 3 and "not reached" not in r.stdout and time.time() - t0 < 60
+                       text=True, timeout=60)
+    assert r.returncode == 3 and "not reached" not in r.stdout
     assert "exceeded 1 s" in r.stderr and "resume" in r.stderr
     store = Store(tmp_path / "s")
     out = store.outcome("ab" * 32)

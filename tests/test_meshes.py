@@ -25,6 +25,7 @@ import ufl
 import dolfinx.cpp.mesh
 import dolfinx.fem
 import dolfinx.mesh
+from conftest import missing
 from rubberfriction.meshes import (
     CONTACT, LEFT, OPPOSITE, RIGHT, contact_element_size, geometric_sizes, graded_nodes,
     hertz_cylinder, patch_test_pair, road_body, rubber_block)
@@ -428,7 +429,7 @@ for body in (rubber_block(1.0, 1.0, h_contact=0.05, partitions=[0.3], comm=comm)
 def test_meshes_on_two_ranks_match_serial(tmp_path):
     mpirun = shutil.which("mpirun")
     if mpirun is None:
-        pytest.skip("mpirun not found")
+        missing("mpirun not found (openmpi-bin, installed by scripts/setup.sh)")
     root = str(Path(__file__).resolve().parents[1])
     script = tmp_path / "mesh_mpi.py"
     script.write_text(_MPI_SCRIPT.format(root=root))

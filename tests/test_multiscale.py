@@ -219,12 +219,15 @@ def test_sample_count_study_matches_drawing_without_replacement():
                                         abs=1e-12)  # all samples: every order gives the same mean
     # Monte Carlo S(n) vs sigma/sqrt(n) sqrt((N-n)/(N-1)); the std of a std estimate over 4000
     # orders is ~1.1 % -> 5 % is > 4 sigma
-    np.testing.assert_allclose(study.S[:-1], study.S_exact[:-1], rtol=0.05)
+    N, n = mu.size, np.arange(1, mu.size + 1)
+    S_exact = mu.std(ddof=0) / np.sqrt(n) * np.sqrt((N - n) / (N - 1))  # n of N without replacement
+    np.testing.assert_allclose(study.S[:-1], S_exact[:-1], rtol=0.05)
+    np.testing.assert_allclose(study.S_exact, S_exact, rtol=1e-12)  # what the report prints
     assert study.S[9] < study.S[0] / 2.5  # what ten samples buy (thesis: 0.047 -> 0.015)
 
 
 def test_separated_variant_fits_the_law_and_hands_it_to_the_macro_run(tmp_path: Path):
-    pytest.importorskip("rubberfriction._contact")
+    import rubberfriction._contact  # noqa: F401  (the C++ core: a broken build must fail)
     macro = ScaleSet("macro", (5.0, 5.0), (sine_sample([0.075], [5.0], 5.0, 32),))
     micro = ScaleSet("micro", (0.5, 0.5), (sine_sample([0.01], [0.5], 0.5, 32),))
     full = sine_sample([0.075, 0.01], [5.0, 0.5], 5.0, 32)
@@ -369,7 +372,15 @@ def test_two_sine_multiscale_agrees_with_the_reference_and_is_cheaper(tmp_path: 
           f"{e['time_multiscale']:.1f} s, "
           f"reference {e['time_reference']:.1f} s")
     assert abs(e["relative_difference"]) < 0.05  # thesis fig. 6.4 b
-    assert e["time_multiscale"] < e["time_reference"]  # thesis fig. 6.4 c
+    # thesis fig. 6.4 c, cheaper: counted as work (Newton iterations x dofs of the final attempt
+    # of every run), not wall time; achieved 0.95e6 vs 35.7e6 (the reference has 23x the dofs)
+    work: dict[str, float] = {}
+    for run_ in Store(tmp_path / "out" / "store").query(status="ok"):
+        branch = run_.label["branch"]
+        work[branch] = work.get(branch, 0.0) + run_.stats["newton_iterations"] * run_.stats["dofs"]
+    assert set(work) == {"macro0", "micro", "macro", "reference"}, work
+    multiscale = work["macro0"] + work["micro"] + work["macro"]
+    assert 0.0 < multiscale < 0.25 * work["reference"], work
     assert (tmp_path / "out" / "comparison.png").is_file()
 
 
