@@ -36,7 +36,8 @@ std::vector<rf::V2<double>> points(const DArray& a, const char* name) {
 
 template <class T>
 std::vector<std::array<T, 2>> pairs_of(const IArray& a, const char* name) {
-  if (a.ndim() != 2 || a.shape(1) != 2) throw std::invalid_argument(std::string(name) + " must be an (n, 2) integer array");
+  if (a.ndim() != 2 || a.shape(1) != 2)
+    throw std::invalid_argument(std::string(name) + " must be an (n, 2) integer array");
   std::vector<std::array<T, 2>> out(static_cast<std::size_t>(a.shape(0)));
   auto r = a.unchecked<2>();
   for (py::ssize_t i = 0; i < a.shape(0); ++i)
@@ -259,7 +260,8 @@ PYBIND11_MODULE(_contact, m) {
                else if (s == "log10")
                  tr.push_back(rf::AxisTransform::log10);
                else
-                 throw std::invalid_argument("SplineFriction: axis transform must be 'linear' or 'log10', got '" + s + "'");
+                 throw std::invalid_argument("SplineFriction: axis transform must be 'linear' or 'log10', got '" + s +
+                                             "'");
              }
              std::vector<double> c(coefficients.data(), coefficients.data() + coefficients.size());
              return std::make_shared<rf::SplineFriction>(std::move(axes), std::move(c), std::move(tr), log_floor,
@@ -321,7 +323,8 @@ PYBIND11_MODULE(_contact, m) {
           py::arg("master_temperature") = std::numeric_limits<double>::quiet_NaN())
       .def("disable_thermal", [](rf::ContactInterface& c) { c.set_thermal(rf::ThermalParameters{}); })
       .def(
-          "set_fixed_dofs", [](rf::ContactInterface& c, const py::object& d) { c.set_fixed_dofs(vector_of(d, "fixed dofs")); },
+          "set_fixed_dofs",
+          [](rf::ContactInterface& c, const py::object& d) { c.set_fixed_dofs(vector_of(d, "fixed dofs")); },
           py::arg("dofs"))
       .def("set_search_radius", &rf::ContactInterface::set_search_radius, py::arg("radius"))
       .def("set_gauss_points", &rf::ContactInterface::set_gauss_points, py::arg("n"))

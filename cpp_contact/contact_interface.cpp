@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -16,9 +16,7 @@ constexpr double kMaxImageSpan = 64.0;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(const Clock::time_point& t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+double seconds_since(const Clock::time_point& t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 int local_index(const std::vector<int>& ents, int e) {
   const auto it = std::lower_bound(ents.begin(), ents.end(), e);
@@ -48,8 +46,8 @@ DX& find_or_add(std::vector<std::pair<int, DX>>& list, int entity, Eigen::Index 
 void NodeOutput::resize(std::size_t n) {
   status.assign(n, 0);
   paired.assign(n, 0);
-  for (auto* v : {&gap, &pressure, &t_T, &dgamma, &dg_T, &velocity, &mu, &area, &q_slave, &q_master, &nx, &ny,
-                  &elastic_gap})
+  for (auto* v :
+       {&gap, &pressure, &t_T, &dgamma, &dg_T, &velocity, &mu, &area, &q_slave, &q_master, &nx, &ny, &elastic_gap})
     v->assign(n, 0.0);
 }
 
@@ -147,9 +145,7 @@ void ContactInterface::set_gauss_points(int n) {
   n_gauss_ = n;
 }
 
-double ContactInterface::search_radius() const {
-  return search_radius_ > 0.0 ? search_radius_ : 2.0 * slave_.h_max;
-}
+double ContactInterface::search_radius() const { return search_radius_ > 0.0 ? search_radius_ : 2.0 * slave_.h_max; }
 
 void ContactInterface::positions(const double* u, std::size_t n, std::vector<V2<double>>& xs,
                                  std::vector<V2<double>>& xm) const {
@@ -568,8 +564,8 @@ void ContactInterface::evaluate(const double* u, std::size_t n, const V2<double>
   par.friction = friction_.get();
   par.dt = dt;
   par.thermal = &thermal_;
-  const bool conduction_possible = thermal_.enabled && (master_ ? master_->has_temperature()
-                                                                : !std::isnan(thermal_.master_temperature));
+  const bool conduction_possible =
+      thermal_.enabled && (master_ ? master_->has_temperature() : !std::isnan(thermal_.master_temperature));
   for (int A = 0; A < ns; ++A) {
     const auto& L = ents[static_cast<std::size_t>(A)];
     Acc& a = acc[static_cast<std::size_t>(A)];
@@ -697,13 +693,15 @@ void ContactInterface::evaluate(const double* u, std::size_t n, const V2<double>
         const auto& d = slave_.dofs[static_cast<std::size_t>(e)];
         blk.cols.push_back(d[0]);
         blk.cols.push_back(d[1]);
-        if (stride == 3) blk.cols.push_back(slave_.has_temperature() ? slave_.temperature_dofs[static_cast<std::size_t>(e)] : -1);
+        if (stride == 3)
+          blk.cols.push_back(slave_.has_temperature() ? slave_.temperature_dofs[static_cast<std::size_t>(e)] : -1);
       } else {
         const auto& d = master_->dofs[static_cast<std::size_t>(e - ns)];
         blk.cols.push_back(d[0]);
         blk.cols.push_back(d[1]);
         if (stride == 3)
-          blk.cols.push_back(master_->has_temperature() ? master_->temperature_dofs[static_cast<std::size_t>(e - ns)] : -1);
+          blk.cols.push_back(master_->has_temperature() ? master_->temperature_dofs[static_cast<std::size_t>(e - ns)]
+                                                        : -1);
       }
     }
     const std::size_t nr = blk.rows.size(), nc = blk.cols.size();

@@ -50,10 +50,10 @@ struct NodeOutput {
 };
 
 struct InterfaceTotals {
-  double force_x = 0.0, force_z = 0.0;  ///< total contact force on the slave body [N/mm]
-  double contact_length = 0.0;          ///< sum of nodal weights of nodes in contact [mm]
-  double dissipation = 0.0;             ///< frictional dissipation of the step [mJ/mm]
-  double friction_power = 0.0;          ///< [mW/mm]
+  double force_x = 0.0, force_z = 0.0;         ///< total contact force on the slave body [N/mm]
+  double contact_length = 0.0;                 ///< sum of nodal weights of nodes in contact [mm]
+  double dissipation = 0.0;                    ///< frictional dissipation of the step [mJ/mm]
+  double friction_power = 0.0;                 ///< [mW/mm]
   double heat_slave = 0.0, heat_master = 0.0;  ///< heat flow into slave / master [mW/mm]
   int n_paired = 0, n_active = 0, n_stick = 0, n_slip = 0, n_pairs = 0;
   double time_search = 0.0, time_integration = 0.0, time_assembly = 0.0;  ///< [s]

@@ -42,8 +42,8 @@ struct Dual {
 };
 
 using Grad12 = Eigen::Matrix<double, 12, 1>;
-using D12 = Dual<Grad12>;            ///< segment-pair kernels: 6 nodes x 2 coordinates
-using DX = Dual<Eigen::VectorXd>;    ///< nodal laws: dynamic stencil
+using D12 = Dual<Grad12>;          ///< segment-pair kernels: 6 nodes x 2 coordinates
+using DX = Dual<Eigen::VectorXd>;  ///< nodal laws: dynamic stencil
 
 /// A constant (zero gradient) of the same gradient size as `like`.
 template <class G>
@@ -69,14 +69,22 @@ inline D12 variable12(double value, int i) {
 
 inline double value_of(double x) { return x; }
 template <class G>
-inline double value_of(const Dual<G>& x) { return x.v; }
+inline double value_of(const Dual<G>& x) {
+  return x.v;
+}
 
 template <class G>
-inline Dual<G> operator+(const Dual<G>& a, const Dual<G>& b) { return Dual<G>(a.v + b.v, a.d + b.d); }
+inline Dual<G> operator+(const Dual<G>& a, const Dual<G>& b) {
+  return Dual<G>(a.v + b.v, a.d + b.d);
+}
 template <class G>
-inline Dual<G> operator-(const Dual<G>& a, const Dual<G>& b) { return Dual<G>(a.v - b.v, a.d - b.d); }
+inline Dual<G> operator-(const Dual<G>& a, const Dual<G>& b) {
+  return Dual<G>(a.v - b.v, a.d - b.d);
+}
 template <class G>
-inline Dual<G> operator-(const Dual<G>& a) { return Dual<G>(-a.v, -a.d); }
+inline Dual<G> operator-(const Dual<G>& a) {
+  return Dual<G>(-a.v, -a.d);
+}
 template <class G>
 inline Dual<G> operator*(const Dual<G>& a, const Dual<G>& b) {
   return Dual<G>(a.v * b.v, b.v * a.d + a.v * b.d);
@@ -88,19 +96,33 @@ inline Dual<G> operator/(const Dual<G>& a, const Dual<G>& b) {
   return Dual<G>(q, (a.d - q * b.d) * inv);
 }
 template <class G>
-inline Dual<G> operator+(const Dual<G>& a, double s) { return Dual<G>(a.v + s, a.d); }
+inline Dual<G> operator+(const Dual<G>& a, double s) {
+  return Dual<G>(a.v + s, a.d);
+}
 template <class G>
-inline Dual<G> operator+(double s, const Dual<G>& a) { return Dual<G>(a.v + s, a.d); }
+inline Dual<G> operator+(double s, const Dual<G>& a) {
+  return Dual<G>(a.v + s, a.d);
+}
 template <class G>
-inline Dual<G> operator-(const Dual<G>& a, double s) { return Dual<G>(a.v - s, a.d); }
+inline Dual<G> operator-(const Dual<G>& a, double s) {
+  return Dual<G>(a.v - s, a.d);
+}
 template <class G>
-inline Dual<G> operator-(double s, const Dual<G>& a) { return Dual<G>(s - a.v, -a.d); }
+inline Dual<G> operator-(double s, const Dual<G>& a) {
+  return Dual<G>(s - a.v, -a.d);
+}
 template <class G>
-inline Dual<G> operator*(const Dual<G>& a, double s) { return Dual<G>(a.v * s, a.d * s); }
+inline Dual<G> operator*(const Dual<G>& a, double s) {
+  return Dual<G>(a.v * s, a.d * s);
+}
 template <class G>
-inline Dual<G> operator*(double s, const Dual<G>& a) { return Dual<G>(a.v * s, a.d * s); }
+inline Dual<G> operator*(double s, const Dual<G>& a) {
+  return Dual<G>(a.v * s, a.d * s);
+}
 template <class G>
-inline Dual<G> operator/(const Dual<G>& a, double s) { return Dual<G>(a.v / s, a.d / s); }
+inline Dual<G> operator/(const Dual<G>& a, double s) {
+  return Dual<G>(a.v / s, a.d / s);
+}
 template <class G>
 inline Dual<G> operator/(double s, const Dual<G>& a) {
   const double q = s / a.v;

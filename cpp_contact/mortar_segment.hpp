@@ -45,8 +45,8 @@ struct MasterSegment {
 struct Breakpoint {
   enum Kind { slave_start, slave_end, master_q0, master_q1, foreign };
   Kind kind = slave_start;
-  double xi = 0.0;          ///< value
-  V2<double> q{0.0, 0.0};   ///< master node for `foreign` (constant coordinates)
+  double xi = 0.0;         ///< value
+  V2<double> q{0.0, 0.0};  ///< master node for `foreign` (constant coordinates)
 };
 
 /// Integrals of one slave segment against one master segment piece (or, for node-to-segment,
@@ -54,8 +54,8 @@ struct Breakpoint {
 struct PairIntegrals {
   std::array<std::array<D12, 2>, 2> gap;  ///< [A][component]
   std::array<D12, 2> area;
-  std::array<std::array<D12, 2>, 2> D;    ///< [A][B]
-  std::array<std::array<D12, 2>, 2> M;    ///< [A][C]
+  std::array<std::array<D12, 2>, 2> D;  ///< [A][B]
+  std::array<std::array<D12, 2>, 2> M;  ///< [A][C]
   void set_zero();
 };
 
