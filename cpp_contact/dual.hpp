@@ -14,10 +14,20 @@
 
 namespace rf {
 
+/// Gradient of a default-constructed Dual: zero for a fixed size; empty (size 0) for a dynamic
+/// size, which is unknown until the first assignment (a default DX must be assigned before use).
+template <class Grad>
+Grad zero_gradient() {
+  if constexpr (Grad::SizeAtCompileTime == Eigen::Dynamic)
+    return Grad();
+  else
+    return Grad::Zero();
+}
+
 template <class Grad>
 struct Dual {
-  double v = 0.0;  ///< value
-  Grad d;          ///< gradient with respect to the local variables
+  double v = 0.0;                  ///< value
+  Grad d = zero_gradient<Grad>();  ///< gradient with respect to the local variables
 
   Dual() = default;
   Dual(double value, const Grad& grad) : v(value), d(grad) {}
@@ -48,10 +58,7 @@ using DX = Dual<Eigen::VectorXd>;  ///< nodal laws: dynamic stencil
 /// A constant (zero gradient) of the same gradient size as `like`.
 template <class G>
 inline Dual<G> constant_like(double value, const Dual<G>& like) {
-  Dual<G> r;
-  r.v = value;
-  r.d = G::Zero(like.d.size());
-  return r;
+  return Dual<G>(value, G::Zero(like.d.size()));
 }
 inline D12 constant12(double value) { return D12(value, Grad12::Zero()); }
 inline DX constantX(double value, Eigen::Index n) { return DX(value, Eigen::VectorXd::Zero(n)); }
