@@ -20,7 +20,6 @@
 #include "vec2.hpp"
 
 #include <array>
-#include <vector>
 
 namespace rf {
 
@@ -88,7 +87,17 @@ void integrate_piece(const SlaveSegment& s, const MasterSegment& m, const Breakp
 bool node_to_segment(const std::array<V2<double>, 3>& x, bool has_prev, bool has_next, const MasterSegment& m,
                      PairIntegrals& out, double& eta, double& gap);
 
-/// Gauss-Legendre points/weights on [-1, 1] (n = 1..8).
-void gauss_legendre(int n, std::vector<double>& pts, std::vector<double>& wts);
+/// Orders (points per integration piece) of the Gauss-Legendre table.
+constexpr int kMinGaussPoints = 1, kMaxGaussPoints = 8;
+
+/// Gauss-Legendre rule on [-1, 1]: points x[0..n) in descending order and their weights.
+struct GaussRule {
+  int n = 0;
+  std::array<double, kMaxGaussPoints> x{}, w{};
+};
+
+/// The rule with n points from a constant table; std::invalid_argument outside
+/// [kMinGaussPoints, kMaxGaussPoints].
+const GaussRule& gauss_legendre(int n);
 
 }  // namespace rf
