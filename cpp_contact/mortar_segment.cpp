@@ -262,6 +262,18 @@ constexpr std::array<GaussRule, kMaxGaussPoints> kGaussLegendre{{
       0.362683783378361982965, 0.313706645877887287338, 0.222381034453374470544, 0.101228536290376259153}},
 }};
 
+// each row i holds i + 1 points whose weights sum to the length 2 of [-1, 1]
+constexpr bool gauss_table_consistent() {
+  for (std::size_t i = 0; i < kGaussLegendre.size(); ++i) {
+    const GaussRule& r = kGaussLegendre[i];
+    double sum = 0.0;
+    for (std::size_t g = 0; g < static_cast<std::size_t>(r.n); ++g) sum += r.w[g];
+    if (r.n != static_cast<int>(i) + 1 || !(sum > 2.0 - 1e-15 && sum < 2.0 + 1e-15)) return false;
+  }
+  return true;
+}
+static_assert(gauss_table_consistent(), "Gauss-Legendre table: row i needs i + 1 points with weights summing to 2");
+
 const GaussRule& gauss_legendre(int n) {
   if (n < kMinGaussPoints || n > kMaxGaussPoints) {
     std::ostringstream m;
