@@ -1,8 +1,8 @@
 // pybind11 bindings of the contact core: rubberfriction._contact.
 //
 // Python passes plain numpy arrays once at set-up (coordinates, dof indices, segments) and, per
-// Newton iteration, the full local solution array plus petsc4py Mat/Vec objects or their integer
-// handles. Python never loops over segments.
+// Newton iteration, the full local solution array plus petsc4py Mat/Vec objects (type-checked by
+// petsc_caster.hpp). Python never loops over segments.
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -12,10 +12,12 @@
 #include "friction_law.hpp"
 #include "geometry.hpp"
 #include "petsc_assembly.hpp"
+#include "petsc_caster.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 
 namespace py = pybind11;
@@ -36,7 +38,8 @@ std::vector<rf::V2<double>> points(const DArray& a, const char* name) {
 
 template <class T>
 std::vector<std::array<T, 2>> pairs_of(const IArray& a, const char* name) {
-  if (a.ndim() != 2 || a.shape(1) != 2) throw std::invalid_argument(std::string(name) + " must be an (n, 2) integer array");
+  if (a.ndim() != 2 || a.shape(1) != 2)
+    throw std::invalid_argument(std::string(name) + " must be an (n, 2) integer array");
   std::vector<std::array<T, 2>> out(static_cast<std::size_t>(a.shape(0)));
   auto r = a.unchecked<2>();
   for (py::ssize_t i = 0; i < a.shape(0); ++i)
@@ -57,15 +60,6 @@ rf::SurfaceMesh surface(const std::string& name, const DArray& X, const IArray& 
   if (!interior.is_none()) inner = points(DArray::ensure(interior), "interior_points");
   return rf::make_surface(name, points(X, (name + " X").c_str()), pairs_of<rf::DofIndex>(dofs, "dofs"),
                           pairs_of<int>(segments, "segments"), vector_of(temperature_dofs, "temperature_dofs"), inner);
-}
-
-template <class Handle>
-Handle handle_of(const py::object& o) {
-  if (o.is_none()) return nullptr;
-  py::object h = py::hasattr(o, "handle") ? o.attr("handle") : o;
-  const auto v = h.cast<std::uintptr_t>();
-  if (v == 0) throw std::invalid_argument("null PETSc handle");
-  return reinterpret_cast<Handle>(v);
 }
 
 const double* solution(const DArray& u, std::size_t& n) {
@@ -259,7 +253,8 @@ PYBIND11_MODULE(_contact, m) {
                else if (s == "log10")
                  tr.push_back(rf::AxisTransform::log10);
                else
-                 throw std::invalid_argument("SplineFriction: axis transform must be 'linear' or 'log10', got '" + s + "'");
+                 throw std::invalid_argument("SplineFriction: axis transform must be 'linear' or 'log10', got '" + s +
+                                             "'");
              }
              std::vector<double> c(coefficients.data(), coefficients.data() + coefficients.size());
              return std::make_shared<rf::SplineFriction>(std::move(axes), std::move(c), std::move(tr), log_floor,
@@ -321,7 +316,8 @@ PYBIND11_MODULE(_contact, m) {
           py::arg("master_temperature") = std::numeric_limits<double>::quiet_NaN())
       .def("disable_thermal", [](rf::ContactInterface& c) { c.set_thermal(rf::ThermalParameters{}); })
       .def(
-          "set_fixed_dofs", [](rf::ContactInterface& c, const py::object& d) { c.set_fixed_dofs(vector_of(d, "fixed dofs")); },
+          "set_fixed_dofs",
+          [](rf::ContactInterface& c, const py::object& d) { c.set_fixed_dofs(vector_of(d, "fixed dofs")); },
           py::arg("dofs"))
       .def("set_search_radius", &rf::ContactInterface::set_search_radius, py::arg("radius"))
       .def("set_gauss_points", &rf::ContactInterface::set_gauss_points, py::arg("n"))
@@ -369,10 +365,10 @@ PYBIND11_MODULE(_contact, m) {
           "to be summed; fixed dofs removed. For tests and debugging; production code uses assemble().")
       .def(
           "assemble",
-          [](rf::ContactInterface& c, const DArray& u, const py::object& A, const py::object& b,
+          [](rf::ContactInterface& c, const DArray& u, std::optional<Mat> A, std::optional<Vec> b,
              const std::array<double, 2>& offset, double dt, double temperature) {
-            Mat mat = handle_of<Mat>(A);
-            Vec vec = handle_of<Vec>(b);
+            const Mat mat = A.value_or(nullptr);
+            const Vec vec = b.value_or(nullptr);
             evaluate(c, u, offset, dt, temperature, mat != nullptr || vec != nullptr);
             const auto t0 = std::chrono::steady_clock::now();
             const rf::AssemblyReport rep = rf::add_to_petsc(c, mat, vec);
@@ -385,8 +381,8 @@ PYBIND11_MODULE(_contact, m) {
           py::arg("u"), py::arg("A") = py::none(), py::arg("b") = py::none(),
           py::arg("offset") = std::array<double, 2>{0.0, 0.0}, py::arg("dt") = 0.0,
           py::arg("temperature") = std::numeric_limits<double>::quiet_NaN(),
-          "Evaluate at u and ADD the contact residual into b and its tangent into A (petsc4py objects or their "
-          ".handle integers; None skips). Returns {'mallocs', 'entries'}.")
+          "Evaluate at u and ADD the contact residual into b and its tangent into A (a petsc4py.PETSc.Mat and "
+          "Vec; None skips; other types raise TypeError). Returns {'mallocs', 'entries'}.")
       .def("commit", &rf::ContactInterface::commit, "Accept the last evaluation as the converged state of the step")
       .def("state", &state_dict)
       .def("report", &report_dict)

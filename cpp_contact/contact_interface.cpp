@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -16,9 +16,7 @@ constexpr double kMaxImageSpan = 64.0;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(const Clock::time_point& t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+double seconds_since(const Clock::time_point& t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 int local_index(const std::vector<int>& ents, int e) {
   const auto it = std::lower_bound(ents.begin(), ents.end(), e);
@@ -36,6 +34,16 @@ void scatter(const D12& src, DX& dst, const std::array<int, 6>& base) {
   }
 }
 
+/// Grid of the segments of a deformable surface at positions x.
+void build_segment_grid(const SurfaceMesh& m, const std::vector<V2<double>>& x, SegmentGrid& grid) {
+  std::vector<V2<double>> a(m.segments.size()), b(m.segments.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    a[k] = x[static_cast<std::size_t>(m.segments[k][0])];
+    b[k] = x[static_cast<std::size_t>(m.segments[k][1])];
+  }
+  grid.build(a, b);
+}
+
 DX& find_or_add(std::vector<std::pair<int, DX>>& list, int entity, Eigen::Index size) {
   for (auto& [e, v] : list)
     if (e == entity) return v;
@@ -48,8 +56,8 @@ DX& find_or_add(std::vector<std::pair<int, DX>>& list, int entity, Eigen::Index 
 void NodeOutput::resize(std::size_t n) {
   status.assign(n, 0);
   paired.assign(n, 0);
-  for (auto* v : {&gap, &pressure, &t_T, &dgamma, &dg_T, &velocity, &mu, &area, &q_slave, &q_master, &nx, &ny,
-                  &elastic_gap})
+  for (auto* v :
+       {&gap, &pressure, &t_T, &dgamma, &dg_T, &velocity, &mu, &area, &q_slave, &q_master, &nx, &ny, &elastic_gap})
     v->assign(n, 0.0);
 }
 
@@ -143,13 +151,11 @@ void ContactInterface::set_search_radius(double r) {
 }
 
 void ContactInterface::set_gauss_points(int n) {
-  if (n < 1 || n > 8) throw std::invalid_argument("Gauss points per segment piece must be between 1 and 8");
+  gauss_legendre(n);  // validates n against the table
   n_gauss_ = n;
 }
 
-double ContactInterface::search_radius() const {
-  return search_radius_ > 0.0 ? search_radius_ : 2.0 * slave_.h_max;
-}
+double ContactInterface::search_radius() const { return search_radius_ > 0.0 ? search_radius_ : 2.0 * slave_.h_max; }
 
 void ContactInterface::positions(const double* u, std::size_t n, std::vector<V2<double>>& xs,
                                  std::vector<V2<double>>& xm) const {
@@ -422,302 +428,354 @@ void ContactInterface::check_ready(std::size_t n, double dt) const {
   (void)n;
 }
 
+// evaluate() runs five phases on plain data; each one below says what it does and which thesis
+// equations it implements. Discrete decisions (pairing, pieces, active/stick/slip) are taken on
+// values; every continuous quantity is a dual number, so the blocks carry the exact tangent.
 void ContactInterface::evaluate(const double* u, std::size_t n, const V2<double>& offset, double dt, double T_ref,
                                 bool with_blocks) {
   check_ready(n, dt);
   if (!std::isfinite(offset.x) || !std::isfinite(offset.y))
     throw std::invalid_argument("rigid master offset must be finite");
   const auto t0 = Clock::now();
+  const std::vector<PairRecord> pairs = search(u, n, offset);  // 1
+  const double t_search = seconds_since(t0);
+  const auto t1 = Clock::now();
+  const Stencils st = stencils(pairs);                                 // 2
+  const std::vector<NodalIntegrals> integrals = integrate(pairs, st);  // 3
+
+  blocks_.clear();
+  const int ns = slave_.num_nodes();
+  out_.resize(static_cast<std::size_t>(ns));
+  InterfaceTotals tot;
+  tot.n_pairs = static_cast<int>(pairs.size());
+  tot.time_search = t_search;
+  const LawParameters par = law_parameters(dt);
+  for (int A = 0; A < ns; ++A) {
+    const std::size_t iA = static_cast<std::size_t>(A);
+    const Stencil& L = st.nodes[iA];
+    const NodalIntegrals& a = integrals[iA];
+    out_.gap[iA] = std::numeric_limits<double>::quiet_NaN();
+    if (L.empty() || !(a.area.v > 0.0)) continue;
+    const NodalKinematics kin = nodal_kinematics(A, L, a, u, T_ref);  // 4
+    const NodalResponse resp = evaluate_nodal_law(kin, ge_[iA], par);
+    record_node(A, a, kin, resp, dt, tot);
+    if (with_blocks && resp.status != open) blocks_.push_back(local_block(L, a, resp));  // 5
+  }
+  tot.time_integration = seconds_since(t1);
+  totals_ = tot;
+  evaluated_ = true;
+}
+
+// Phase 1, search: current positions at u, the master's segment grid, and the pairs. Mortar:
+// per slave segment the master segments whose projections along the nodal normals (5.36) overlap
+// it, cut into pieces with one master segment each (smallest |gap| where projections overlap).
+// Node-to-segment: per slave node the master segment its normal projection falls on.
+std::vector<ContactInterface::PairRecord> ContactInterface::search(const double* u, std::size_t n,
+                                                                   const V2<double>& offset) {
   positions(u, n, xs_, xm_);
   offset_ = offset;
-  if (master_) {
-    std::vector<V2<double>> a(master_->segments.size()), b(master_->segments.size());
-    for (std::size_t k = 0; k < a.size(); ++k) {
-      a[k] = xm_[static_cast<std::size_t>(master_->segments[k][0])];
-      b[k] = xm_[static_cast<std::size_t>(master_->segments[k][1])];
-    }
-    master_grid_.build(a, b);
-  }
+  if (master_) build_segment_grid(*master_, xm_, master_grid_);
   std::vector<PairRecord> pairs;
   if (method_ == Method::mortar)
     search_mortar(pairs);
   else
     search_nts(pairs);
-  const double t_search = seconds_since(t0);
-  const auto t1 = Clock::now();
+  return pairs;
+}
 
+ContactInterface::PairSlots ContactInterface::pair_slots(const PairRecord& pr) const {
+  PairSlots p;
+  if (method_ == Method::mortar) {
+    const auto& sg = slave_.segments[static_cast<std::size_t>(pr.slave)];
+    p.entity[0] = prev_node(sg[0]);
+    p.entity[1] = sg[0];
+    p.entity[2] = sg[1];
+    p.entity[3] = next_node(sg[1]);
+    p.receivers = {sg[0], sg[1]};
+    p.n_receivers = 2;
+  } else {
+    p.entity[0] = prev_node(pr.slave);
+    p.entity[1] = pr.slave;
+    p.entity[2] = next_node(pr.slave);
+    p.receivers = {pr.slave, -1};
+    p.n_receivers = 1;
+  }
+  const std::array<int, 2> mn = master_nodes(pr.master);
+  if (mn[0] >= 0) {
+    const int ns = slave_.num_nodes();
+    p.entity[4] = ns + mn[0];
+    p.entity[5] = ns + mn[1];
+  }
+  return p;
+}
+
+// Phase 2, stencils: the slots of every pair and, per slave node, the entities its quantities
+// depend on: the slots of its pairs (slave A-2..A+2 through the averaged normals of 5.36, the
+// nodes of the paired master segments) and its own neighbours (n_A). Bookkeeping only.
+ContactInterface::Stencils ContactInterface::stencils(const std::vector<PairRecord>& pairs) const {
   const int ns = slave_.num_nodes();
-  const bool has_temp = slave_.has_temperature() || (master_ && master_->has_temperature());
-  const int stride = has_temp ? 3 : 2;
-  auto prev_of = [&](int A) { return slave_.prev[static_cast<std::size_t>(A)]; };
-  auto next_of = [&](int A) { return slave_.next[static_cast<std::size_t>(A)]; };
-
-  // slot entities of each pair and the slave nodes receiving it
-  auto slot_entities = [&](const PairRecord& pr, std::array<int, 2>& receivers, int& nrec) {
-    std::array<int, 6> ent{-1, -1, -1, -1, -1, -1};
-    if (method_ == Method::mortar) {
-      const auto& sg = slave_.segments[static_cast<std::size_t>(pr.slave)];
-      ent[0] = prev_of(sg[0]);
-      ent[1] = sg[0];
-      ent[2] = sg[1];
-      ent[3] = next_of(sg[1]);
-      receivers = {sg[0], sg[1]};
-      nrec = 2;
-    } else {
-      ent[0] = prev_of(pr.slave);
-      ent[1] = pr.slave;
-      ent[2] = next_of(pr.slave);
-      receivers = {pr.slave, -1};
-      nrec = 1;
-    }
-    const std::array<int, 2> mn = master_nodes(pr.master);
-    if (mn[0] >= 0) {
-      ent[4] = ns + mn[0];
-      ent[5] = ns + mn[1];
-    }
-    return ent;
-  };
-
-  std::vector<std::vector<int>> ents(static_cast<std::size_t>(ns));
+  Stencils st;
+  st.pairs.reserve(pairs.size());
+  st.nodes.resize(static_cast<std::size_t>(ns));
   for (const PairRecord& pr : pairs) {
-    std::array<int, 2> rec;
-    int nrec = 0;
-    const auto ent = slot_entities(pr, rec, nrec);
-    for (int k = 0; k < nrec; ++k) {
-      auto& L = ents[static_cast<std::size_t>(rec[static_cast<std::size_t>(k)])];
-      for (int e : ent)
+    const PairSlots& ps = st.pairs.emplace_back(pair_slots(pr));
+    for (int k = 0; k < ps.n_receivers; ++k) {
+      Stencil& L = st.nodes[static_cast<std::size_t>(ps.receivers[static_cast<std::size_t>(k)])];
+      for (int e : ps.entity)
         if (e >= 0) L.push_back(e);
     }
   }
   for (int A = 0; A < ns; ++A) {
-    auto& L = ents[static_cast<std::size_t>(A)];
+    Stencil& L = st.nodes[static_cast<std::size_t>(A)];
     if (L.empty()) continue;
-    for (int e : {prev_of(A), A, next_of(A)})
+    for (int e : {prev_node(A), A, next_node(A)})
       if (e >= 0) L.push_back(e);
     std::sort(L.begin(), L.end());
     L.erase(std::unique(L.begin(), L.end()), L.end());
   }
+  return st;
+}
 
-  struct Acc {
-    DX gx, gy, area;
-    std::vector<std::pair<int, DX>> D, M;
-  };
-  std::vector<Acc> acc(static_cast<std::size_t>(ns));
+// Phase 3, integration: per pair the mortar integrals gbar_A = Int M_A (x2 - x1) da,
+// A_A = Int M_A da, D_AB = Int M_A N_B da, M_AC = Int M_A N_C da over its piece (5.33-5.38, Gauss
+// points on the slave), or their node-to-segment collocation at the slave node; summed per
+// receiving slave node.
+std::vector<ContactInterface::NodalIntegrals> ContactInterface::integrate(const std::vector<PairRecord>& pairs,
+                                                                          const Stencils& st) const {
+  const int ns = slave_.num_nodes();
+  std::vector<NodalIntegrals> acc(static_cast<std::size_t>(ns));
   for (int A = 0; A < ns; ++A) {
-    const auto& L = ents[static_cast<std::size_t>(A)];
+    const Stencil& L = st.nodes[static_cast<std::size_t>(A)];
     if (L.empty()) continue;
-    const Eigen::Index S = stride * static_cast<Eigen::Index>(L.size());
-    Acc& a = acc[static_cast<std::size_t>(A)];
+    const Eigen::Index S = stride() * static_cast<Eigen::Index>(L.size());
+    NodalIntegrals& a = acc[static_cast<std::size_t>(A)];
     a.gx = constantX(0.0, S);
     a.gy = constantX(0.0, S);
     a.area = constantX(0.0, S);
   }
-
   PairIntegrals pi;
-  for (const PairRecord& pr : pairs) {
-    std::array<int, 2> rec;
-    int nrec = 0;
-    const auto ent = slot_entities(pr, rec, nrec);
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const PairRecord& pr = pairs[i];
+    const PairSlots& ps = st.pairs[i];
     const MasterSegment ms = master_segment(pr.master);
     if (method_ == Method::mortar) {
       pi.set_zero();
       integrate_piece(slave_segment(pr.slave), ms, pr.lo, pr.hi, n_gauss_, pi);
     } else {
       const int A = pr.slave;
-      const std::array<V2<double>, 3> x{xs_[static_cast<std::size_t>(ent[0] >= 0 ? ent[0] : A)],
-                                        xs_[static_cast<std::size_t>(A)],
-                                        xs_[static_cast<std::size_t>(ent[2] >= 0 ? ent[2] : A)]};
+      const int p = ps.entity[0], q = ps.entity[2];
+      const std::array<V2<double>, 3> x{xs_[static_cast<std::size_t>(p >= 0 ? p : A)], xs_[static_cast<std::size_t>(A)],
+                                        xs_[static_cast<std::size_t>(q >= 0 ? q : A)]};
       double eta = 0.0, g = 0.0;
-      if (!node_to_segment(x, ent[0] >= 0, ent[2] >= 0, ms, pi, eta, g)) continue;
+      if (!node_to_segment(x, p >= 0, q >= 0, ms, pi, eta, g)) continue;
     }
-    for (int k = 0; k < nrec; ++k) {
-      const int A = rec[static_cast<std::size_t>(k)];
-      const auto& L = ents[static_cast<std::size_t>(A)];
-      const Eigen::Index S = stride * static_cast<Eigen::Index>(L.size());
-      std::array<int, 6> base;
-      for (int s = 0; s < 6; ++s)
-        base[static_cast<std::size_t>(s)] =
-            ent[static_cast<std::size_t>(s)] >= 0 ? stride * local_index(L, ent[static_cast<std::size_t>(s)]) : -1;
-      Acc& a = acc[static_cast<std::size_t>(A)];
-      const std::size_t r = static_cast<std::size_t>(k);
-      scatter(pi.gap[r][0], a.gx, base);
-      scatter(pi.gap[r][1], a.gy, base);
-      scatter(pi.area[r], a.area, base);
-      if (method_ == Method::mortar) {
-        scatter(pi.D[r][0], find_or_add(a.D, ent[1], S), base);
-        scatter(pi.D[r][1], find_or_add(a.D, ent[2], S), base);
-      } else {
-        scatter(pi.D[0][0], find_or_add(a.D, ent[1], S), base);
+    for (int k = 0; k < ps.n_receivers; ++k) {
+      const int A = ps.receivers[static_cast<std::size_t>(k)];
+      scatter_pair(pi, ps, k, st.nodes[static_cast<std::size_t>(A)], acc[static_cast<std::size_t>(A)]);
+    }
+  }
+  return acc;
+}
+
+/// Adds the integrals of receiver k (its row of `pi`) to node integrals `a` over stencil L.
+void ContactInterface::scatter_pair(const PairIntegrals& pi, const PairSlots& ps, int k, const Stencil& L,
+                                    NodalIntegrals& a) const {
+  const std::array<int, 6>& ent = ps.entity;
+  const Eigen::Index S = stride() * static_cast<Eigen::Index>(L.size());
+  std::array<int, 6> base;
+  for (std::size_t s = 0; s < 6; ++s) base[s] = ent[s] >= 0 ? stride() * local_index(L, ent[s]) : -1;
+  const std::size_t r = static_cast<std::size_t>(k);
+  scatter(pi.gap[r][0], a.gx, base);
+  scatter(pi.gap[r][1], a.gy, base);
+  scatter(pi.area[r], a.area, base);
+  if (method_ == Method::mortar) {
+    scatter(pi.D[r][0], find_or_add(a.D, ent[1], S), base);
+    scatter(pi.D[r][1], find_or_add(a.D, ent[2], S), base);
+  } else {
+    scatter(pi.D[0][0], find_or_add(a.D, ent[1], S), base);
+  }
+  if (ent[4] >= 0) {
+    scatter(pi.M[r][0], find_or_add(a.M, ent[4], S), base);
+    scatter(pi.M[r][1], find_or_add(a.M, ent[5], S), base);
+  }
+}
+
+// Phase 4a, nodal kinematics: the averaged nodal normal n_A (5.36), the weighted slip increment
+// sum_B D_AB (x_B - x_B^n) - sum_C M_AC (x_C - x_C^n) of the step (rigid master: A_A times its
+// offset increment), the temperature for mu(p, v, T), and the weighted thermal gap
+// sum_C M_AC theta_C - sum_B D_AB theta_B of the conduction (4.24-4.26).
+NodalKinematics ContactInterface::nodal_kinematics(int A, const Stencil& L, const NodalIntegrals& a, const double* u,
+                                                   double T_ref) const {
+  const int ns = slave_.num_nodes();
+  const Eigen::Index S = stride() * static_cast<Eigen::Index>(L.size());
+  NodalKinematics kin;
+  kin.gx = a.gx;
+  kin.gy = a.gy;
+  kin.area = a.area;
+  {
+    const int p = prev_node(A), q = next_node(A);
+    const V2<DX> xp = position_dual(L, p >= 0 ? p : A), xn = position_dual(L, q >= 0 ? q : A);
+    kin.normal = normalized(right_normal(xn - xp));
+  }
+  kin.slip_x = constantX(0.0, S);
+  kin.slip_y = constantX(0.0, S);
+  if (friction_) {
+    for (const auto& [B, DAB] : a.D) {
+      const V2<DX> x = position_dual(L, B);
+      const V2<double> xn = xs_n_[static_cast<std::size_t>(B)];
+      kin.slip_x += DAB * (x.x - xn.x);
+      kin.slip_y += DAB * (x.y - xn.y);
+    }
+    if (master_) {
+      for (const auto& [C, MAC] : a.M) {
+        const V2<DX> x = position_dual(L, C);
+        const V2<double> xn = xm_n_[static_cast<std::size_t>(C - ns)];
+        kin.slip_x -= MAC * (x.x - xn.x);
+        kin.slip_y -= MAC * (x.y - xn.y);
       }
-      if (ent[4] >= 0) {
-        scatter(pi.M[r][0], find_or_add(a.M, ent[4], S), base);
-        scatter(pi.M[r][1], find_or_add(a.M, ent[5], S), base);
+    } else {
+      kin.slip_x -= a.area * (offset_.x - offset_n_.x);
+      kin.slip_y -= a.area * (offset_.y - offset_n_.y);
+    }
+  }
+  kin.temperature = slave_.has_temperature() ? temperature_dual(L, A, u) : constantX(T_ref, S);
+  kin.thermal_gap = constantX(0.0, S);
+  if (conduction_possible()) {
+    for (const auto& [B, DAB] : a.D) kin.thermal_gap -= DAB * temperature_dual(L, B, u);
+    if (master_)
+      for (const auto& [C, MAC] : a.M) kin.thermal_gap += MAC * temperature_dual(L, C, u);
+    else
+      kin.thermal_gap += a.area * thermal_.master_temperature;
+  }
+  return kin;
+}
+
+// Phase 4b (after the nodal law of nodal_contact_law.hpp: p_A (5.39), Coulomb return mapping
+// (4.17, 4.18, 5.40), heat fluxes (4.26, 5.44, 5.45)): per node outputs and the interface totals.
+void ContactInterface::record_node(int A, const NodalIntegrals& a, const NodalKinematics& kin,
+                                   const NodalResponse& resp, double dt, InterfaceTotals& tot) {
+  const std::size_t iA = static_cast<std::size_t>(A);
+  out_.paired[iA] = 1;
+  out_.status[iA] = resp.status;
+  out_.gap[iA] = resp.gap;
+  out_.pressure[iA] = resp.pressure;
+  out_.t_T[iA] = resp.t_T;
+  out_.dgamma[iA] = resp.dgamma;
+  out_.dg_T[iA] = resp.dg_T;
+  out_.velocity[iA] = resp.velocity;
+  out_.mu[iA] = resp.mu;
+  out_.area[iA] = a.area.v;
+  out_.nx[iA] = kin.normal.x.v;
+  out_.ny[iA] = kin.normal.y.v;
+  out_.elastic_gap[iA] = resp.status == open ? 0.0 : resp.elastic_gap;
+  ++tot.n_paired;
+  if (resp.status == open) return;
+  ++tot.n_active;
+  if (resp.status == stick) ++tot.n_stick;
+  if (resp.status == slip) ++tot.n_slip;
+  tot.contact_length += a.area.v;
+  tot.force_x -= a.area.v * resp.P.x.v;
+  tot.force_z -= a.area.v * resp.P.y.v;
+  tot.friction_power += a.area.v * resp.friction_power;
+  tot.dissipation += a.area.v * resp.friction_power * dt;
+  if (resp.has_heat) {
+    out_.q_slave[iA] = resp.q_slave.v;
+    out_.q_master[iA] = resp.q_master.v;
+    tot.heat_slave += a.area.v * resp.q_slave.v;
+    tot.heat_master += a.area.v * resp.q_master.v;
+  }
+}
+
+// Phase 5, local block of a node in contact: the penalty vector P_A distributed with the mortar
+// matrices of 5.33-5.38, rows R_B += D_AB P_A (slave), R_C -= M_AC P_A (master), and the thermal
+// rows R_thetaB -= D_AB q_slave, R_thetaC -= M_AC q_master (5.44, 5.45); the columns are the
+// node's stencil, the entries the gradients of the rows (the exact tangent).
+LocalBlock ContactInterface::local_block(const Stencil& L, const NodalIntegrals& a, const NodalResponse& resp) const {
+  const int ns = slave_.num_nodes();
+  LocalBlock blk;
+  std::vector<DX> store;
+  store.reserve(3 * (a.D.size() + a.M.size()));
+  for (const auto& [B, DAB] : a.D) {
+    const auto& d = slave_.dofs[static_cast<std::size_t>(B)];
+    store.push_back(DAB * resp.P.x);
+    blk.rows.push_back(d[0]);
+    store.push_back(DAB * resp.P.y);
+    blk.rows.push_back(d[1]);
+  }
+  if (master_) {
+    for (const auto& [C, MAC] : a.M) {
+      const auto& d = master_->dofs[static_cast<std::size_t>(C - ns)];
+      store.push_back(-(MAC * resp.P.x));
+      blk.rows.push_back(d[0]);
+      store.push_back(-(MAC * resp.P.y));
+      blk.rows.push_back(d[1]);
+    }
+  }
+  if (resp.has_heat) {
+    for (const auto& [B, DAB] : a.D) {
+      store.push_back(-(DAB * resp.q_slave));
+      blk.rows.push_back(slave_.temperature_dofs[static_cast<std::size_t>(B)]);
+    }
+    if (master_ && master_->has_temperature()) {
+      for (const auto& [C, MAC] : a.M) {
+        store.push_back(-(MAC * resp.q_master));
+        blk.rows.push_back(master_->temperature_dofs[static_cast<std::size_t>(C - ns)]);
       }
     }
   }
+  for (int e : L) {
+    const bool on_slave = e < ns;
+    const SurfaceMesh& body = on_slave ? slave_ : *master_;
+    const std::size_t i = static_cast<std::size_t>(on_slave ? e : e - ns);
+    blk.cols.push_back(body.dofs[i][0]);
+    blk.cols.push_back(body.dofs[i][1]);
+    if (stride() == 3) blk.cols.push_back(body.has_temperature() ? body.temperature_dofs[i] : -1);
+  }
+  const std::size_t nr = blk.rows.size(), nc = blk.cols.size();
+  blk.r.resize(nr);
+  blk.K.resize(nr * nc);
+  for (std::size_t i = 0; i < nr; ++i) {
+    blk.r[i] = store[i].v;
+    for (std::size_t j = 0; j < nc; ++j) blk.K[i * nc + j] = store[i].d[static_cast<Eigen::Index>(j)];
+  }
+  return blk;
+}
 
-  // nodal laws and local blocks
-  blocks_.clear();
-  out_.resize(static_cast<std::size_t>(ns));
-  InterfaceTotals tot;
-  tot.n_pairs = static_cast<int>(pairs.size());
-  tot.time_search = t_search;
+LawParameters ContactInterface::law_parameters(double dt) const {
   LawParameters par;
   par.cN = penalty_.cN;
   par.cT = penalty_.cT;
   par.friction = friction_.get();
   par.dt = dt;
   par.thermal = &thermal_;
-  const bool conduction_possible = thermal_.enabled && (master_ ? master_->has_temperature()
-                                                                : !std::isnan(thermal_.master_temperature));
-  for (int A = 0; A < ns; ++A) {
-    const auto& L = ents[static_cast<std::size_t>(A)];
-    Acc& a = acc[static_cast<std::size_t>(A)];
-    out_.gap[static_cast<std::size_t>(A)] = std::numeric_limits<double>::quiet_NaN();
-    if (L.empty() || !(a.area.v > 0.0)) continue;
-    const Eigen::Index S = stride * static_cast<Eigen::Index>(L.size());
-    auto pos = [&](int e) -> V2<DX> {
-      const int b = stride * local_index(L, e);
-      const V2<double> x = e < ns ? xs_[static_cast<std::size_t>(e)] : xm_[static_cast<std::size_t>(e - ns)];
-      return {variableX(x.x, b, S), variableX(x.y, b + 1, S)};
-    };
-    auto temp = [&](int e) -> DX {
-      const int b = stride * local_index(L, e) + 2;
-      const double th = e < ns ? u[slave_.temperature_dofs[static_cast<std::size_t>(e)]]
-                               : u[master_->temperature_dofs[static_cast<std::size_t>(e - ns)]];
-      return variableX(th, b, S);
-    };
-    NodalKinematics kin;
-    kin.gx = a.gx;
-    kin.gy = a.gy;
-    kin.area = a.area;
-    {
-      const int p = prev_of(A), q = next_of(A);
-      const V2<DX> xp = pos(p >= 0 ? p : A), xn = pos(q >= 0 ? q : A);
-      kin.normal = normalized(right_normal(xn - xp));
-    }
-    kin.slip_x = constantX(0.0, S);
-    kin.slip_y = constantX(0.0, S);
-    if (friction_) {
-      for (const auto& [B, DAB] : a.D) {
-        const V2<DX> x = pos(B);
-        const V2<double> xn = xs_n_[static_cast<std::size_t>(B)];
-        kin.slip_x += DAB * (x.x - xn.x);
-        kin.slip_y += DAB * (x.y - xn.y);
-      }
-      if (master_) {
-        for (const auto& [C, MAC] : a.M) {
-          const V2<DX> x = pos(C);
-          const V2<double> xn = xm_n_[static_cast<std::size_t>(C - ns)];
-          kin.slip_x -= MAC * (x.x - xn.x);
-          kin.slip_y -= MAC * (x.y - xn.y);
-        }
-      } else {
-        kin.slip_x -= a.area * (offset_.x - offset_n_.x);
-        kin.slip_y -= a.area * (offset_.y - offset_n_.y);
-      }
-    }
-    kin.temperature = slave_.has_temperature() ? temp(A) : constantX(T_ref, S);
-    kin.thermal_gap = constantX(0.0, S);
-    if (conduction_possible) {
-      for (const auto& [B, DAB] : a.D) kin.thermal_gap -= DAB * temp(B);
-      if (master_)
-        for (const auto& [C, MAC] : a.M) kin.thermal_gap += MAC * temp(C);
-      else
-        kin.thermal_gap += a.area * thermal_.master_temperature;
-    }
-    const NodalResponse resp = evaluate_nodal_law(kin, ge_[static_cast<std::size_t>(A)], par);
+  return par;
+}
 
-    const std::size_t iA = static_cast<std::size_t>(A);
-    out_.paired[iA] = 1;
-    out_.status[iA] = resp.status;
-    out_.gap[iA] = resp.gap;
-    out_.pressure[iA] = resp.pressure;
-    out_.t_T[iA] = resp.t_T;
-    out_.dgamma[iA] = resp.dgamma;
-    out_.dg_T[iA] = resp.dg_T;
-    out_.velocity[iA] = resp.velocity;
-    out_.mu[iA] = resp.mu;
-    out_.area[iA] = a.area.v;
-    out_.nx[iA] = kin.normal.x.v;
-    out_.ny[iA] = kin.normal.y.v;
-    out_.elastic_gap[iA] = resp.status == open ? 0.0 : resp.elastic_gap;
-    ++tot.n_paired;
-    if (resp.status == open) continue;
-    ++tot.n_active;
-    if (resp.status == stick) ++tot.n_stick;
-    if (resp.status == slip) ++tot.n_slip;
-    tot.contact_length += a.area.v;
-    tot.force_x -= a.area.v * resp.P.x.v;
-    tot.force_z -= a.area.v * resp.P.y.v;
-    tot.friction_power += a.area.v * resp.friction_power;
-    tot.dissipation += a.area.v * resp.friction_power * dt;
-    if (resp.has_heat) {
-      out_.q_slave[iA] = resp.q_slave.v;
-      out_.q_master[iA] = resp.q_master.v;
-      tot.heat_slave += a.area.v * resp.q_slave.v;
-      tot.heat_master += a.area.v * resp.q_master.v;
-    }
-    if (!with_blocks) continue;
+int ContactInterface::stride() const {
+  return slave_.has_temperature() || (master_ && master_->has_temperature()) ? 3 : 2;
+}
 
-    LocalBlock blk;
-    std::vector<const DX*> rowvals;
-    std::vector<DX> store;
-    store.reserve(3 * (a.D.size() + a.M.size()));
-    for (const auto& [B, DAB] : a.D) {
-      const auto& d = slave_.dofs[static_cast<std::size_t>(B)];
-      store.push_back(DAB * resp.P.x);
-      blk.rows.push_back(d[0]);
-      store.push_back(DAB * resp.P.y);
-      blk.rows.push_back(d[1]);
-    }
-    if (master_) {
-      for (const auto& [C, MAC] : a.M) {
-        const auto& d = master_->dofs[static_cast<std::size_t>(C - ns)];
-        store.push_back(-(MAC * resp.P.x));
-        blk.rows.push_back(d[0]);
-        store.push_back(-(MAC * resp.P.y));
-        blk.rows.push_back(d[1]);
-      }
-    }
-    if (resp.has_heat) {
-      for (const auto& [B, DAB] : a.D) {
-        store.push_back(-(DAB * resp.q_slave));
-        blk.rows.push_back(slave_.temperature_dofs[static_cast<std::size_t>(B)]);
-      }
-      if (master_ && master_->has_temperature()) {
-        for (const auto& [C, MAC] : a.M) {
-          store.push_back(-(MAC * resp.q_master));
-          blk.rows.push_back(master_->temperature_dofs[static_cast<std::size_t>(C - ns)]);
-        }
-      }
-    }
-    for (int e : L) {
-      if (e < ns) {
-        const auto& d = slave_.dofs[static_cast<std::size_t>(e)];
-        blk.cols.push_back(d[0]);
-        blk.cols.push_back(d[1]);
-        if (stride == 3) blk.cols.push_back(slave_.has_temperature() ? slave_.temperature_dofs[static_cast<std::size_t>(e)] : -1);
-      } else {
-        const auto& d = master_->dofs[static_cast<std::size_t>(e - ns)];
-        blk.cols.push_back(d[0]);
-        blk.cols.push_back(d[1]);
-        if (stride == 3)
-          blk.cols.push_back(master_->has_temperature() ? master_->temperature_dofs[static_cast<std::size_t>(e - ns)] : -1);
-      }
-    }
-    const std::size_t nr = blk.rows.size(), nc = blk.cols.size();
-    blk.r.resize(nr);
-    blk.K.resize(nr * nc);
-    for (std::size_t i = 0; i < nr; ++i) {
-      blk.r[i] = store[i].v;
-      for (std::size_t j = 0; j < nc; ++j) blk.K[i * nc + j] = store[i].d[static_cast<Eigen::Index>(j)];
-    }
-    blocks_.push_back(std::move(blk));
-  }
-  tot.time_integration = seconds_since(t1);
-  totals_ = tot;
-  evaluated_ = true;
+bool ContactInterface::conduction_possible() const {
+  return thermal_.enabled && (master_ ? master_->has_temperature() : !std::isnan(thermal_.master_temperature));
+}
+
+/// Position of entity e as independent dual variables of stencil L.
+V2<DX> ContactInterface::position_dual(const Stencil& L, int e) const {
+  const int ns = slave_.num_nodes();
+  const Eigen::Index S = stride() * static_cast<Eigen::Index>(L.size());
+  const int b = stride() * local_index(L, e);
+  const V2<double> x = e < ns ? xs_[static_cast<std::size_t>(e)] : xm_[static_cast<std::size_t>(e - ns)];
+  return {variableX(x.x, b, S), variableX(x.y, b + 1, S)};
+}
+
+/// Temperature of entity e (from u) as an independent dual variable of stencil L.
+DX ContactInterface::temperature_dual(const Stencil& L, int e, const double* u) const {
+  const int ns = slave_.num_nodes();
+  const Eigen::Index S = stride() * static_cast<Eigen::Index>(L.size());
+  const int b = stride() * local_index(L, e) + 2;
+  const double th = e < ns ? u[slave_.temperature_dofs[static_cast<std::size_t>(e)]]
+                           : u[master_->temperature_dofs[static_cast<std::size_t>(e - ns)]];
+  return variableX(th, b, S);
 }
 
 void ContactInterface::commit() {
@@ -762,13 +820,8 @@ std::vector<std::pair<std::vector<DofIndex>, std::vector<DofIndex>>> ContactInte
   if (master_) {
     std::vector<V2<double>> xs, xm;
     positions(u, n, xs, xm);
-    std::vector<V2<double>> a(master_->segments.size()), b(master_->segments.size());
-    for (std::size_t k = 0; k < a.size(); ++k) {
-      a[k] = xm[static_cast<std::size_t>(master_->segments[k][0])];
-      b[k] = xm[static_cast<std::size_t>(master_->segments[k][1])];
-    }
     SegmentGrid grid;
-    grid.build(a, b);
+    build_segment_grid(*master_, xm, grid);
     const double mg = margin >= 0.0 ? margin : 2.0 * search_radius();
     const double reach = mg + 1.5 * search_radius() + slave_.h_max;
     std::vector<int> ids;

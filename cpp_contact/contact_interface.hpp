@@ -50,10 +50,10 @@ struct NodeOutput {
 };
 
 struct InterfaceTotals {
-  double force_x = 0.0, force_z = 0.0;  ///< total contact force on the slave body [N/mm]
-  double contact_length = 0.0;          ///< sum of nodal weights of nodes in contact [mm]
-  double dissipation = 0.0;             ///< frictional dissipation of the step [mJ/mm]
-  double friction_power = 0.0;          ///< [mW/mm]
+  double force_x = 0.0, force_z = 0.0;         ///< total contact force on the slave body [N/mm]
+  double contact_length = 0.0;                 ///< sum of nodal weights of nodes in contact [mm]
+  double dissipation = 0.0;                    ///< frictional dissipation of the step [mJ/mm]
+  double friction_power = 0.0;                 ///< [mW/mm]
   double heat_slave = 0.0, heat_master = 0.0;  ///< heat flow into slave / master [mW/mm]
   int n_paired = 0, n_active = 0, n_stick = 0, n_slip = 0, n_pairs = 0;
   double time_search = 0.0, time_integration = 0.0, time_assembly = 0.0;  ///< [s]
@@ -124,6 +124,24 @@ class ContactInterface {
     MasterRef master;
     Breakpoint lo, hi;
   };
+  /// Entities in the six slots of a pair's integrals (mortar_segment.hpp; entity A < ns: slave
+  /// node A, ns + C: master node C; -1: none) and the slave nodes receiving the integrals.
+  struct PairSlots {
+    std::array<int, 6> entity{-1, -1, -1, -1, -1, -1};
+    std::array<int, 2> receivers{-1, -1};
+    int n_receivers = 0;
+  };
+  /// The dual variables of one slave node: its sorted entities, `stride` variables each (x, y[, T]).
+  using Stencil = std::vector<int>;
+  struct Stencils {
+    std::vector<PairSlots> pairs;  ///< per pair
+    std::vector<Stencil> nodes;    ///< per slave node; empty: the node is not paired
+  };
+  /// Mortar quantities of one slave node summed over its pairs, as duals over the node's stencil.
+  struct NodalIntegrals {
+    DX gx, gy, area;                       ///< gbar_A, A_A
+    std::vector<std::pair<int, DX>> D, M;  ///< D_AB by slave node B, M_AC by entity ns + C
+  };
 
   void positions(const double* u, std::size_t n, std::vector<V2<double>>& xs, std::vector<V2<double>>& xm) const;
   MasterSegment master_segment(const MasterRef& m) const;
@@ -133,6 +151,28 @@ class ContactInterface {
   void search_nts(std::vector<PairRecord>& pairs) const;
   SlaveSegment slave_segment(int e) const;
   void check_ready(std::size_t n, double dt) const;
+
+  // phases of evaluate() (contact_interface.cpp says what each computes): 1 search, 2 stencils,
+  // 3 integrate (+ scatter_pair), 4 nodal_kinematics, nodal law, record_node, 5 local_block
+  std::vector<PairRecord> search(const double* u, std::size_t n, const V2<double>& offset);
+  PairSlots pair_slots(const PairRecord& pr) const;
+  Stencils stencils(const std::vector<PairRecord>& pairs) const;
+  std::vector<NodalIntegrals> integrate(const std::vector<PairRecord>& pairs, const Stencils& st) const;
+  void scatter_pair(const PairIntegrals& pi, const PairSlots& ps, int k, const Stencil& L, NodalIntegrals& a) const;
+  NodalKinematics nodal_kinematics(int A, const Stencil& L, const NodalIntegrals& a, const double* u,
+                                   double T_ref) const;
+  void record_node(int A, const NodalIntegrals& a, const NodalKinematics& kin, const NodalResponse& resp, double dt,
+                   InterfaceTotals& tot);
+  LocalBlock local_block(const Stencil& L, const NodalIntegrals& a, const NodalResponse& resp) const;
+
+  // helpers of the phases
+  LawParameters law_parameters(double dt) const;
+  int prev_node(int A) const { return slave_.prev[static_cast<std::size_t>(A)]; }
+  int next_node(int A) const { return slave_.next[static_cast<std::size_t>(A)]; }
+  int stride() const;  ///< dual variables per entity: 2 (x, y) or 3 (x, y, T)
+  bool conduction_possible() const;
+  V2<DX> position_dual(const Stencil& L, int e) const;
+  DX temperature_dual(const Stencil& L, int e, const double* u) const;
 
   SurfaceMesh slave_;
   Method method_;

@@ -14,10 +14,20 @@
 
 namespace rf {
 
+/// Gradient of a default-constructed Dual: zero for a fixed size; empty (size 0) for a dynamic
+/// size, which is unknown until the first assignment (a default DX must be assigned before use).
+template <class Grad>
+Grad zero_gradient() {
+  if constexpr (Grad::SizeAtCompileTime == Eigen::Dynamic)
+    return Grad();
+  else
+    return Grad::Zero();
+}
+
 template <class Grad>
 struct Dual {
-  double v = 0.0;  ///< value
-  Grad d;          ///< gradient with respect to the local variables
+  double v = 0.0;                  ///< value
+  Grad d = zero_gradient<Grad>();  ///< gradient with respect to the local variables
 
   Dual() = default;
   Dual(double value, const Grad& grad) : v(value), d(grad) {}
@@ -42,16 +52,13 @@ struct Dual {
 };
 
 using Grad12 = Eigen::Matrix<double, 12, 1>;
-using D12 = Dual<Grad12>;            ///< segment-pair kernels: 6 nodes x 2 coordinates
-using DX = Dual<Eigen::VectorXd>;    ///< nodal laws: dynamic stencil
+using D12 = Dual<Grad12>;          ///< segment-pair kernels: 6 nodes x 2 coordinates
+using DX = Dual<Eigen::VectorXd>;  ///< nodal laws: dynamic stencil
 
 /// A constant (zero gradient) of the same gradient size as `like`.
 template <class G>
 inline Dual<G> constant_like(double value, const Dual<G>& like) {
-  Dual<G> r;
-  r.v = value;
-  r.d = G::Zero(like.d.size());
-  return r;
+  return Dual<G>(value, G::Zero(like.d.size()));
 }
 inline D12 constant12(double value) { return D12(value, Grad12::Zero()); }
 inline DX constantX(double value, Eigen::Index n) { return DX(value, Eigen::VectorXd::Zero(n)); }
@@ -69,14 +76,22 @@ inline D12 variable12(double value, int i) {
 
 inline double value_of(double x) { return x; }
 template <class G>
-inline double value_of(const Dual<G>& x) { return x.v; }
+inline double value_of(const Dual<G>& x) {
+  return x.v;
+}
 
 template <class G>
-inline Dual<G> operator+(const Dual<G>& a, const Dual<G>& b) { return Dual<G>(a.v + b.v, a.d + b.d); }
+inline Dual<G> operator+(const Dual<G>& a, const Dual<G>& b) {
+  return Dual<G>(a.v + b.v, a.d + b.d);
+}
 template <class G>
-inline Dual<G> operator-(const Dual<G>& a, const Dual<G>& b) { return Dual<G>(a.v - b.v, a.d - b.d); }
+inline Dual<G> operator-(const Dual<G>& a, const Dual<G>& b) {
+  return Dual<G>(a.v - b.v, a.d - b.d);
+}
 template <class G>
-inline Dual<G> operator-(const Dual<G>& a) { return Dual<G>(-a.v, -a.d); }
+inline Dual<G> operator-(const Dual<G>& a) {
+  return Dual<G>(-a.v, -a.d);
+}
 template <class G>
 inline Dual<G> operator*(const Dual<G>& a, const Dual<G>& b) {
   return Dual<G>(a.v * b.v, b.v * a.d + a.v * b.d);
@@ -88,19 +103,33 @@ inline Dual<G> operator/(const Dual<G>& a, const Dual<G>& b) {
   return Dual<G>(q, (a.d - q * b.d) * inv);
 }
 template <class G>
-inline Dual<G> operator+(const Dual<G>& a, double s) { return Dual<G>(a.v + s, a.d); }
+inline Dual<G> operator+(const Dual<G>& a, double s) {
+  return Dual<G>(a.v + s, a.d);
+}
 template <class G>
-inline Dual<G> operator+(double s, const Dual<G>& a) { return Dual<G>(a.v + s, a.d); }
+inline Dual<G> operator+(double s, const Dual<G>& a) {
+  return Dual<G>(a.v + s, a.d);
+}
 template <class G>
-inline Dual<G> operator-(const Dual<G>& a, double s) { return Dual<G>(a.v - s, a.d); }
+inline Dual<G> operator-(const Dual<G>& a, double s) {
+  return Dual<G>(a.v - s, a.d);
+}
 template <class G>
-inline Dual<G> operator-(double s, const Dual<G>& a) { return Dual<G>(s - a.v, -a.d); }
+inline Dual<G> operator-(double s, const Dual<G>& a) {
+  return Dual<G>(s - a.v, -a.d);
+}
 template <class G>
-inline Dual<G> operator*(const Dual<G>& a, double s) { return Dual<G>(a.v * s, a.d * s); }
+inline Dual<G> operator*(const Dual<G>& a, double s) {
+  return Dual<G>(a.v * s, a.d * s);
+}
 template <class G>
-inline Dual<G> operator*(double s, const Dual<G>& a) { return Dual<G>(a.v * s, a.d * s); }
+inline Dual<G> operator*(double s, const Dual<G>& a) {
+  return Dual<G>(a.v * s, a.d * s);
+}
 template <class G>
-inline Dual<G> operator/(const Dual<G>& a, double s) { return Dual<G>(a.v / s, a.d / s); }
+inline Dual<G> operator/(const Dual<G>& a, double s) {
+  return Dual<G>(a.v / s, a.d / s);
+}
 template <class G>
 inline Dual<G> operator/(double s, const Dual<G>& a) {
   const double q = s / a.v;

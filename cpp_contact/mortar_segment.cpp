@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 namespace rf {
@@ -168,11 +169,10 @@ void integrate_piece(const SlaveSegment& s, const MasterSegment& m, const Breakp
   const D12 len = norm(X[2] - X[1]);
   const D12 half = (xhi - xlo) * 0.5;
 
-  std::vector<double> gp, gw;
-  gauss_legendre(n_gauss, gp, gw);
-  for (std::size_t g = 0; g < gp.size(); ++g) {
-    const D12 xi = xlo + half * (1.0 + gp[g]);
-    const D12 w = half * len * gw[g];
+  const GaussRule& rule = gauss_legendre(n_gauss);
+  for (std::size_t g = 0; g < static_cast<std::size_t>(rule.n); ++g) {
+    const D12 xi = xlo + half * (1.0 + rule.x[g]);
+    const D12 w = half * len * rule.w[g];
     const V2<D12> x1 = X[1] + xi * (X[2] - X[1]);
     const V2<D12> n = na + xi * (nb - na);
     const V2<D12> t = X[5] - X[4];
@@ -230,34 +230,58 @@ bool node_to_segment(const std::array<V2<double>, 3>& x, bool has_prev, bool has
   return true;
 }
 
-void gauss_legendre(int n, std::vector<double>& pts, std::vector<double>& wts) {
-  if (n < 1 || n > 8) throw std::invalid_argument("Gauss points per segment must be between 1 and 8");
-  pts.assign(static_cast<std::size_t>(n), 0.0);
-  wts.assign(static_cast<std::size_t>(n), 0.0);
-  // Newton on the Legendre polynomial P_n (Golub-Welsch not needed for n <= 8)
-  const double pi = 3.14159265358979323846;
-  for (int i = 0; i < n; ++i) {
-    double x = std::cos(pi * (i + 0.75) / (n + 0.5));
-    double dp = 1.0;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1.0, p1 = x;
-      for (int k = 2; k <= n; ++k) {
-        const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      if (n == 1) {
-        p1 = x;
-        p0 = 1.0;
-      }
-      dp = n * (x * p1 - p0) / (x * x - 1.0);
-      const double dx = p1 / dp;
-      x -= dx;
-      if (std::abs(dx) < 1e-16) break;
-    }
-    pts[static_cast<std::size_t>(i)] = x;
-    wts[static_cast<std::size_t>(i)] = 2.0 / ((1.0 - x * x) * dp * dp);
+// Gauss-Legendre points and weights, 21 significant digits (roots of P_n and 2/((1-x^2) P_n'(x)^2)
+// computed with 50-digit arithmetic); the compiler rounds them to the nearest double.
+constexpr std::array<GaussRule, kMaxGaussPoints> kGaussLegendre{{
+    {1, {0.0}, {2.0}},
+    {2, {0.577350269189625764509, -0.577350269189625764509}, {1.0, 1.0}},
+    {3,
+     {0.774596669241483377036, 0.0, -0.774596669241483377036},
+     {0.555555555555555555556, 0.888888888888888888889, 0.555555555555555555556}},
+    {4,
+     {0.861136311594052575224, 0.339981043584856264803, -0.339981043584856264803, -0.861136311594052575224},
+     {0.347854845137453857373, 0.652145154862546142627, 0.652145154862546142627, 0.347854845137453857373}},
+    {5,
+     {0.906179845938663992798, 0.538469310105683091036, 0.0, -0.538469310105683091036, -0.906179845938663992798},
+     {0.236926885056189087514, 0.478628670499366468041, 0.568888888888888888889, 0.478628670499366468041,
+      0.236926885056189087514}},
+    {6,
+     {0.932469514203152027812, 0.661209386466264513661, 0.238619186083196908631, -0.238619186083196908631,
+      -0.661209386466264513661, -0.932469514203152027812},
+     {0.171324492379170345040, 0.360761573048138607570, 0.467913934572691047390, 0.467913934572691047390,
+      0.360761573048138607570, 0.171324492379170345040}},
+    {7,
+     {0.949107912342758524526, 0.741531185599394439864, 0.405845151377397166907, 0.0, -0.405845151377397166907,
+      -0.741531185599394439864, -0.949107912342758524526},
+     {0.129484966168869693271, 0.279705391489276667901, 0.381830050505118944950, 0.417959183673469387755,
+      0.381830050505118944950, 0.279705391489276667901, 0.129484966168869693271}},
+    {8,
+     {0.960289856497536231684, 0.796666477413626739592, 0.525532409916328985818, 0.183434642495649804939,
+      -0.183434642495649804939, -0.525532409916328985818, -0.796666477413626739592, -0.960289856497536231684},
+     {0.101228536290376259153, 0.222381034453374470544, 0.313706645877887287338, 0.362683783378361982965,
+      0.362683783378361982965, 0.313706645877887287338, 0.222381034453374470544, 0.101228536290376259153}},
+}};
+
+// each row i holds i + 1 points whose weights sum to the length 2 of [-1, 1]
+constexpr bool gauss_table_consistent() {
+  for (std::size_t i = 0; i < kGaussLegendre.size(); ++i) {
+    const GaussRule& r = kGaussLegendre[i];
+    double sum = 0.0;
+    for (std::size_t g = 0; g < static_cast<std::size_t>(r.n); ++g) sum += r.w[g];
+    if (r.n != static_cast<int>(i) + 1 || !(sum > 2.0 - 1e-15 && sum < 2.0 + 1e-15)) return false;
   }
+  return true;
+}
+static_assert(gauss_table_consistent(), "Gauss-Legendre table: row i needs i + 1 points with weights summing to 2");
+
+const GaussRule& gauss_legendre(int n) {
+  if (n < kMinGaussPoints || n > kMaxGaussPoints) {
+    std::ostringstream m;
+    m << "Gauss points per segment piece: got " << n << ", expected " << kMinGaussPoints << " to " << kMaxGaussPoints
+      << " (the orders of the Gauss-Legendre table)";
+    throw std::invalid_argument(m.str());
+  }
+  return kGaussLegendre[static_cast<std::size_t>(n - 1)];
 }
 
 }  // namespace rf

@@ -20,7 +20,6 @@
 #include "vec2.hpp"
 
 #include <array>
-#include <vector>
 
 namespace rf {
 
@@ -45,8 +44,8 @@ struct MasterSegment {
 struct Breakpoint {
   enum Kind { slave_start, slave_end, master_q0, master_q1, foreign };
   Kind kind = slave_start;
-  double xi = 0.0;          ///< value
-  V2<double> q{0.0, 0.0};   ///< master node for `foreign` (constant coordinates)
+  double xi = 0.0;         ///< value
+  V2<double> q{0.0, 0.0};  ///< master node for `foreign` (constant coordinates)
 };
 
 /// Integrals of one slave segment against one master segment piece (or, for node-to-segment,
@@ -54,8 +53,8 @@ struct Breakpoint {
 struct PairIntegrals {
   std::array<std::array<D12, 2>, 2> gap;  ///< [A][component]
   std::array<D12, 2> area;
-  std::array<std::array<D12, 2>, 2> D;    ///< [A][B]
-  std::array<std::array<D12, 2>, 2> M;    ///< [A][C]
+  std::array<std::array<D12, 2>, 2> D;  ///< [A][B]
+  std::array<std::array<D12, 2>, 2> M;  ///< [A][C]
   void set_zero();
 };
 
@@ -88,7 +87,17 @@ void integrate_piece(const SlaveSegment& s, const MasterSegment& m, const Breakp
 bool node_to_segment(const std::array<V2<double>, 3>& x, bool has_prev, bool has_next, const MasterSegment& m,
                      PairIntegrals& out, double& eta, double& gap);
 
-/// Gauss-Legendre points/weights on [-1, 1] (n = 1..8).
-void gauss_legendre(int n, std::vector<double>& pts, std::vector<double>& wts);
+/// Orders (points per integration piece) of the Gauss-Legendre table.
+constexpr int kMinGaussPoints = 1, kMaxGaussPoints = 8;
+
+/// Gauss-Legendre rule on [-1, 1]: points x[0..n) in descending order and their weights.
+struct GaussRule {
+  int n = 0;
+  std::array<double, kMaxGaussPoints> x{}, w{};
+};
+
+/// The rule with n points from a constant table; std::invalid_argument outside
+/// [kMinGaussPoints, kMaxGaussPoints].
+const GaussRule& gauss_legendre(int n);
 
 }  // namespace rf

@@ -7,6 +7,9 @@
   ``allow_new_nonzeros`` the assembly succeeds and reports the mallocs.
 * Fixed (Dirichlet) dofs: their rows and columns are skipped.
 * A communicator with more than one rank is refused.
+* A and b are type-checked petsc4py objects: an integer handle, a Vec for A, a Mat for b or any
+  other object raises TypeError naming the expected type; an object without a PETSc object
+  raises ValueError.
 """
 
 from __future__ import annotations
@@ -133,8 +136,52 @@ def test_handles_are_accepted():
     b1 = PETSc.Vec().createSeq(ndof, comm=PETSc.COMM_SELF)
     b2 = PETSc.Vec().createSeq(ndof, comm=PETSc.COMM_SELF)
     c.assemble(u, None, b1)
-    c.cpp.assemble(u, None, b2.handle)
+    c.cpp.assemble(u, None, b2)
     np.testing.assert_array_equal(b1.getArray(), b2.getArray())
+
+
+def test_petsc4py_objects_are_taken_as_they_are():
+    c, u, ndof = interface()
+    rows, cols = c.sparsity_pairs()
+    A = preallocated(ndof, rows, cols)
+    b = PETSc.Vec().createSeq(ndof, comm=PETSc.COMM_SELF)
+    rep = c.cpp.assemble(u, A, b)
+    A.assemble()
+    assert rep["entries"] > 0
+    R, J = coo(c, u, ndof)
+    np.testing.assert_allclose(b.getArray(), R, rtol=0, atol=1e-13 * np.abs(R).max())
+    np.testing.assert_allclose(dense(A), J, rtol=0, atol=1e-13 * np.abs(J).max())
+    assert c.cpp.assemble(u, None, None)["entries"] == 0  # None skips both
+
+
+class _HasHandle:
+    def __init__(self, obj):
+        self.handle = obj.handle
+
+
+@pytest.mark.parametrize("via_driver", [False, True])
+def test_wrong_petsc_types_raise_type_error(via_driver):
+    c, u, ndof = interface()
+    A = preallocated(ndof, *c.sparsity_pairs())
+    b = PETSc.Vec().createSeq(ndof, comm=PETSc.COMM_SELF)
+    assemble = c.assemble if via_driver else c.cpp.assemble
+    wrong = [
+        ((A.handle, None), r"expected a petsc4py\.PETSc\.Mat, got int \(integer handles are not accepted"),
+        ((None, b.handle), r"expected a petsc4py\.PETSc\.Vec, got int"),
+        ((b, None), r"expected a petsc4py\.PETSc\.Mat, got petsc4py\.PETSc\.Vec"),
+        ((None, A), r"expected a petsc4py\.PETSc\.Vec, got petsc4py\.PETSc\.Mat"),
+        ((_HasHandle(A), b), r"expected a petsc4py\.PETSc\.Mat, got _HasHandle"),
+        ((A, "b"), r"expected a petsc4py\.PETSc\.Vec, got str"),
+    ]
+    b.set(1.0)
+    for args, message in wrong:
+        with pytest.raises(TypeError, match=message):
+            assemble(u, *args)
+    assert np.all(b.getArray() == 1.0)  # nothing was added
+    with pytest.raises(ValueError, match="holds no PETSc object"):
+        assemble(u, PETSc.Mat(), None)
+    with pytest.raises(ValueError, match="holds no PETSc object"):
+        assemble(u, None, PETSc.Vec())
 
 
 class _TwoRanks:

@@ -72,6 +72,17 @@ def test_bad_parameters(kwargs, match):
         Contact(slave(), flat(), **kwargs)
 
 
+@pytest.mark.parametrize("n", [0, 9, -1])
+def test_gauss_points_outside_the_table(n):
+    with pytest.raises(ValueError, match=f"Gauss points per segment piece: got {n}, expected 1 to 8"):
+        Contact(slave(), flat(), penalty=PEN, gauss_points=n)
+
+
+def test_every_order_of_the_gauss_table_is_accepted():
+    for n in range(1, 9):
+        assert Contact(slave(), flat(), penalty=PEN, gauss_points=n).report()["gauss_points"] == n
+
+
 def test_bad_slave_surfaces():
     with pytest.raises(ValueError, match="zero length"):
         Contact(slave(X=np.array([[0.0, 0], [0.5, 0], [0.5, 0], [0.8, 0], [1, 0]])), flat(), penalty=PEN)

@@ -131,13 +131,6 @@ class DeformableMaster:
                    None if temperature_dofs is None else np.asarray(temperature_dofs))
 
 
-def _handle(obj):
-    """None, a petsc4py object or an integer handle -> what the binding takes."""
-    if obj is None:
-        return None
-    return int(obj.handle) if hasattr(obj, "handle") else int(obj)
-
-
 def _check_serial(comm) -> None:
     if comm is not None and comm.size > 1:
         raise ValueError(
@@ -242,11 +235,12 @@ class Contact:
         """Search, project and ADD the contact residual into b and tangent into A at u.
 
         u: full local solution array (float64) indexed by the dof indices.  A, b: petsc4py Mat/Vec
-        (or their ``.handle``) or None to skip.  offset/dt/temperature default to the values set
-        with set_master_offset / set_time_step / set_temperature.  Returns
-        {'mallocs', 'entries'}; A still needs the caller's final MatAssembly.
+        or None to skip (any other type, an integer handle too, raises TypeError).
+        offset/dt/temperature default to the values set with set_master_offset / set_time_step /
+        set_temperature.  Returns {'mallocs', 'entries'}; A still needs the caller's final
+        MatAssembly.
         """
-        self.last_assembly = self._c.assemble(np.ascontiguousarray(u, dtype=float), _handle(A), _handle(b),
+        self.last_assembly = self._c.assemble(np.ascontiguousarray(u, dtype=float), A, b,
                                               **self._kw(offset, dt, temperature))
         return self.last_assembly
 
