@@ -39,7 +39,7 @@ if [ "$installed" != "$ROOT" ] || [ "$(cat "$STAMP" 2>/dev/null)" != "$want" ]; 
   rm -f "$log"
   echo "$want" > "$STAMP"
 else
-  cmake --build "$ROOT/build/cmake" -j"$(nproc)" 2>&1 | grep -E "error|warning|Error" || true
+  cmake --build "$ROOT/build/cmake" -j"$(nproc)" 2>&1 | grep -E "error|warning|Error" | grep -v "lto-wrapper" || true
 fi
 (cd / && $PY -c "import rubberfriction._contact") \
   || { echo "[setup] the package or its C++ extension failed to import" >&2; exit 1; }
