@@ -68,6 +68,24 @@ const double* solution(const DArray& u, std::size_t& n) {
   return u.data();
 }
 
+// The solution a sparsity query is taken at: u, or the reference state (zeros) when u is None.
+struct QueryState {
+  QueryState(const rf::ContactInterface& c, const py::object& u) {
+    if (u.is_none()) {
+      zero.assign(static_cast<std::size_t>(c.max_dof() + 1), 0.0);
+      x = zero.data();
+      n = zero.size();
+    } else {
+      array = DArray::ensure(u);
+      x = solution(array, n);
+    }
+  }
+  std::vector<double> zero;
+  DArray array;
+  const double* x = nullptr;
+  std::size_t n = 0;
+};
+
 rf::V2<double> offset_of(const std::array<double, 2>& o) { return {o[0], o[1]}; }
 
 void evaluate(rf::ContactInterface& c, const DArray& u, const std::array<double, 2>& offset, double dt,
@@ -389,19 +407,8 @@ PYBIND11_MODULE(_contact, m) {
       .def(
           "sparsity_pairs",
           [](const rf::ContactInterface& c, const py::object& u, double margin) {
-            std::vector<double> zero;
-            const double* x = nullptr;
-            std::size_t n = 0;
-            DArray ua;
-            if (u.is_none()) {
-              zero.assign(static_cast<std::size_t>(c.max_dof() + 1), 0.0);
-              x = zero.data();
-              n = zero.size();
-            } else {
-              ua = DArray::ensure(u);
-              x = solution(ua, n);
-            }
-            const auto p = c.sparsity(x, n, margin);
+            const QueryState s(c, u);
+            const auto p = c.sparsity(s.x, s.n, margin);
             py::array_t<std::int64_t> r(static_cast<py::ssize_t>(p.size())), cc(static_cast<py::ssize_t>(p.size()));
             for (std::size_t i = 0; i < p.size(); ++i) {
               r.mutable_data()[i] = p[i].first;
@@ -414,20 +421,9 @@ PYBIND11_MODULE(_contact, m) {
       .def(
           "sparsity_blocks",
           [](const rf::ContactInterface& c, const py::object& u, double margin) {
-            std::vector<double> zero;
-            const double* x = nullptr;
-            std::size_t n = 0;
-            DArray ua;
-            if (u.is_none()) {
-              zero.assign(static_cast<std::size_t>(c.max_dof() + 1), 0.0);
-              x = zero.data();
-              n = zero.size();
-            } else {
-              ua = DArray::ensure(u);
-              x = solution(ua, n);
-            }
+            const QueryState s(c, u);
             py::list out;
-            for (const auto& [rows, cols] : c.sparsity_blocks(x, n, margin))
+            for (const auto& [rows, cols] : c.sparsity_blocks(s.x, s.n, margin))
               out.append(py::make_tuple(as_array(rows), as_array(cols)));
             return out;
           },

@@ -71,6 +71,15 @@ def viscous_stress(F, Sbar, Hstar, beta) -> ufl.core.expr.Expr:
     return ufl.det(F) ** (-2.0 / 3.0) * dev(beta * Sbar + sym3_from_vector(Hstar), C)
 
 
+@dataclass(frozen=True)
+class HistorySnapshot:
+    """A copy of the Prony histories and the converged fictitious stress at model time ``time``."""
+
+    H: np.ndarray
+    Sbar: np.ndarray
+    time: float
+
+
 class ViscoelasticHistory:
     """History variables H^k of all Prony terms at all quadrature points of one mesh.
 
@@ -115,6 +124,7 @@ class ViscoelasticHistory:
         self._dt = None
         self._D_n = np.zeros(nq)  # dissipation density at the last converged step
         self.dissipated = 0.0  # total dissipated energy (per unit depth), mJ/mm
+        self.time = 0.0  # model time of the converged state (sum of committed steps), s
         # the same per quadrature point (sums to `dissipated`): where the energy went (eq. 2.7),
         # for dissipation fields and depth profiles (driver.sliding.outputs)
         self.dissipated_points = np.zeros(nq)
@@ -175,7 +185,37 @@ class ViscoelasticHistory:
         self.dissipated_points += (0.5 * self._dt) * w * (D + self._D_n)
         self._D_n = D
         self.dissipated += dE
+        self.time += self._dt
         return dE
+
+    def snapshot(self) -> HistorySnapshot:
+        """The converged history now: where a period of a periodic steady state starts."""
+        return HistorySnapshot(self.H.copy(), self.Sbar_n.copy(), self.time)
+
+    def extrapolate_periodic(self, start: HistorySnapshot) -> None:
+        """Jump every Prony branch to its periodic steady state, as if Sbar(t) of the period since
+        ``start`` repeated forever.
+
+        A branch obeys H' = -H/tau + Sbar' (eq. 3.73); over one period T from H(0) it reaches
+        H(T) = q H(0) + int_0^T exp(-(T - s)/tau) Sbar'(s) ds with q = exp(-T/tau).  For an input
+        of period T (Sbar(0) = Sbar(T)) the periodic solution at the period's end is
+
+            H_ss(T) = (H(T) - q H(0) - q (Sbar(T) - Sbar(0))) / (1 - q),
+
+        the same integral with the period closed (Sbar(0) replaced by Sbar(T)): the static part of
+        the load is fully relaxed in branches with tau >> T, branches with tau << T are unchanged
+        (q -> 0), the ones in between get their steady phase.  Used once per period of a periodic
+        sliding cell, it replaces the slow creep of the long branches (up to tau_max / T periods)
+        by a fixed-point iteration that converges in a few periods.  Exact for linear
+        viscoelasticity under a periodic load; the caller solves equilibrium again afterwards.
+        """
+        T = self.time - start.time
+        if not T > 0.0:
+            raise ValueError(f"periodic extrapolation over T = {T!r} s: expected T > 0")
+        x = T / self.tau_at_points()
+        q, one_q = np.exp(-x)[:, :, None], -np.expm1(-x)[:, :, None]
+        self.H = (self.H - q * start.H - q * (self.Sbar_n - start.Sbar)[None]) / one_q
+        self._D_n = self.dissipation_density()
 
     def dissipation_density(self) -> np.ndarray:
         """Dissipation rate per unit reference volume at each quadrature point (MPa/s)."""
@@ -215,6 +255,7 @@ def evaluate_at_points(expr_ufl, mesh, rule: QuadratureRule, cells: np.ndarray) 
 
 
 __all__ = [
+    "HistorySnapshot",
     "QuadratureRule",
     "ViscoelasticHistory",
     "evaluate_at_points",

@@ -54,6 +54,8 @@ from rubberfriction.driver.multiscale.statistics import (
     mean_contact_pressure,
     outcome_stats,
     sample_stats,
+    unconverged,
+    usable,
 )
 from rubberfriction.driver.runtime.farm import Task
 from rubberfriction.driver.runtime.store import Outcome, run_key
@@ -145,9 +147,15 @@ class RoughCascade:
         return self._stage is None
 
     # --- stage logic ---------------------------------------------------------------------------
-    def _flag(self, sc: ScaleResult, stats: SampleStats, what: str) -> None:
-        if stats.n_failed:
-            sc.notes.append(f"{what}: {stats.n_failed} of {stats.n_total} samples failed")
+    def _flag(self, sc: ScaleResult, stats: SampleStats, what: str,
+              outcomes: list[Outcome]) -> None:
+        n_unconv = unconverged(outcomes)
+        if stats.n_failed > n_unconv:
+            sc.notes.append(f"{what}: {stats.n_failed - n_unconv} of {stats.n_total} samples "
+                            "failed")
+        if n_unconv:
+            sc.notes.append(f"{what}: {n_unconv} of {stats.n_total} samples did not reach a "
+                            "stationary window within their sliding budget (not averaged)")
         if stats.failed_fraction > self.max_failed:
             sc.flagged = True
 
@@ -160,7 +168,7 @@ class RoughCascade:
         st = mean_contact_pressure(outcomes)  # eq. (6.11) per sample, (6.12) over samples
         sc.pressure_down = st
         sc.contact = outcome_stats(outcomes, "contact_fraction")
-        self._flag(sc, st, "pressure branch")
+        self._flag(sc, st, "pressure branch", outcomes)
         if st.n_used == 0:
             return self._fail(f"scale {sc.name}: all {st.n_total} pressure samples failed "
                               f"({first_line(outcomes[0].reason)})")
@@ -195,9 +203,10 @@ class RoughCascade:
         sc.mu_energy = friction_average(outcomes, "mu_energy")
         if i > 0 or sc.contact is None:  # macro contact area from its frictionless runs (7.5)
             sc.contact = outcome_stats(outcomes, "contact_fraction")
-        sc.dissipation = sample_stats([o.value("mu_energy") * sc.pressure if o.ok else math.nan
+        sc.dissipation = sample_stats([o.value("mu_energy") * sc.pressure if usable(o)
+                                       else math.nan
                                        for o in outcomes])
-        self._flag(sc, st, "friction branch")
+        self._flag(sc, st, "friction branch", outcomes)
         if st.n_used == 0:
             return self._fail(f"scale {sc.name}: all {st.n_total} friction samples failed "
                               f"({first_line(outcomes[0].reason)})")

@@ -161,8 +161,32 @@ def sample_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
                              "mu_force": o.value("mu_force"),
                              "mu_energy": o.value("mu_energy"),
                              "contact_fraction": o.value("contact_fraction"),
+                             "window_drift": o.value("window_drift"),
+                             "mu_error": o.value("mu_error"),
+                             "converged": o.value("converged"),
                              "wall_time_s": o.wall_time, "reused": o.reused, "key": o.key})
     return rows
+
+
+def stationarity_line(points: Sequence[PointResult]) -> str:
+    """How stationary the averaging windows of the successful runs were (driver.sliding.window):
+    converged / unconverged counts and the largest |window drift| with the run it belongs to."""
+    runs = [(t, o) for r in points for rs in r.runs.values() for t, o in rs if o.ok]
+    if not runs:
+        return ""
+    unconv = sum(o.value("converged") == 0.0 for _, o in runs)
+    conv = sum(o.value("converged") == 1.0 for _, o in runs)
+    drifts = [(abs(o.value("window_drift")), t) for t, o in runs
+              if math.isfinite(o.value("window_drift"))]
+    text = f"  time homogenisation: {conv} of {len(runs)} runs converged"
+    if unconv:
+        text += f", {unconv} unconverged within their budget (not averaged)"
+    if drifts:
+        d, t = max(drifts, key=lambda dt: dt[0])
+        lab = t.label
+        text += (f"; largest |window drift| {100 * d:.2f} % ({lab.get('branch')} "
+                 f"{lab.get('scale_name')} sample {lab.get('sample')}, {lab.get('point')})")
+    return text
 
 
 def attempts_used(points: Sequence[PointResult]) -> dict[str, int]:
@@ -239,6 +263,9 @@ def summary_text(result: Any) -> str:
     if total > 0:
         lines.append("  run time per scale: " + ", ".join(f"{k} {100 * v / total:.0f} %" for k,
                                                           v in shares.items()))
+    stationary = stationarity_line(result.points)
+    if stationary:
+        lines.append(stationary)
     used = attempts_used(result.points)
     if set(used) - {"", "mortar"}:  # say so when fallbacks produced results
         lines.append("  successful runs by attempt: " + ", ".join(

@@ -154,9 +154,28 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                             "interpolation (0: as sampled)", minimum=0),
         "grading": Key("float", 1.2, "growth ratio of element height away from the contact face",
                        minimum=1.0, maximum=3.0),
-        "slide_periods": Key("float", 2.0, "sliding distance in block lengths", above=0.0),
-        "window_start": Key("float", 1.0 / 3.0, "fraction of the sliding distance before the time "
-                            "average of eq. (6.2) starts (run-in)", minimum=0.0, maximum=0.9),
+        "window": Key("str", "converged",
+                      "time homogenisation of every run (eq. 6.2; driver.sliding.window): "
+                      "converged = slide whole block lengths until the mean mu of the last two "
+                      "agree within convergence_tol and average those two (a run that cannot "
+                      "within max_slide_periods is marked unconverged and not averaged); fixed = "
+                      "slide slide_periods block lengths and average after window_start "
+                      "(thesis 6.2.3)", choices=("converged", "fixed")),
+        "convergence_tol": Key("float", 0.01, "window = converged: largest relative change of "
+                               "the period mean of mu between the last two periods", above=0.0,
+                               maximum=0.5),
+        "max_slide_periods": Key("float", 12.0, "window = converged: sliding budget in block "
+                                 "lengths (at least a run-in period and the two averaged)",
+                                 minimum=3.0),
+        "steady_state": Key("bool", True, "periodic extrapolation of the Prony histories at the "
+                            "end of every period of a cell (forms.viscoelastic."
+                            "ViscoelasticHistory.extrapolate_periodic): the static part of the "
+                            "load relaxes at once instead of creeping for tau_max / T periods"),
+        "slide_periods": Key("float", 2.0, "window = fixed: sliding distance in block lengths",
+                             above=0.0),
+        "window_start": Key("float", 1.0 / 3.0, "window = fixed: fraction of the sliding distance "
+                            "before the time average of eq. (6.2) starts (run-in)", minimum=0.0,
+                            maximum=0.9),
         "step_per_element": Key("float", 0.5, "sliding step / contact element size", above=0.0,
                                 maximum=4.0),
         "compression_steps": Key("int", 10, "steps of the compression phase", minimum=1),
@@ -283,6 +302,10 @@ class PhysicsConfig:
 class NumericsConfig:
     elements_per_wavelength: int
     grading: float
+    window: str
+    convergence_tol: float
+    max_slide_periods: float
+    steady_state: bool
     slide_periods: float
     window_start: float
     step_per_element: float

@@ -53,9 +53,14 @@ class SpecBuilder:
                  role: str) -> Any:
         num = self.scene.numerics
         window, slide = num.window_start, num.slide_periods
+        tol, steady = 0.0, num.steady_state
+        if num.window == "converged":
+            tol, slide = num.convergence_tol, num.max_slide_periods
         if role == "micro" and self.scene.separated is not None:
+            # thesis 6.2.3: the micro average includes the run-in, over a fixed distance
             sep = self.scene.separated
             window, slide = sep.micro_window_start, sep.micro_slide_periods
+            tol, steady = 0.0, False
         x, h, period = np.asarray(sample.x, float), np.asarray(sample.h,
                                                                float), float(sample.period)
         if x.size > 1 and abs(x[-1] - x[0] - period) < 1e-9 * period:
@@ -71,8 +76,8 @@ class SpecBuilder:
                            element=num.element,
                            contact=num.contact, elements_per_wavelength=num.elements_per_wavelength,
                            grading=num.grading, compression_steps=num.compression_steps,
-                           window_start=window, max_cutbacks=num.max_cutbacks,
-                           penalty_alpha=num.penalty_alpha)
+                           window_start=window, converge_tol=tol, steady_state=steady,
+                           max_cutbacks=num.max_cutbacks, penalty_alpha=num.penalty_alpha)
         # contact element size: the shortest wavelength of the sample / elements_per_wavelength;
         # the shortest wavelength is the band's short edge (thesis 6.5.1), else (or if shorter)
         # the run's estimate from slope sign changes

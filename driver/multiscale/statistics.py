@@ -55,9 +55,21 @@ def sample_stats(values: Sequence[float]) -> SampleStats:
     return SampleStats(tuple(float(x) for x in v), mean, std, ci, n, int(v.size - n))
 
 
+def usable(outcome: Outcome) -> bool:
+    """A run whose values enter averages: it succeeded and, under the converged time
+    homogenisation, reached a stationary window (an unconverged run is never averaged)."""
+    return outcome.ok and outcome.value("converged") != 0.0
+
+
+def unconverged(outcomes: Sequence[Outcome]) -> int:
+    """How many of the runs succeeded but did not reach a stationary window in their budget."""
+    return sum(o.ok and o.value("converged") == 0.0 for o in outcomes)
+
+
 def outcome_stats(outcomes: Sequence[Outcome], name: str) -> SampleStats:
-    """Sample statistics of one result scalar (failed runs count as failed samples)."""
-    return sample_stats([o.value(name) if o.ok else math.nan for o in outcomes])
+    """Sample statistics of one result scalar (failed and unconverged runs count as failed
+    samples)."""
+    return sample_stats([o.value(name) if usable(o) else math.nan for o in outcomes])
 
 
 def first_line(reason: str) -> str:
@@ -66,12 +78,12 @@ def first_line(reason: str) -> str:
 
 def mean_contact_pressure(outcomes: Sequence[Outcome]) -> SampleStats:
     """Pressure passed to the next scale, eq. (6.12), from each sample's eq. (6.11) value."""
-    return sample_stats([o.value("mean_pressure") if o.ok else math.nan for o in outcomes])
+    return outcome_stats(outcomes, "mean_pressure")
 
 
 def friction_average(outcomes: Sequence[Outcome], quantity: str = "mu_force") -> SampleStats:
     """Sample-averaged homogenised coefficient of friction, eq. (6.13) (``mu_force``: eq. 6.2)."""
-    return sample_stats([o.value(quantity) if o.ok else math.nan for o in outcomes])
+    return outcome_stats(outcomes, quantity)
 
 
 @dataclass

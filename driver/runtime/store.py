@@ -79,7 +79,8 @@ import rubberfriction
 STORE_SCHEMA = 2
 
 #: Scalar results every run file carries (NaN when the run failed).
-RESULT_SCALARS = ("mu_force", "mu_energy", "mean_pressure", "contact_fraction", "t_reached")
+RESULT_SCALARS = ("mu_force", "mu_energy", "mean_pressure", "contact_fraction", "t_reached",
+                  "window_drift", "mu_error", "converged")
 
 
 class StoreError(RuntimeError):

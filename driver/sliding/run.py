@@ -34,6 +34,7 @@ and its average (7.4), dissipation by depth.
 
 from __future__ import annotations
 
+import math
 import time
 import warnings
 from collections.abc import Callable
@@ -48,6 +49,13 @@ from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
 from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
+from rubberfriction.driver.sliding.window import (
+    error_estimate,
+    is_converged,
+    period_means,
+    step_lengths,
+    window_drift,
+)
 from rubberfriction.driver.sliding.spec import (
     MESH_REFINEMENT,
     SlidingResult,
@@ -384,6 +392,9 @@ class SlidingRun:
             return SlidingResult("failed", reason=f"set-up: {err}")
         L, F_target = self.L, s.pressure * self.L
         step_len = (s.step_length or 0.5 * self.hc) * step_factor
+        whole_periods = s.period > 0 and (s.converge_tol > 0 or s.steady_state)
+        if whole_periods:  # steps end on every period boundary
+            step_len = L / max(1, round(L / step_len))
         dt_slide = step_len / s.velocity
         t_p = s.compression_time or L / (2.0 * np.pi * s.velocity)
         dt_p = t_p / s.compression_steps
@@ -435,6 +446,10 @@ class SlidingRun:
             t_s, distance, dt_slide, nsteps)
         self._notify("on_start")
         self._h_next, self._easy = dt_slide, 0
+        per_period = round(L / step_len) if whole_periods else 0
+        history = self.sp.history if s.steady_state else None
+        start = history.snapshot() if history is not None else None
+        self.converged = float("nan")
         for k in range(1, nsteps + 1):
             self.step_energy = self.step_friction_energy = 0.0
 
@@ -453,33 +468,67 @@ class SlidingRun:
             self._notify("on_step", k, t)
             if self.progress:
                 self.progress(k, nsteps)
+            if per_period and k % per_period == 0:  # a whole period ends here
+                if s.converge_tol > 0:
+                    means = period_means(np.array([r[1] for r in rows]),
+                                         np.array([-r[2] / r[3] for r in rows]), L)
+                    self.converged = float(is_converged(means, s.converge_tol, s.window_periods))
+                    if self.converged:
+                        break
+                if history is not None and k < nsteps:
+                    history.extrapolate_periodic(start)
+                    start = history.snapshot()
         return self._result(rows, distance, "ok", "", t)
 
     def _result(self, rows, distance, status, reason, t) -> SlidingResult:
-        s = self.spec
         cols = ["t", "s", "Fx", "Fz", "contact_length", "viscous_energy", "friction_energy", "mean_pressure"]
         arr = np.array(rows, dtype=float).reshape(-1, len(cols))
         series = {c: arr[:, i] for i, c in enumerate(cols)}
         res = SlidingResult(status, reason=reason, t_reached=t, series=series)
+        lo, hi = self._window(series["s"], distance)
         res.stats = {"cutbacks": self.cutbacks, "newton_iterations": self.newton_iterations,
                      "predictor_used": self.predictor_used,
                      "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size),
-                     "window_start": s.window_start * distance, "window_end": distance,
+                     "window_start": lo, "window_end": hi,
                      "compression_contact_fraction": self.compression_contact}
         if len(rows) == 0:
             return res
         Fz = series["Fz"]
         with np.errstate(divide="ignore", invalid="ignore"):
             series["mu_force"] = -series["Fx"] / Fz  # friction force on the block opposes +x sliding
-        win = series["s"] > s.window_start * distance
+        win = series["s"] > lo + 1e-9 * max(hi, 1.0)
         if status == "ok" and np.count_nonzero(win) >= 2:
-            ds = np.diff(np.concatenate([[0.0], series["s"]]))[win]
+            ds = step_lengths(series["s"])[win]
             res.mu_force = float(np.sum(series["mu_force"][win] * ds) / ds.sum())
             energy = (series["viscous_energy"] + series["friction_energy"])[win].sum()
             res.mu_energy = float(energy / (np.mean(Fz[win]) * ds.sum()))
             res.mean_pressure = float(np.mean(series["mean_pressure"][win]))
             res.contact_fraction = float(np.mean(series["contact_length"][win]) / self.L)
+            res.window_drift = window_drift(series["s"], series["mu_force"], lo, hi)
+            self._stationarity(res, series)
         return res
+
+    def _window(self, s_done: np.ndarray, distance: float) -> tuple[float, float]:
+        """(start, end) sliding distance of the averaging window (driver.sliding.window)."""
+        spec = self.spec
+        if spec.converge_tol > 0 and spec.period > 0:
+            end = spec.period * math.floor(float(np.max(s_done, initial=0.0)) / spec.period + 1e-9)
+            return max(0.0, end - spec.window_periods * spec.period), end
+        return spec.window_start * distance, distance
+
+    def _stationarity(self, res: SlidingResult, series: dict[str, np.ndarray]) -> None:
+        """Converged rule: whether the run got there, the period means and the error estimate;
+        fixed rule: half the window drift as the error estimate."""
+        spec = self.spec
+        if spec.converge_tol > 0 and spec.period > 0:
+            means = period_means(series["s"], series["mu_force"], spec.period)
+            res.converged = 1.0 if self.converged == 1.0 else 0.0
+            res.mu_error = error_estimate(means, spec.window_periods)
+            res.stats["period_mu"] = [float(m) for m in means]
+        else:
+            res.mu_error = 0.5 * abs(res.window_drift)
+        if spec.period > 0:
+            res.stats["periods"] = round(float(series["s"][-1] / spec.period), 6)
 
 
 def run_sliding(spec: SlidingSpec, progress=None, observers=(),

@@ -41,6 +41,15 @@ class SlidingSpec:
     compression_time: float = 0.0  # s; 0: cell length / (2 pi v), see the module docstring
     compression_steps: int = 10
     window_start: float = 1.0 / 3.0  # fraction of the sliding distance before averaging (run-in)
+    # converged time homogenisation (driver.sliding.window): > 0 slides whole periods of a
+    # periodic cell until the mean mu of the last two differ by at most this (relative);
+    # slide_distance is then the budget.  0: the fixed window above (thesis 6.2.3)
+    converge_tol: float = 0.0
+    window_periods: int = 2  # converged rule: periods averaged (after at least one run-in period)
+    # periodic extrapolation of the Prony histories at the end of every period of a periodic
+    # cell (forms.viscoelastic.ViscoelasticHistory.extrapolate_periodic): the static part of the
+    # load is relaxed at once instead of creeping for tau_max / T periods
+    steady_state: bool = False
     penalty: float = 0.0  # 0: automatic, c_N = penalty_alpha |E*_eff(omega)| / h_contact
     penalty_alpha: float = 100.0  # see PENALTY_ALPHA
     max_cutbacks: int = 8
@@ -56,6 +65,9 @@ class SlidingResult:
     mu_energy: float = float("nan")
     mean_pressure: float = float("nan")  # eq. (6.11)
     contact_fraction: float = float("nan")  # time-averaged contact length / block length (7.4)
+    window_drift: float = float("nan")  # (2nd half - 1st half) / mean of the window's mu
+    mu_error: float = float("nan")  # estimated |window mean - steady mu| / mu (window.py)
+    converged: float = float("nan")  # converged rule: 1 reached, 0 budget exhausted; fixed: nan
     dissipation_by_depth: tuple[np.ndarray, np.ndarray] | None = None
     stats: dict[str, float] = field(default_factory=dict)
 

@@ -31,17 +31,21 @@ from rubberfriction.forms.material_files import load_compound
 def simulate(compound: Compound, *, wavelength: float = 1.0, amplitude: float = 0.002,
              pressure: float = 0.1, velocity: float = 10.0, temperature: float | None = None,
              elements_per_wavelength: int = 16, segments: int = 128, periods: float = 3.0,
-             step_fraction: float = 0.5, contact: str = "mortar", observers=()) -> dict:
+             step_fraction: float = 0.5, contact: str = "mortar", observers=(),
+             converge_tol: float = 0.0, steady_state: bool = False) -> dict:
     """FE run and closed form; returns both mu estimates and the analytical value.
 
     observers: passed to ``run_sliding`` (outputs such as ``driver.sliding.outputs.FieldWriter``).
+    ``converge_tol`` > 0: the converged time homogenisation with ``periods`` as the budget
+    (``driver.sliding.window``); ``steady_state``: periodic extrapolation of the histories.
     """
     x = np.linspace(0.0, wavelength, segments + 1)[:-1]
     h = amplitude * np.cos(2.0 * np.pi * x / wavelength)
     hc = wavelength / elements_per_wavelength
     spec = SlidingSpec(surface_x=x, surface_h=h, period=wavelength, pressure=pressure, velocity=velocity,
                        compound=compound, temperature=temperature, h_contact=hc, contact=contact,
-                       slide_distance=periods * wavelength, step_length=step_fraction * hc)
+                       slide_distance=periods * wavelength, step_length=step_fraction * hc,
+                       converge_tol=converge_tol, steady_state=steady_state)
     res = run_sliding(spec, observers=observers)
     return {"result": res, "spec": spec, "mu_force": res.mu_force, "mu_energy": res.mu_energy,
             "mu_exact": closed_form_mu(compound, wavelength, amplitude, pressure, velocity, temperature),

@@ -1,0 +1,119 @@
+"""Time homogenisation (eq. 6.2): the window rules and the periodic steady state of the Prony
+histories, against constructed series and closed forms."""
+
+from __future__ import annotations
+
+import math
+
+import basix
+import numpy as np
+import pytest
+from dolfinx import mesh as dmesh
+from mpi4py import MPI
+
+from rubberfriction.driver.sliding.window import (
+    error_estimate,
+    is_converged,
+    period_means,
+    weighted_mean,
+    window_drift,
+)
+from rubberfriction.driver.sliding.sinusoid import effective_modulus
+from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
+from rubberfriction.forms.material_files import load_compound
+from rubberfriction.forms.viscoelastic import ViscoelasticHistory, quadrature_rule
+
+
+def test_period_means_and_drift_of_a_constructed_series() -> None:
+    # mu(s) = 1 + s on steps of 0.1 over 3 periods of length 1: the step ending at s contributes
+    # mu(s) ds, so the period mean over (k, k+1] is 1 + k + 0.55 (ten steps ending k+0.1..k+1)
+    s = np.round(np.arange(1, 31) * 0.1, 12)
+    mu = 1.0 + s
+    np.testing.assert_allclose(period_means(s, mu, 1.0), [1.55, 2.55, 3.55], rtol=1e-12)
+    assert weighted_mean(s, mu, 1.0, 3.0) == pytest.approx(3.05, rel=1e-12)
+    # window (1, 3]: halves (1, 2] -> 2.55 and (2, 3] -> 3.55, mean 3.05
+    assert window_drift(s, mu, 1.0, 3.0) == pytest.approx((3.55 - 2.55) / 3.05, rel=1e-12)
+
+
+def test_convergence_rule_needs_a_run_in_and_two_close_periods() -> None:
+    assert not is_converged(np.array([0.5, 0.5]), 0.01, 2)  # no run-in period yet
+    assert is_converged(np.array([0.9, 0.5, 0.504]), 0.01, 2)  # 0.8 % change
+    assert not is_converged(np.array([0.9, 0.5, 0.51]), 0.01, 2)  # 2 % change
+    # mu ~ 0 (elastic, frictionless): absolute test at tol * MU_FLOOR = 1e-7
+    assert is_converged(np.array([1e-6, 2e-8, -3e-8]), 0.01, 2)
+    assert not is_converged(np.array([1e-6, 2e-6, -3e-6]), 0.01, 2)
+
+
+def test_error_estimate_of_a_geometric_approach() -> None:
+    """m_k = m_inf + c r^k: the window mean (last two) is off by |d| (1/2 + r / (1 - r))."""
+    m_inf, c, r = 0.45, 0.2, 0.4
+    means = m_inf + c * r ** np.arange(6)
+    exact = abs(np.mean(means[-2:]) - m_inf) / np.mean(means[-2:])
+    assert error_estimate(means, 2) == pytest.approx(exact, rel=1e-9)
+
+
+def history(tau: list[float], gamma: list[float]) -> ViscoelasticHistory:
+    mesh = dmesh.create_unit_square(MPI.COMM_SELF, 1, 1, dmesh.CellType.quadrilateral)
+    rule = quadrature_rule(basix.CellType.quadrilateral, 2)
+    g = np.asarray(gamma)
+    return ViscoelasticHistory(mesh, rule, g, tau, 1.0 / (1.0 - g.sum()), 1.0)
+
+
+def drive(h: ViscoelasticHistory, t0: float, period: float, n: int, static: float) -> float:
+    """One period of Sbar(t) = static + sin(2 pi t / T) in every component, n steps."""
+    dt = period / n
+    npts = h.Sbar_n.shape[0]
+    for i in range(1, n + 1):
+        h.prepare_step(dt)
+        value = static + math.sin(2.0 * math.pi * (t0 + i * dt) / period)
+        h.commit_step(np.full((npts, 9), value))
+    return t0 + period
+
+
+def test_periodic_extrapolation_is_the_periodic_steady_state() -> None:
+    """Under a periodic Sbar(t), the discrete history map over one period has one fixed point,
+    H* = (H(T) - q H(0)) / (1 - q); after the jump the next period returns to it exactly, for
+    branches much shorter, equal to and much longer than the period (T = 1)."""
+    h = history([0.01, 1.0, 1e4], [0.3, 0.3, 0.3])
+    t = drive(h, 0.0, 1.0, 64, static=1.0)  # first period from rest: not periodic yet
+    start = h.snapshot()
+    t = drive(h, t, 1.0, 64, static=1.0)
+    before = h.H.copy()
+    h.extrapolate_periodic(start)
+    jumped = h.H.copy()
+    drive(h, t, 1.0, 64, static=1.0)
+    np.testing.assert_allclose(h.H, jumped, rtol=1e-9, atol=1e-12)
+    # the long branch (tau = 1e4 T) still carried the static load (creep over ~1e4 periods to
+    # come); in the steady state it carries none of it: Sbar(T) - <Sbar> = 0 at the period end
+    assert np.max(np.abs(before[2])) > 0.99 and np.max(np.abs(jumped[2])) < 1e-3
+
+
+def test_a_static_load_is_relaxed_by_the_jump() -> None:
+    """A constant part of Sbar relaxes fully in every branch (H -> 0 for tau >> T): the stress a
+    branch carries of a static load after infinitely long times is zero (eq. 3.73)."""
+    h = history([1e3, 1e5], [0.4, 0.4])
+    npts = h.Sbar_n.shape[0]
+    h.prepare_step(0.01)
+    h.commit_step(np.full((npts, 9), 2.0))  # a step load: the branches carry it (glassy)
+    start = h.snapshot()
+    h.prepare_step(1.0)
+    h.commit_step(np.full((npts, 9), 2.0))  # held for one period
+    assert np.max(np.abs(h.H)) > 1.9
+    h.extrapolate_periodic(start)
+    assert np.max(np.abs(h.H)) < 1e-9
+
+
+def test_converged_window_of_the_viscoelastic_sinusoid_meets_the_closed_form() -> None:
+    """Full-contact sinusoid (``verify viscoelastic-sinusoid``): mu = (k h0)^2 Im E*(kv) / (4 p0)
+    (closed form evaluated here).  With the converged window and the periodic steady state the
+    run stops once two periods agree within 1 %, its window is stationary (drift < 0.1 %) and
+    mu is within 1 % of the closed form."""
+    compound = load_compound("tread_default")
+    out = simulate(compound, amplitude=0.002, pressure=0.1, velocity=10.0, periods=8,
+                   converge_tol=0.01, steady_state=True)
+    res = out["result"]
+    k, h0, p0 = 2.0 * math.pi / 1.0, 0.002, 0.1
+    mu = (k * h0) ** 2 * effective_modulus(compound, k * 10.0).imag / (4.0 * p0)
+    assert res.converged == 1.0 and 3.0 <= res.stats["periods"] < 8.0
+    assert abs(res.window_drift) < 1e-3
+    assert res.mu_force == pytest.approx(mu, rel=0.01)
