@@ -169,3 +169,32 @@ def test_cli_reports_scene_errors_and_plans(tmp_path: Path, capsys):
     assert "2 point(s) x 8 runs" in out and "= 16 single-scale runs" in out
     assert main(["run", "--schema"]) == 0
     assert "elements_per_wavelength" in capsys.readouterr().out
+
+
+def _bad_compound(tmp_path: Path, C10: float, gamma: list[float]) -> Path:
+    """A copy of the shipped m1 compound file with its C10 and an inline Prony series replaced."""
+    from rubberfriction.forms.material_files import DATA_DIR
+
+    text = (DATA_DIR / "m1.toml").read_text().replace("C10 = 0.174", f"C10 = {C10!r}")
+    i, j = text.index("[prony]"), text.index("[wlf]")
+    text = text[:i] + f"[prony]\ngamma = {gamma!r}\ntau = [0.01, 1.0]\n\n" + text[j:]
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("C10,gamma,field", [(-0.1, [0.3, 0.2], "MooneyRivlin.C10"),
+                                             (0.174, [0.7, 0.6], "gamma")])
+def test_run_check_loads_every_compound_the_scene_names(tmp_path: Path, capsys, C10, gamma,
+                                                        field) -> None:
+    """``run --check`` reads the compound files (and surfaces) of the scene: a compound with
+    C10 < 0 or sum(gamma) > 1 fails there, naming the field, before any campaign starts."""
+    from rubberfriction.driver.cli.main import main
+
+    _bad_compound(tmp_path, C10, gamma)
+    scene = tmp_path / "scene.toml"
+    scene.write_text('[surface]\nsource = "sines"\namplitudes = [0.01]\nwavelengths = [1.0]\n'
+                     '[conditions]\ncompounds = ["bad.toml"]\n')
+    assert main(["run", str(scene), "--check"]) == 2
+    err = capsys.readouterr().err
+    assert "[conditions].compounds[0] = 'bad.toml'" in err and field in err, err

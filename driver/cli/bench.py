@@ -12,6 +12,7 @@ BENCHMARKS = {
     "theory": ("rubberfriction.driver.bench.theory", "50-velocity mu(v) curve from the analytical theories"),
     "sliding": ("rubberfriction.driver.bench.sliding", "micro-cell speed-accuracy and stability sweep"),
     "multiscale": ("rubberfriction.driver.bench.multiscale", "default scene and four-scale point, serial vs ranks"),
+    "trade": ("rubberfriction.driver.bench.trade", "speed-accuracy trade of one mu point: mesh, penalty, samples"),
 }
 
 
