@@ -47,6 +47,7 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
+from rubberfriction.forms import jit
 from rubberfriction.forms.hyperelastic import dev
 from rubberfriction.forms.kinematics import sym3_from_vector, vector_from_tensor3
 
@@ -194,7 +195,7 @@ class ViscoelasticHistory:
         if not hasattr(self, "_wq"):
             x = ufl.SpatialCoordinate(self.mesh)
             detJ = ufl.JacobianDeterminant(self.mesh)
-            expr = fem.Expression(abs(detJ) + 0.0 * x[0], self.rule.points)
+            expr = jit.expression(abs(detJ) + 0.0 * x[0], self.rule.points)
             dj = expr.eval(self.cells).reshape(self.num_cells, -1)
             self._wq = (dj * self.rule.weights[None, :]).ravel()
         return self._wq
@@ -202,13 +203,13 @@ class ViscoelasticHistory:
     def point_coordinates(self) -> np.ndarray:
         """Reference coordinates of every quadrature point, shape (n_points, 2)."""
         x = ufl.SpatialCoordinate(self.mesh)
-        expr = fem.Expression(x, self.rule.points)
+        expr = jit.expression(x, self.rule.points)
         return expr.eval(self.cells).reshape(-1, 2)
 
 
 def evaluate_at_points(expr_ufl, mesh, rule: QuadratureRule, cells: np.ndarray) -> np.ndarray:
     """Evaluate a UFL tensor expression at the quadrature points: shape (n_points, n_comp)."""
-    e = fem.Expression(expr_ufl, rule.points)
+    e = jit.expression(expr_ufl, rule.points)
     vals = e.eval(cells)
     npts = rule.points.shape[0]
     return vals.reshape(cells.size * npts, -1)

@@ -23,6 +23,7 @@ from dolfinx.fem import petsc as fem_petsc
 from petsc4py import PETSc
 
 from rubberfriction.driver.fe.constraints import ConstraintMap
+from rubberfriction.forms import jit
 
 
 class Hook(Protocol):
@@ -76,8 +77,8 @@ class ConstrainedNonlinearProblem:
     def __init__(self, residual, jacobian, w: fem.Function, constraints: ConstraintMap,
                  hooks: list[Hook] | None = None, extra_couplings=None, external_force=None):
         self.w = w
-        self.F_form = fem.form(residual)
-        self.J_form = fem.form(jacobian)
+        self.F_form = jit.form(residual)
+        self.J_form = jit.form(jacobian)
         self.hooks = list(hooks or [])
         self.external_force = external_force
         self.A = self._create_matrix(extra_couplings or [])

@@ -42,7 +42,6 @@ from dataclasses import dataclass
 import numpy as np
 
 import ufl
-from dolfinx import fem
 
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
 from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
@@ -55,6 +54,7 @@ from rubberfriction.driver.sliding.spec import (
     default_h_contact,
     refined,
 )
+from rubberfriction.forms import jit
 from rubberfriction.forms.kinematics import deformation_gradient
 
 
@@ -294,7 +294,7 @@ class SlidingRun:
     def _inverted(self) -> bool:
         if self._detF is None:
             u, _ = self.sp.split()
-            self._detF = fem.Expression(ufl.det(deformation_gradient(u)), self.sp.rule.points)
+            self._detF = jit.expression(ufl.det(deformation_gradient(u)), self.sp.rule.points)
             ncell = self.mesh.topology.index_map(2).size_local
             self._cells = np.arange(ncell, dtype=np.int32)
         return bool(self._detF.eval(self._cells).min() <= 0.0)
