@@ -176,8 +176,7 @@ class SlidingRun:
         """The tied top u_z becomes an unknown loaded by F_ext (compression phase)."""
         self.cspec.fixed.pop(self.top_z_dof)
         self.cmap = ConstraintMap(self.cspec)
-        self.problem.set_constraints(self.cmap)
-        self.newton.reset()  # the reduced size changed
+        self.problem.set_constraints(self.cmap)  # the solver refactorises the new P^T A P
 
     # --- one step with cut-backs ---------------------------------------------------------------
     def _solve_step(self, t: float, dt: float, apply_load, predict=None,
