@@ -27,7 +27,7 @@ from scipy.spatial import cKDTree
 from rubberfriction.forms import jit
 from rubberfriction.forms.bulk import bulk_residual, second_piola
 from rubberfriction.forms.hyperelastic import dev, fictitious_stress
-from rubberfriction.forms.kinematics import deformation_gradient, vector_from_tensor3
+from rubberfriction.forms.kinematics import deformation_gradient, vector_from_plane_sym
 from rubberfriction.forms.viscoelastic import ViscoelasticHistory, quadrature_rule
 
 ELEMENTS = ("Q1P0", "Q1")
@@ -183,9 +183,9 @@ class SolidProblem:
             F = deformation_gradient(u)
             # (3.76) convolves DEV{Sbar} taken with the C of its own time
             Sdev = dev(self.fictitious_stress(), F.T * F)
-            self._sdev_expr = jit.expression(vector_from_tensor3(Sdev), self.rule.points)
+            self._sdev_expr = jit.expression(vector_from_plane_sym(Sdev), self.rule.points)
         cells = self.history.cells
-        Sbar = self._sdev_expr.eval(cells).reshape(cells.size * self.rule.points.shape[0], 9)
+        Sbar = self._sdev_expr.eval(cells).reshape(cells.size * self.rule.points.shape[0], -1)
         return self.history.commit_step(Sbar)
 
     def set_temperature(self, T_cell) -> None:
