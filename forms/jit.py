@@ -10,6 +10,8 @@ bitwise the same and the bulk assembly is 2.6 times faster (``rubberfriction ben
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Iterator, Sequence
 from typing import Any
 
 import numpy as np
@@ -32,3 +34,18 @@ def form(ufl_form: Any) -> fem.FormMetaClass:
 def expression(ufl_expr: Any, points: np.ndarray) -> fem.Expression:
     """``dolfinx.fem.Expression`` at reference points, compiled with the project's JIT options."""
     return fem.Expression(ufl_expr, points, jit_params=jit_params())
+
+
+#: dolfinx's own flags (before this module): for benchmarks that show what COMPILE_ARGS buys
+DOLFINX_DEFAULT_ARGS: tuple[str, ...] = ("-O2", "-g0")
+
+
+@contextlib.contextmanager
+def compile_args(args: Sequence[str]) -> Iterator[None]:
+    """Forms and expressions made inside the block are compiled with ``args`` (benchmarks)."""
+    global COMPILE_ARGS
+    saved, COMPILE_ARGS = COMPILE_ARGS, tuple(args)
+    try:
+        yield
+    finally:
+        COMPILE_ARGS = saved

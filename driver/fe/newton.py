@@ -224,6 +224,7 @@ class NewtonSolver:
         self.settings = settings or NewtonSettings()
         self.force_scale = float(force_scale)
         self.on_iteration = on_iteration
+        self.cpu_linear = 0.0  # CPU seconds of all linear solves of this solver
         self.reset()
 
     def reset(self) -> None:
@@ -283,7 +284,9 @@ class NewtonSolver:
                 res.reason = f"linear solve failed: {str(err).splitlines()[0]}"
                 return
             finally:
-                res.cpu["linear"] += time.process_time() - c0
+                c1 = time.process_time()
+                res.cpu["linear"] += c1 - c0
+                self.cpu_linear += c1 - c0
             if self.ksp.getConvergedReason() < 0:
                 res.reason = f"linear solve failed (PETSc reason {self.ksp.getConvergedReason()})"
                 return

@@ -374,6 +374,7 @@ class SlidingRun:
     def _attempt(self, formulation: str, step_factor: float) -> SlidingResult:
         s = self.spec
         self.cutbacks, self.newton_iterations, self.predictor_used, self._easy = 0, 0, 0, 0
+        self._cpu_start = time.process_time()
         self.compression_contact = float("nan")
         self._detF = None
         self.step_energy = self.step_friction_energy = 0.0
@@ -454,6 +455,15 @@ class SlidingRun:
                 self.progress(k, nsteps)
         return self._result(rows, distance, "ok", "", t)
 
+    def _cpu_split(self) -> dict[str, float]:
+        """CPU seconds of this attempt by part (stats ``cpu_*``): bulk forms, contact, P^T A P
+        (with PETSc's assembly calls), linear solves (numeric LU + triangular solves), history
+        update (eq. 3.76), and the whole attempt (set-up and Python included)."""
+        asm = self.problem.cpu
+        return {"cpu_bulk": asm["bulk"], "cpu_contact": asm["hooks"], "cpu_condense": asm["condense"],
+                "cpu_linear": self.newton.cpu_linear, "cpu_history": self.sp.cpu_history,
+                "cpu_attempt": time.process_time() - self._cpu_start}
+
     def _result(self, rows, distance, status, reason, t) -> SlidingResult:
         s = self.spec
         cols = ["t", "s", "Fx", "Fz", "contact_length", "viscous_energy", "friction_energy", "mean_pressure"]
@@ -464,7 +474,7 @@ class SlidingRun:
                      "predictor_used": self.predictor_used,
                      "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size),
                      "window_start": s.window_start * distance, "window_end": distance,
-                     "compression_contact_fraction": self.compression_contact}
+                     "compression_contact_fraction": self.compression_contact, **self._cpu_split()}
         if len(rows) == 0:
             return res
         Fz = series["Fz"]
