@@ -111,13 +111,14 @@ def lowest_scale_spec(pressure: float, velocity: float, slide_fraction: float) -
     scales = build_scales(scene, scene.samples.friction)
     compound = scene.conditions.compounds[0]
     spec = SpecBuilder(scene, load_compounds(scene))(
-        Point(compound, pressure, velocity), len(scales.sets) - 1, scales.sets[-1].samples[0], pressure,
-        None, "up")
+        Point(compound, pressure, velocity), len(scales.sets) - 1, scales.sets[-1].samples[0],
+        pressure, None, "up")
     return dataclasses.replace(spec, slide_distance=slide_fraction * spec.period)
 
 
 #: (label, stats key) of the CPU split of one attempt; the rest is cpu_attempt minus their sum
-CPU_PARTS = (("bulk forms (tangent + residual)", "cpu_bulk"), ("contact (C++ evaluate + assembly)", "cpu_contact"),
+CPU_PARTS = (("bulk forms (tangent + residual)", "cpu_bulk"),
+             ("contact (C++ evaluate + assembly)", "cpu_contact"),
              ("condensation P^T A P (+ PETSc assembly)", "cpu_condense"),
              ("linear solve (numeric LU + solves)", "cpu_linear"),
              ("history update (prepare + commit)", "cpu_history"))
@@ -148,8 +149,8 @@ def iterations(pressure: float, velocity: float, slide_fraction: float, compare_
             wall = time.perf_counter() - t0
         its = max(int(r.stats.get("newton_iterations", 0)), 1)
         print(f"{name} ({' '.join(args)}): {r.status} ({r.stats.get('attempt', '')}), "
-              f"{its} Newton iterations, {r.stats.get('dofs', 0):.0f} dofs, mu_force {r.mu_force:.10g}, "
-              f"wall {wall:.1f} s", flush=True)
+              f"{its} Newton iterations, {r.stats.get('dofs', 0):.0f} dofs, "
+              f"mu_force {r.mu_force:.10g}, wall {wall:.1f} s", flush=True)
         if "cpu_attempt" not in r.stats:
             print(f"  no CPU split: {r.reason}")
             return out
@@ -187,21 +188,24 @@ def _number(minimum: float, strict: bool):
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="rubberfriction bench sliding", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--part", choices=["accuracy", "stability", "both", "iterations"], default="both")
+    ap.add_argument("--part", choices=["accuracy", "stability", "both", "iterations"],
+                    default="both")
     ap.add_argument("--quick", action="store_true", help="fewer levels (a smoke run)")
     ap.add_argument("--wall-limit", type=_number(0.0, strict=False), default=300.0,
                     help="seconds per stability run before it is stopped and reported "
                          "(300; 0: no limit)")
     ap.add_argument("--penalty-alpha", type=_number(0.0, strict=True), default=100.0,
                     help="contact penalty factor of the stability runs (SlidingSpec.penalty_alpha)")
-    ap.add_argument("--json", metavar="FILE", help="write the stability rows (or the iteration split) as JSON")
+    ap.add_argument("--json", metavar="FILE",
+                    help="write the stability rows (or the iteration split) as JSON")
     ap.add_argument("--pressure", type=_number(0.0, strict=True), default=10.0,
                     help="iterations: mean pressure of the micro2 run [MPa] (10; the default scene's "
                          "micro2 runs see 6-31)")
     ap.add_argument("--velocity", type=_number(0.0, strict=True), default=100.0,
                     help="iterations: sliding velocity [mm/s] (100)")
     ap.add_argument("--slide-fraction", type=_number(0.0, strict=True), default=0.1,
-                    help="iterations: sliding distance in periods of the sample (0.1; a campaign slides 1.5)")
+                    help="iterations: sliding distance in periods of the sample (0.1; a "
+                         "campaign slides 1.5)")
     ap.add_argument("--compare-jit", action="store_true",
                     help="iterations: repeat with dolfinx's default compiler flags, print ratios")
     a = ap.parse_args(argv)

@@ -117,7 +117,7 @@ class ConstrainedNonlinearProblem:
         self.J_form = jit.form(jacobian)
         self.hooks = list(hooks or [])
         self.external_force = external_force
-        self.cpu = dict.fromkeys(CPU_PARTS, 0.0)  # cumulative CPU seconds by part (NewtonResult.cpu)
+        self.cpu = dict.fromkeys(CPU_PARTS, 0.0)  # cumulative CPU seconds (NewtonResult.cpu)
         self.A = self._create_matrix(extra_couplings or [])
         self.b = fem_petsc.create_vector(self.F_form)
         self.set_constraints(constraints)
