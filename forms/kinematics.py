@@ -38,3 +38,20 @@ def sym3_from_vector(v) -> ufl.core.expr.Expr:
 def vector_from_tensor3(T) -> ufl.core.expr.Expr:
     """9-component row-major vector of a 3x3 tensor (for evaluation at quadrature points)."""
     return ufl.as_vector([T[i, j] for i in range(3) for j in range(3)])
+
+
+#: (row, column) of the 4 independent components of a symmetric plane-strain tensor (xx, zz,
+#: out-of-plane yy, xz): the x-y and z-y shears are zero, T = [[T0, T3, 0], [T3, T1, 0], [0, 0, T2]]
+PLANE_SYM_COMPONENTS = ((0, 0), (1, 1), (2, 2), (0, 1))
+#: weights of the components in T : T (the shear appears twice)
+PLANE_SYM_WEIGHTS = (1.0, 1.0, 1.0, 2.0)
+
+
+def plane_sym_from_vector(v) -> ufl.core.expr.Expr:
+    """Symmetric plane-strain 3x3 tensor from its 4 components (``PLANE_SYM_COMPONENTS``)."""
+    return ufl.as_matrix([[v[0], v[3], 0.0], [v[3], v[1], 0.0], [0.0, 0.0, v[2]]])
+
+
+def vector_from_plane_sym(T) -> ufl.core.expr.Expr:
+    """The 4 components (``PLANE_SYM_COMPONENTS``) of a symmetric plane-strain 3x3 tensor."""
+    return ufl.as_vector([T[i, j] for i, j in PLANE_SYM_COMPONENTS])

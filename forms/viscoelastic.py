@@ -25,9 +25,15 @@ Because a_k, b_k are fixed within a time step, the sum collapses to one tensor p
     sum_k g_k H^k_{n+1} = Hstar + beta Sbar_{n+1},
     Hstar = sum_k g_k (a_k H^k_n - b_k Sbar_n),  beta = sum_k g_k b_k,
 
-so the residual form carries a single 3x3 quadrature field (Hstar) and a cell field (beta), whatever
-the number of Prony terms; the consistent tangent follows from UFL differentiation.  The per-term
-histories live in numpy and are updated, vectorised, after each converged step.
+so the residual form carries a single tensor quadrature field (Hstar) and a cell field (beta),
+whatever the number of Prony terms; the consistent tangent follows from UFL differentiation.  The
+per-term histories live in numpy and are updated, vectorised, after each converged step.
+
+Storage.  In plane strain DEV{Sbar} (taken with C = F^T F, F_13 = F_23 = 0) is symmetric with
+zero x-y and z-y shears, so every H^k and Hstar is stored by its 4 independent components
+(xx, zz, out-of-plane yy, xz; ``kinematics.PLANE_SYM_COMPONENTS``) instead of 9.  a_k, b_k and
+beta depend on dt and the temperature only: they are computed once per (dt, temperature) and
+reused by the steps of equal length that make up most of a run.
 
 Temperature enters through the WLF shift of every tau_k, eqs. (3.33), (3.37): tau_k(T) = a_T(T) tau_k,
 with T given per cell (a field from the thermal loop or one value per height partition).
@@ -47,8 +53,15 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
+from rubberfriction.forms import jit
 from rubberfriction.forms.hyperelastic import dev
-from rubberfriction.forms.kinematics import sym3_from_vector, vector_from_tensor3
+from rubberfriction.forms.kinematics import (
+    PLANE_SYM_COMPONENTS,
+    PLANE_SYM_WEIGHTS,
+    plane_sym_from_vector,
+    vector_from_plane_sym,
+    vector_from_tensor3,
+)
 
 
 @dataclass(frozen=True)
@@ -66,9 +79,16 @@ def quadrature_rule(cell_type: basix.CellType, degree: int) -> QuadratureRule:
 
 
 def viscous_stress(F, Sbar, Hstar, beta) -> ufl.core.expr.Expr:
-    """Non-equilibrium S = J^(-2/3) DEV{beta Sbar + Hstar} (collapsed eq. 3.77)."""
+    """Non-equilibrium S = J^(-2/3) DEV{beta Sbar + Hstar} (collapsed eq. 3.77); Hstar holds the
+    4 plane-strain components (``plane_sym_from_vector``)."""
     C = F.T * F
-    return ufl.det(F) ** (-2.0 / 3.0) * dev(beta * Sbar + sym3_from_vector(Hstar), C)
+    return ufl.det(F) ** (-2.0 / 3.0) * dev(beta * Sbar + plane_sym_from_vector(Hstar), C)
+
+
+#: number of stored components of each history tensor (symmetric plane strain)
+NCOMP = len(PLANE_SYM_COMPONENTS)
+#: the coefficients of this many (dt, temperature) pairs are kept (cut-back sub-steps reuse them)
+COEFFICIENT_CACHE = 8
 
 
 @dataclass(frozen=True)
@@ -91,6 +111,9 @@ class ViscoelasticHistory:
     scale: g_k = gamma_k * scale (1 / gamma_inf: the MR constants are long-term moduli).
     G_ref: shear modulus of the stored energy (for the dissipation density).
     shift: callable T [K] -> a_T (WLF, eq. 3.33); None means no temperature dependence.
+
+    Arrays are cell-major: quadrature point q of cell c is row c * n_points_per_cell + q; tensors
+    carry the 4 components of ``kinematics.PLANE_SYM_COMPONENTS``.
     """
 
     def __init__(self, mesh, rule: QuadratureRule, gamma, tau, scale: float, G_ref: float, shift=None,
@@ -105,21 +128,26 @@ class ViscoelasticHistory:
         self.G_ref = float(G_ref)
         self.shift = shift
         cell = mesh.ufl_cell()
-        qe9 = ufl.VectorElement("Quadrature", cell, degree=rule.degree, dim=9, quad_scheme="default")
-        self.Q9 = fem.FunctionSpace(mesh, qe9)
+        qe = ufl.VectorElement("Quadrature", cell, degree=rule.degree, dim=NCOMP, quad_scheme="default")
+        self.Q = fem.FunctionSpace(mesh, qe)
         self.DG0 = fem.FunctionSpace(mesh, ("DG", 0))
-        self.Hstar = fem.Function(self.Q9, name="Hstar")
+        self.Hstar = fem.Function(self.Q, name="Hstar")
         self.beta = fem.Function(self.DG0, name="beta")
         tdim = mesh.topology.dim
         self.num_cells = mesh.topology.index_map(tdim).size_local
         self.cells = np.arange(self.num_cells, dtype=np.int32)
-        npts = rule.points.shape[0]
-        # quadrature-space dofs of (cell, point), to scatter evaluated values into Hstar
-        self._qdofs = self.Q9.dofmap.list.array.reshape(-1, npts)[: self.num_cells]
-        nq = self.num_cells * npts
-        self.H = np.zeros((self.g.size, nq, 9))  # per-term history (row-major 3x3)
-        self.Sbar_n = np.zeros((nq, 9))  # fictitious stress of the last converged step
+        self.npts = rule.points.shape[0]
+        # dofs of (cell, point) in Hstar and of each cell in beta; None where they are the array
+        # positions themselves (dolfinx numbers them so in serial): then no index is needed
+        self._qdofs = _unless_identity(self.Q.dofmap.list.array.reshape(-1, self.npts)[: self.num_cells])
+        self._cdofs = _unless_identity(self.DG0.dofmap.list.array[: self.num_cells])
+        nq = self.num_cells * self.npts
+        self.H = np.zeros((self.g.size, nq, NCOMP))  # per-term history
+        self._work = np.empty((self.num_cells, self.npts * NCOMP))  # one term's update
+        self.Sbar_n = np.zeros((nq, NCOMP))  # DEV{Sbar} of the last converged step
         self.T_cell = None  # kelvin per cell; None: reference temperature
+        self._tau_cell = np.repeat(self.tau_ref[:, None], self.num_cells, axis=1)  # (terms, cells)
+        self._coefficients: dict[float, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
         self._a = self._b = None
         self._dt = None
         self._D_n = np.zeros(nq)  # dissipation density at the last converged step
@@ -136,49 +164,61 @@ class ViscoelasticHistory:
             raise ValueError("temperature given but the compound has no WLF data")
         T = np.broadcast_to(np.asarray(T_cell, dtype=float), (self.num_cells,)).copy()
         self.T_cell = T
+        self._tau_cell = self.tau_ref[:, None] * np.asarray(self.shift(T), dtype=float)[None, :]
+        self._coefficients.clear()
         self._dt = None  # coefficients must be recomputed
 
     def tau_at_points(self) -> np.ndarray:
         """tau_k at every quadrature point, shape (n_terms, n_points)."""
-        npts = self.rule.points.shape[0]
-        if self.T_cell is None:
-            aT = np.ones(self.num_cells * npts)
-        else:
-            aT = np.repeat(self.shift(self.T_cell), npts)
-        return self.tau_ref[:, None] * aT[None, :]
+        return np.repeat(self._tau_cell, self.npts, axis=1)
 
     # --- stepping ----------------------------------------------------------------------------
+    def coefficients(self, dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(a, b, beta) of a step dt at the current temperature: a_k, b_k per term and cell
+        (eq. 3.76 or the linear scheme, module docstring) and beta = sum_k g_k b_k per cell."""
+        c = self._coefficients.get(dt)
+        if c is None:
+            x = dt / self._tau_cell
+            a = np.exp(-x)
+            if self.scheme == "midpoint":
+                b = np.exp(-0.5 * x)  # eq. (3.76)
+            else:
+                b = np.where(x > 1e-6, -np.expm1(-x) / np.maximum(x, 1e-300), 1.0 - 0.5 * x)
+            c = (a, b, self.g @ b)
+            if len(self._coefficients) >= COEFFICIENT_CACHE:
+                self._coefficients.clear()
+            self._coefficients[dt] = c
+        return c
+
     def prepare_step(self, dt: float) -> None:
         """Fill Hstar and beta for a step of size dt (called before the Newton solve)."""
         if not dt > 0.0:
             raise ValueError(f"time step dt must be > 0, got {dt}")
-        tau = self.tau_at_points()
-        x = dt / tau
-        self._a = np.exp(-x)
-        if self.scheme == "midpoint":
-            self._b = np.exp(-0.5 * x)  # eq. (3.76)
-        else:
-            self._b = np.where(x > 1e-6, -np.expm1(-x) / np.maximum(x, 1e-300), 1.0 - 0.5 * x)
+        self._a, self._b, beta = self.coefficients(dt)
         self._dt = dt
-        gh = np.einsum("k,kq,kqi->qi", self.g, self._a, self.H)
-        beta_q = np.einsum("k,kq->q", self.g, self._b)
-        hstar = gh - beta_q[:, None] * self.Sbar_n
-        self._scatter(self.Hstar, hstar)
-        npts = self.rule.points.shape[0]
-        self.beta.x.array[: self.num_cells] = beta_q.reshape(self.num_cells, npts)[:, 0]
-        self.beta.x.scatter_forward()
+        # Hstar = sum_k g_k a_k H^k_n - beta Sbar_n, per cell: (cells, points x components)
+        hstar = np.einsum("kc,kcj->cj", self.g[:, None] * self._a, self._by_cell(self.H))
+        hstar -= beta[:, None] * self._by_cell(self.Sbar_n)
+        _write(self.Hstar, self._qdofs, hstar)
+        _write(self.beta, self._cdofs, beta)
 
     def commit_step(self, Sbar_new: np.ndarray) -> float:
         """Update every H^k with the converged fictitious stress; returns the step's dissipation.
 
-        Sbar_new: (n_points, 9) DEV{Sbar} at the quadrature points, the deviator taken with the
-        converged C (eq. 3.76); storing the deviator matters: the isotropic part of Sbar is O(mu)
-        and would leak into the stress through DEV with a later C.
+        Sbar_new: (n_points, 4) DEV{Sbar} at the quadrature points (``PLANE_SYM_COMPONENTS``), the
+        deviator taken with the converged C (eq. 3.76); storing the deviator matters: the
+        isotropic part of Sbar is O(mu) and would leak into the stress through DEV with a later C.
         """
         if self._dt is None:
             raise RuntimeError("commit_step called before prepare_step")
-        self.H = self._a[:, :, None] * self.H + self._b[:, :, None] * (Sbar_new - self.Sbar_n)[None]
-        self.Sbar_n = Sbar_new.copy()
+        # H^k <- a_k H^k + b_k (Sbar_new - Sbar_n), in place, one term at a time (the term's
+        # block stays in cache between the two passes)
+        dS, work = self._by_cell(Sbar_new - self.Sbar_n), self._work
+        for Hk, ak, bk in zip(self._by_cell(self.H), self._a, self._b):
+            Hk *= ak[:, None]
+            np.multiply(bk[:, None], dS, out=work)
+            Hk += work
+        np.copyto(self.Sbar_n, Sbar_new)
         D = self.dissipation_density()
         w = self._point_weights()
         dE = 0.5 * self._dt * float(np.dot(w, D + self._D_n))  # trapezoidal rule in time
@@ -219,22 +259,21 @@ class ViscoelasticHistory:
 
     def dissipation_density(self) -> np.ndarray:
         """Dissipation rate per unit reference volume at each quadrature point (MPa/s)."""
-        tau = self.tau_at_points()
-        H2 = np.einsum("kqi,kqi->kq", self.H, self.H)
-        return np.einsum("k,kq->q", self.g, H2 / tau) / (2.0 * self.G_ref)
+        H2 = np.einsum("kqi,kqi,i->kq", self.H, self.H, np.asarray(PLANE_SYM_WEIGHTS))  # |H^k|^2
+        rate = self.g[:, None] / (2.0 * self.G_ref * self._tau_cell)  # (terms, cells)
+        return np.einsum("kc,kcp->cp", rate, H2.reshape(self.g.size, self.num_cells, self.npts)).ravel()
 
     # --- helpers -----------------------------------------------------------------------------
-    def _scatter(self, f: fem.Function, values: np.ndarray) -> None:
-        arr = f.x.array.reshape(-1, 9)
-        arr[self._qdofs.ravel()] = values
-        f.x.scatter_forward()
+    def _by_cell(self, a: np.ndarray) -> np.ndarray:
+        """View of a point array (..., n_points, 4) as (..., n_cells, points x components)."""
+        return a.reshape(a.shape[:-2] + (self.num_cells, self.npts * NCOMP))
 
     def _point_weights(self) -> np.ndarray:
         """Reference-configuration integration weight of each quadrature point (|det J| w)."""
         if not hasattr(self, "_wq"):
             x = ufl.SpatialCoordinate(self.mesh)
             detJ = ufl.JacobianDeterminant(self.mesh)
-            expr = fem.Expression(abs(detJ) + 0.0 * x[0], self.rule.points)
+            expr = jit.expression(abs(detJ) + 0.0 * x[0], self.rule.points)
             dj = expr.eval(self.cells).reshape(self.num_cells, -1)
             self._wq = (dj * self.rule.weights[None, :]).ravel()
         return self._wq
@@ -242,13 +281,30 @@ class ViscoelasticHistory:
     def point_coordinates(self) -> np.ndarray:
         """Reference coordinates of every quadrature point, shape (n_points, 2)."""
         x = ufl.SpatialCoordinate(self.mesh)
-        expr = fem.Expression(x, self.rule.points)
+        expr = jit.expression(x, self.rule.points)
         return expr.eval(self.cells).reshape(-1, 2)
+
+
+def _unless_identity(dofs: np.ndarray) -> np.ndarray | None:
+    """The dofs of a row-major (cell, point) block, or None if they are 0, 1, 2, ..."""
+    flat = np.asarray(dofs).ravel()
+    return None if np.array_equal(flat, np.arange(flat.size)) else flat
+
+
+def _write(f: fem.Function, dofs: np.ndarray | None, values: np.ndarray) -> None:
+    """Write values (one block of f's value size per dof, row-major) into the Function f."""
+    bs = f.function_space.dofmap.index_map_bs
+    arr = f.x.array.reshape(-1, bs)
+    if dofs is None:
+        arr[: values.size // bs] = values.reshape(-1, bs)
+    else:
+        arr[dofs] = values.reshape(-1, bs)
+    f.x.scatter_forward()
 
 
 def evaluate_at_points(expr_ufl, mesh, rule: QuadratureRule, cells: np.ndarray) -> np.ndarray:
     """Evaluate a UFL tensor expression at the quadrature points: shape (n_points, n_comp)."""
-    e = fem.Expression(expr_ufl, rule.points)
+    e = jit.expression(expr_ufl, rule.points)
     vals = e.eval(cells)
     npts = rule.points.shape[0]
     return vals.reshape(cells.size * npts, -1)
@@ -260,6 +316,7 @@ __all__ = [
     "ViscoelasticHistory",
     "evaluate_at_points",
     "quadrature_rule",
+    "vector_from_plane_sym",
     "vector_from_tensor3",
     "viscous_stress",
 ]

@@ -31,11 +31,13 @@ class ScalarProblem:
         self.P.assemble()
         self.Ar.setValue(0, 0, 1.0)
         self.Ar.assemble()
+        self.cpu = {}
 
-    def assemble(self, need_matrix: bool = True) -> None:
+    def assemble(self, need_matrix: bool = True, need_vector: bool = True) -> None:
         x = float(self.w.x.array[0])
-        self.br.setValue(0, self.residual(x))
-        self.br.assemble()
+        if need_vector:
+            self.br.setValue(0, self.residual(x))
+            self.br.assemble()
         if need_matrix:
             self.Ar.setValue(0, 0, self.derivative(x))
             self.Ar.assemble()

@@ -66,7 +66,7 @@ def drive(h: ViscoelasticHistory, t0: float, period: float, n: int, static: floa
     for i in range(1, n + 1):
         h.prepare_step(dt)
         value = static + math.sin(2.0 * math.pi * (t0 + i * dt) / period)
-        h.commit_step(np.full((npts, 9), value))
+        h.commit_step(np.full((npts, h.Sbar_n.shape[1]), value))
     return t0 + period
 
 
@@ -94,10 +94,10 @@ def test_a_static_load_is_relaxed_by_the_jump() -> None:
     h = history([1e3, 1e5], [0.4, 0.4])
     npts = h.Sbar_n.shape[0]
     h.prepare_step(0.01)
-    h.commit_step(np.full((npts, 9), 2.0))  # a step load: the branches carry it (glassy)
+    h.commit_step(np.full((npts, h.Sbar_n.shape[1]), 2.0))  # step load: the branches carry it
     start = h.snapshot()
     h.prepare_step(1.0)
-    h.commit_step(np.full((npts, 9), 2.0))  # held for one period
+    h.commit_step(np.full((npts, h.Sbar_n.shape[1]), 2.0))  # held for one period
     assert np.max(np.abs(h.H)) > 1.9
     h.extrapolate_periodic(start)
     assert np.max(np.abs(h.H)) < 1e-9

@@ -8,23 +8,38 @@
    (a band of the default road): status, fallback level, cut-backs, Newton iterations, wall
    time, mu.  Nothing may fail silently: a failed run prints its reason.  Each run has a
    wall-time limit (``--wall-limit``); a run that hits it is reported as such, not waited for.
+3. Iterations (``--part iterations``, not in ``both``): where the CPU time of one Newton iteration
+   of a lowest-scale run goes.  The first micro2 sample of the default scene (0.04-0.003 mm band,
+   built as the campaign builds it) at ``--pressure`` and ``--velocity``, slid over
+   ``--slide-fraction`` of its period: bulk forms, contact, P^T A P, linear solve (MUMPS numeric
+   LU + triangular solves), history update, the rest (Python, set-up); CPU seconds of this
+   process (the run's ``cpu_*`` stats: robust to other jobs on the machine) of the attempt that
+   gave the result, per Newton iteration.  ``--compare-jit`` repeats the run with the forms
+   compiled by dolfinx's default flags (``forms/jit.py``) and prints the ratio per part.
 
-    rubberfriction bench sliding [--part accuracy|stability|both] [--quick] [--wall-limit S]
-                                 [--penalty-alpha A] [--json FILE]
+    rubberfriction bench sliding [--part accuracy|stability|both|iterations] [--quick]
+                                 [--wall-limit S] [--penalty-alpha A] [--json FILE]
+                                 [--pressure P] [--velocity V] [--slide-fraction F] [--compare-jit]
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import time
 
 import numpy as np
 
+from rubberfriction.driver.multiscale.results import Point
+from rubberfriction.driver.multiscale.scales import build_scales
+from rubberfriction.driver.multiscale.scene import load_scene
+from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
 from rubberfriction.driver.sliding.run import run_sliding
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.surfaces import default_road
 from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
+from rubberfriction.forms import jit
 from rubberfriction.forms.material_files import load_compound
 
 
@@ -88,6 +103,72 @@ def stability(quick: bool, wall_limit: float, penalty_alpha: float) -> list[dict
     return rows
 
 
+def lowest_scale_spec(pressure: float, velocity: float, slide_fraction: float) -> SlidingSpec:
+    """The first micro2 (lowest-scale) sample of the default scene, built as its campaign builds
+    friction runs (``SpecBuilder``: band-limited master, element size, quick settings), slid over
+    ``slide_fraction`` of its period."""
+    scene = load_scene("default")
+    scales = build_scales(scene, scene.samples.friction)
+    compound = scene.conditions.compounds[0]
+    spec = SpecBuilder(scene, load_compounds(scene))(
+        Point(compound, pressure, velocity), len(scales.sets) - 1, scales.sets[-1].samples[0],
+        pressure, None, "up")
+    return dataclasses.replace(spec, slide_distance=slide_fraction * spec.period)
+
+
+#: (label, stats key) of the CPU split of one attempt; the rest is cpu_attempt minus their sum
+CPU_PARTS = (("bulk forms (tangent + residual)", "cpu_bulk"),
+             ("contact (C++ evaluate + assembly)", "cpu_contact"),
+             ("condensation P^T A P (+ PETSc assembly)", "cpu_condense"),
+             ("linear solve (numeric LU + solves)", "cpu_linear"),
+             ("history update (prepare + commit)", "cpu_history"))
+
+
+def cpu_split(stats: dict) -> dict[str, float]:
+    """CPU seconds by part (CPU_PARTS labels, plus the rest and the total) from a run's stats."""
+    parts = {label: float(stats[key]) for label, key in CPU_PARTS}
+    parts["rest (Python, set-up, predictor)"] = float(stats["cpu_attempt"]) - sum(parts.values())
+    parts["total (the attempt)"] = float(stats["cpu_attempt"])
+    return parts
+
+
+def iterations(pressure: float, velocity: float, slide_fraction: float, compare_jit: bool) -> dict:
+    """Per-iteration CPU split of one lowest-scale run (module docstring, part 3)."""
+    spec = lowest_scale_spec(pressure, velocity, slide_fraction)
+    print(f"lowest-scale run: micro2 sample 1 of the default scene, period {spec.period:g} mm, "
+          f"h_contact {spec.h_contact:g} mm, p {pressure:g} MPa, v {velocity:g} mm/s, slide "
+          f"{spec.slide_distance:g} mm")
+    variants = [("project flags", jit.COMPILE_ARGS)]
+    if compare_jit:
+        variants.append(("dolfinx flags", jit.DOLFINX_DEFAULT_ARGS))
+    splits, out = [], {}
+    for name, args in variants:
+        with jit.compile_args(args):
+            t0 = time.perf_counter()
+            r = run_sliding(spec)
+            wall = time.perf_counter() - t0
+        its = max(int(r.stats.get("newton_iterations", 0)), 1)
+        print(f"{name} ({' '.join(args)}): {r.status} ({r.stats.get('attempt', '')}), "
+              f"{its} Newton iterations, {r.stats.get('dofs', 0):.0f} dofs, "
+              f"mu_force {r.mu_force:.10g}, wall {wall:.1f} s", flush=True)
+        if "cpu_attempt" not in r.stats:
+            print(f"  no CPU split: {r.reason}")
+            return out
+        splits.append((cpu_split(r.stats), its))
+        out[name] = {"status": r.status, "mu_force": r.mu_force, "iterations": its, "wall_s": wall,
+                     "cpu_s": splits[-1][0]}
+    head = f"{'part':42} {'CPU [s]':>8} {'share':>6} {'ms/it':>7}"
+    print(head + ("" if len(splits) == 1 else f" {'ms/it':>7} {'ratio':>6}  (dolfinx flags)"))
+    (first, n1), rest = splits[0], splits[1:]
+    for label, v in first.items():
+        line = f"{label:42} {v:>8.2f} {v / first['total (the attempt)']:>6.1%} {1e3 * v / n1:>7.2f}"
+        for other, n2 in rest:  # per-iteration ratio, dolfinx flags / project flags
+            w = other[label]
+            line += f" {1e3 * w / n2:>7.2f} {(w / n2) / (v / n1) if v > 0 else float('nan'):>6.2f}"
+        print(line)
+    return out
+
+
 def _number(minimum: float, strict: bool):
     """argparse type: a finite float >= minimum (> minimum if strict), else a clear error."""
 
@@ -107,15 +188,33 @@ def _number(minimum: float, strict: bool):
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="rubberfriction bench sliding", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--part", choices=["accuracy", "stability", "both"], default="both")
+    ap.add_argument("--part", choices=["accuracy", "stability", "both", "iterations"],
+                    default="both")
     ap.add_argument("--quick", action="store_true", help="fewer levels (a smoke run)")
     ap.add_argument("--wall-limit", type=_number(0.0, strict=False), default=300.0,
                     help="seconds per stability run before it is stopped and reported "
                          "(300; 0: no limit)")
     ap.add_argument("--penalty-alpha", type=_number(0.0, strict=True), default=100.0,
                     help="contact penalty factor of the stability runs (SlidingSpec.penalty_alpha)")
-    ap.add_argument("--json", metavar="FILE", help="write the stability rows as JSON")
+    ap.add_argument("--json", metavar="FILE",
+                    help="write the stability rows (or the iteration split) as JSON")
+    ap.add_argument("--pressure", type=_number(0.0, strict=True), default=10.0,
+                    help="iterations: mean pressure of the micro2 run [MPa] (10; the default scene's "
+                         "micro2 runs see 6-31)")
+    ap.add_argument("--velocity", type=_number(0.0, strict=True), default=100.0,
+                    help="iterations: sliding velocity [mm/s] (100)")
+    ap.add_argument("--slide-fraction", type=_number(0.0, strict=True), default=0.1,
+                    help="iterations: sliding distance in periods of the sample (0.1; a "
+                         "campaign slides 1.5)")
+    ap.add_argument("--compare-jit", action="store_true",
+                    help="iterations: repeat with dolfinx's default compiler flags, print ratios")
     a = ap.parse_args(argv)
+    if a.part == "iterations":
+        out = iterations(a.pressure, a.velocity, a.slide_fraction, a.compare_jit)
+        if a.json:
+            with open(a.json, "w") as f:
+                json.dump({"iterations": out}, f, indent=1, default=float)
+        return 0
     if a.part in ("accuracy", "both"):
         accuracy(a.quick)
     if a.part in ("stability", "both"):

@@ -8,6 +8,18 @@ dPi/du into the vector and its derivative into the matrix.
 
 The matrix sparsity is the bulk form's pattern plus every coupling a hook declares up front
 (``extra_couplings``), so hooks never hit a missing entry (PETSc would otherwise drop or error).
+
+What is reused, and why the pattern is fixed: A keeps its pattern for the life of the problem (new
+nonzeros are an error), so P^T A P keeps its pattern while the constraints stay (``MatPtAP`` with
+MAT_REUSE_MATRIX: its symbolic product is computed once per constraint set), and PETSc's LU keeps
+the symbolic factorisation (MUMPS analysis: ordering, scaling, tree) as long as it is handed the
+same reduced matrix with an unchanged nonzero state; only the numeric factorisation is redone,
+as Newton needs (a reused numeric factor would be a modified Newton method, other iterates).
+:meth:`ConstrainedNonlinearProblem.set_constraints` makes a new reduced matrix; the solver notices
+the new object and starts a new factorisation (symbolic included) by itself.
+
+Per iteration the residual is assembled once: the tangent at an accepted iterate is assembled
+without the vector, which the convergence test has just assembled at the same state.
 """
 
 from __future__ import annotations
@@ -23,10 +35,27 @@ from dolfinx.fem import petsc as fem_petsc
 from petsc4py import PETSc
 
 from rubberfriction.driver.fe.constraints import ConstraintMap
+from rubberfriction.forms import jit
+
+
+class NonlinearProblem(Protocol):
+    """What :class:`NewtonSolver` uses of a problem (:class:`ConstrainedNonlinearProblem`)."""
+
+    w: fem.Function  # the unknowns (full space): w.x.array
+    constraints: ConstraintMap  # set_prescribed(x)
+    P: PETSc.Mat  # prolongation u_full = P u_red
+    Ar: PETSc.Mat | None  # reduced tangent P^T A P
+    br: PETSc.Vec  # reduced residual P^T b
+    dur: PETSc.Vec  # reduced Newton step
+    du: PETSc.Vec  # full-space Newton step
+    cpu: dict[str, float]  # cumulative CPU seconds of the assembly parts (CPU_PARTS)
+
+    def assemble(self, need_matrix: bool = True, need_vector: bool = True) -> None: ...
 
 
 class Hook(Protocol):
-    """A contribution assembled into the full-space system at every Newton iteration."""
+    """A contribution assembled into the full-space system at every Newton iteration; A or b is
+    None when only the other one is needed."""
 
     def __call__(self, x: np.ndarray, A: PETSc.Mat | None, b: PETSc.Vec | None) -> None: ...
 
@@ -58,6 +87,14 @@ class NewtonResult:
     time_assemble: float = 0.0
     time_solve: float = 0.0
     backtracks: int = 0
+    # CPU seconds of this process (robust to other jobs on the machine) by part of the solve:
+    # bulk forms, hooks (contact), condensation P^T A P and P^T b (with PETSc's assembly calls),
+    # linear solve (numeric factorisation + triangular solves); see ``CPU_PARTS``
+    cpu: dict[str, float] = field(default_factory=lambda: dict.fromkeys(CPU_PARTS, 0.0))
+
+
+#: the parts of NewtonResult.cpu
+CPU_PARTS = ("bulk", "hooks", "condense", "linear")
 
 
 class ConstrainedNonlinearProblem:
@@ -76,10 +113,11 @@ class ConstrainedNonlinearProblem:
     def __init__(self, residual, jacobian, w: fem.Function, constraints: ConstraintMap,
                  hooks: list[Hook] | None = None, extra_couplings=None, external_force=None):
         self.w = w
-        self.F_form = fem.form(residual)
-        self.J_form = fem.form(jacobian)
+        self.F_form = jit.form(residual)
+        self.J_form = jit.form(jacobian)
         self.hooks = list(hooks or [])
         self.external_force = external_force
+        self.cpu = dict.fromkeys(CPU_PARTS, 0.0)  # cumulative CPU seconds (NewtonResult.cpu)
         self.A = self._create_matrix(extra_couplings or [])
         self.b = fem_petsc.create_vector(self.F_form)
         self.set_constraints(constraints)
@@ -128,36 +166,49 @@ class ConstrainedNonlinearProblem:
         A.zeroEntries()
         return A
 
-    def assemble(self, need_matrix: bool = True) -> None:
-        """Assemble R (and A) in the full space, then the reduced system.
+    def assemble(self, need_matrix: bool = True, need_vector: bool = True) -> None:
+        """Assemble R and/or A in the full space, then the reduced system.
 
-        A non-finite iterate (a diverged Newton step) gets a NaN residual without calling the
-        forms or hooks: the solver's finiteness checks then reject it (line search, divergence).
+        ``need_vector=False`` leaves b and br as they are: for the tangent at the state whose
+        residual was the last one assembled (the solver's accepted iterate).  A non-finite
+        iterate (a diverged Newton step) gets a NaN residual without calling the forms or hooks:
+        the solver's finiteness checks then reject it (line search, divergence).
         """
         x = self.w.x.array
         if not np.isfinite(x).all():
             self.b.set(np.nan)
             self.br.set(np.nan)
             return
-        with self.b.localForm() as bl:
-            bl.set(0.0)
-        fem_petsc.assemble_vector(self.b, self.F_form)
-        if need_matrix:
-            self.A.zeroEntries()
-            fem_petsc.assemble_matrix(self.A, self.J_form)
+        cpu, clock = self.cpu, time.process_time
+        t0 = clock()
+        A = self.A if need_matrix else None
+        b = self.b if need_vector else None
+        if b is not None:
+            with b.localForm() as bl:
+                bl.set(0.0)
+            fem_petsc.assemble_vector(b, self.F_form)
+        if A is not None:
+            A.zeroEntries()
+            fem_petsc.assemble_matrix(A, self.J_form)
+        t1 = clock()
         for hook in self.hooks:
-            hook(x, self.A if need_matrix else None, self.b)
-        if need_matrix:
-            self.A.assemble()
-        self.b.assemble()
-        if self.external_force is not None:
-            self.b.array[:] -= self.external_force
-        self.P.multTranspose(self.b, self.br)
-        if need_matrix:
+            hook(x, A, b)
+        t2 = clock()
+        if A is not None:
+            A.assemble()
+        if b is not None:
+            b.assemble()
+            if self.external_force is not None:
+                b.array[:] -= self.external_force
+            self.P.multTranspose(b, self.br)
+        if A is not None:
             if self.Ar is None:
-                self.Ar = self.A.PtAP(self.P)
+                self.Ar = A.PtAP(self.P)
             else:
-                self.A.PtAP(self.P, self.Ar)
+                A.PtAP(self.P, self.Ar)
+        cpu["bulk"] += t1 - t0
+        cpu["hooks"] += t2 - t1
+        cpu["condense"] += clock() - t2
 
     def reaction(self, dofs) -> np.ndarray:
         """Full-space residual at `dofs` after the last assembly (reaction forces at fixed dofs)."""
@@ -167,25 +218,49 @@ class ConstrainedNonlinearProblem:
 class NewtonSolver:
     """Plain Newton iteration with LU on the reduced system; reports instead of raising."""
 
-    def __init__(self, problem: ConstrainedNonlinearProblem, settings: NewtonSettings | None = None,
+    def __init__(self, problem: NonlinearProblem, settings: NewtonSettings | None = None,
                  force_scale: float = 1.0, on_iteration: Callable[[int, float], None] | None = None):
         self.problem = problem
         self.settings = settings or NewtonSettings()
         self.force_scale = float(force_scale)
         self.on_iteration = on_iteration
+        self.cpu_linear = 0.0  # CPU seconds of all linear solves of this solver
         self.reset()
 
     def reset(self) -> None:
-        """New linear solver (after the constraints, hence the reduced size, changed)."""
+        """New linear solver.  Needed only after a failed factorisation: a new reduced matrix
+        (``set_constraints``) gets a new factorisation by itself (:meth:`_linear_solve`)."""
         self.ksp = PETSc.KSP().create(PETSc.COMM_SELF)
         self.ksp.setType("preonly")
         pc = self.ksp.getPC()
         pc.setType("lu")
         pc.setFactorSolverType(self.settings.linear_solver)
+        self._operator: PETSc.Mat | None = None  # the reduced matrix this factorisation is for
+
+    def _linear_solve(self) -> None:
+        """dur = -Ar^-1 br.  A new reduced matrix (new constraints, new pattern) gets a new LU
+        (symbolic factorisation included); the same one only a numeric refactorisation."""
+        pb = self.problem
+        if pb.Ar is not self._operator:
+            if self._operator is not None:
+                self.reset()
+            self.ksp.setOperators(pb.Ar)
+            self._operator = pb.Ar
+        pb.br.scale(-1.0)
+        self.ksp.solve(pb.br, pb.dur)
 
     def solve(self) -> NewtonResult:
-        s, pb = self.settings, self.problem
         res = NewtonResult(False, 0)
+        cpu0 = dict(self.problem.cpu)
+        try:
+            self._iterate(res)
+        finally:
+            for k, v in self.problem.cpu.items():
+                res.cpu[k] += v - cpu0[k]
+        return res
+
+    def _iterate(self, res: NewtonResult) -> None:
+        s, pb = self.settings, self.problem
         x = pb.w.x.array
         pb.constraints.set_prescribed(x)
         t0 = time.perf_counter()
@@ -195,24 +270,26 @@ class NewtonSolver:
         res.residuals.append(r0)
         if not np.isfinite(r0):
             res.reason = "residual is not finite (element inversion or overflow)"
-            return res
+            return
         if r0 <= s.atol + s.rtol * self.force_scale:
             res.converged = True
-            return res
+            return
         ref = max(r0, self.force_scale)
         for it in range(1, s.max_iterations + 1):
-            t0 = time.perf_counter()
-            self.ksp.setOperators(pb.Ar)
-            pb.br.scale(-1.0)
+            t0, c0 = time.perf_counter(), time.process_time()
             try:
-                self.ksp.solve(pb.br, pb.dur)
+                self._linear_solve()
             except PETSc.Error as err:
                 self.reset()  # a failed factorisation leaves the PC unusable
                 res.reason = f"linear solve failed: {str(err).splitlines()[0]}"
-                return res
+                return
+            finally:
+                c1 = time.process_time()
+                res.cpu["linear"] += c1 - c0
+                self.cpu_linear += c1 - c0
             if self.ksp.getConvergedReason() < 0:
                 res.reason = f"linear solve failed (PETSc reason {self.ksp.getConvergedReason()})"
-                return res
+                return
             pb.P.mult(pb.dur, pb.du)
             du = pb.du.array.copy()
             x += du
@@ -239,17 +316,16 @@ class NewtonSolver:
             if r <= s.atol + s.rtol * ref or (small_step and r <= 1e3 * (s.atol + s.rtol * ref)):
                 res.time_assemble += time.perf_counter() - t0
                 res.converged = True
-                return res
+                return
             if not np.isfinite(r) or r > s.divergence_factor * ref:
                 res.reason = f"diverged: residual {r:.3e} after {it} iterations"
-                return res
+                return
             w = s.stagnation
             if 0 < w < len(res.residuals) and min(res.residuals[-w:]) > 0.5 * min(res.residuals[:-w]):
                 res.time_assemble += time.perf_counter() - t0
                 res.reason = (f"stagnated: residual {r:.3e} not halved in {w} iterations "
                               f"(best {min(res.residuals):.3e})")
-                return res
-            pb.assemble()
+                return
+            pb.assemble(need_vector=False)  # the residual at this iterate is assembled
             res.time_assemble += time.perf_counter() - t0
         res.reason = f"no convergence in {s.max_iterations} iterations (residual {res.residuals[-1]:.3e})"
-        return res

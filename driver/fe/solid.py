@@ -15,6 +15,7 @@ Bulk stress and residual: :func:`rubberfriction.forms.bulk.second_piola` and
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import basix
@@ -24,9 +25,10 @@ from dolfinx import cpp as _cpp
 from dolfinx import fem
 from scipy.spatial import cKDTree
 
+from rubberfriction.forms import jit
 from rubberfriction.forms.bulk import bulk_residual, second_piola
 from rubberfriction.forms.hyperelastic import dev, fictitious_stress
-from rubberfriction.forms.kinematics import deformation_gradient, vector_from_tensor3
+from rubberfriction.forms.kinematics import deformation_gradient, vector_from_plane_sym
 from rubberfriction.forms.viscoelastic import ViscoelasticHistory, quadrature_rule
 
 ELEMENTS = ("Q1P0", "Q1")
@@ -101,6 +103,7 @@ class SolidProblem:
         self.history = self._make_history(prony) if self.viscous else None
         self.residual = self._bulk_residual()
         self._sdev_expr = None
+        self.cpu_history = 0.0  # CPU seconds spent in prepare_step + commit_step
         self.node_X = self.V.tabulate_dof_coordinates()[:, :2]
         self.n_nodes = self.node_X.shape[0]
 
@@ -170,21 +173,30 @@ class SolidProblem:
 
     # --- time stepping -----------------------------------------------------------------------
     def prepare_step(self, dt: float) -> None:
+        """History fields (Hstar, beta) of a step dt (eq. 3.76, ``ViscoelasticHistory``)."""
         if self.history is not None:
+            c0 = time.process_time()
             self.history.prepare_step(dt)
+            self.cpu_history += time.process_time() - c0
 
     def commit_step(self) -> float:
         """Store the converged state in the history; returns the viscous energy of the step."""
         if self.history is None:
             return 0.0
+        c0 = time.process_time()
+        dE = self._commit_history()
+        self.cpu_history += time.process_time() - c0
+        return dE
+
+    def _commit_history(self) -> float:
         if self._sdev_expr is None:
             u, _ = self.split()
             F = deformation_gradient(u)
             # (3.76) convolves DEV{Sbar} taken with the C of its own time
             Sdev = dev(self.fictitious_stress(), F.T * F)
-            self._sdev_expr = fem.Expression(vector_from_tensor3(Sdev), self.rule.points)
+            self._sdev_expr = jit.expression(vector_from_plane_sym(Sdev), self.rule.points)
         cells = self.history.cells
-        Sbar = self._sdev_expr.eval(cells).reshape(cells.size * self.rule.points.shape[0], 9)
+        Sbar = self._sdev_expr.eval(cells).reshape(cells.size * self.rule.points.shape[0], -1)
         return self.history.commit_step(Sbar)
 
     def set_temperature(self, T_cell) -> None:

@@ -34,6 +34,7 @@ import ufl
 from dolfinx import fem
 from dolfinx.io import XDMFFile
 
+from rubberfriction.forms import jit
 from rubberfriction.forms.kinematics import deformation_gradient
 
 #: columns of SlidingResult.series and their units (CSV header "name [unit]")
@@ -78,7 +79,7 @@ def _point_weights(sp) -> np.ndarray:
     ncell = mesh.topology.index_map(mesh.topology.dim).size_local
     cells = np.arange(ncell, dtype=np.int32)
     x = ufl.SpatialCoordinate(mesh)
-    detJ = fem.Expression(abs(ufl.JacobianDeterminant(mesh)) + 0.0 * x[0], sp.rule.points)
+    detJ = jit.expression(abs(ufl.JacobianDeterminant(mesh)) + 0.0 * x[0], sp.rule.points)
     return detJ.eval(cells).reshape(ncell, -1) * sp.rule.weights[None, :]
 
 
@@ -88,7 +89,7 @@ def _point_coordinates(sp) -> np.ndarray:
 
     mesh = sp.mesh
     ncell = mesh.topology.index_map(mesh.topology.dim).size_local
-    expr = fem.Expression(ufl.SpatialCoordinate(mesh), sp.rule.points)
+    expr = jit.expression(ufl.SpatialCoordinate(mesh), sp.rule.points)
     return expr.eval(np.arange(ncell, dtype=np.int32)).reshape(-1, 2)
 
 
@@ -226,7 +227,7 @@ class FieldWriter:
         p = -ufl.tr(sigma) / 3.0
         s = sigma + p * ufl.Identity(3)
         vm = ufl.sqrt(1.5 * ufl.inner(s, s))
-        return fem.Expression(ufl.as_vector([p, vm]), sp.rule.points)
+        return jit.expression(ufl.as_vector([p, vm]), sp.rule.points)
 
     def _write_contact(self, run, k: int, t: float) -> None:
         contact = run.contact

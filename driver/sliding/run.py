@@ -43,7 +43,6 @@ from dataclasses import dataclass
 import numpy as np
 
 import ufl
-from dolfinx import fem
 
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
 from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
@@ -63,6 +62,7 @@ from rubberfriction.driver.sliding.spec import (
     default_h_contact,
     refined,
 )
+from rubberfriction.forms import jit
 from rubberfriction.forms.kinematics import deformation_gradient
 
 
@@ -184,8 +184,7 @@ class SlidingRun:
         """The tied top u_z becomes an unknown loaded by F_ext (compression phase)."""
         self.cspec.fixed.pop(self.top_z_dof)
         self.cmap = ConstraintMap(self.cspec)
-        self.problem.set_constraints(self.cmap)
-        self.newton.reset()  # the reduced size changed
+        self.problem.set_constraints(self.cmap)  # the solver refactorises the new P^T A P
 
     # --- one step with cut-backs ---------------------------------------------------------------
     def _solve_step(self, t: float, dt: float, apply_load, predict=None,
@@ -302,7 +301,7 @@ class SlidingRun:
     def _inverted(self) -> bool:
         if self._detF is None:
             u, _ = self.sp.split()
-            self._detF = fem.Expression(ufl.det(deformation_gradient(u)), self.sp.rule.points)
+            self._detF = jit.expression(ufl.det(deformation_gradient(u)), self.sp.rule.points)
             ncell = self.mesh.topology.index_map(2).size_local
             self._cells = np.arange(ncell, dtype=np.int32)
         return bool(self._detF.eval(self._cells).min() <= 0.0)
@@ -383,6 +382,7 @@ class SlidingRun:
     def _attempt(self, formulation: str, step_factor: float) -> SlidingResult:
         s = self.spec
         self.cutbacks, self.newton_iterations, self.predictor_used, self._easy = 0, 0, 0, 0
+        self._cpu_start = time.process_time()
         self.compression_contact = float("nan")
         self._detF = None
         self.step_energy = self.step_friction_energy = 0.0
@@ -480,6 +480,15 @@ class SlidingRun:
                     start = history.snapshot()
         return self._result(rows, distance, "ok", "", t)
 
+    def _cpu_split(self) -> dict[str, float]:
+        """CPU seconds of this attempt by part (stats ``cpu_*``): bulk forms, contact, P^T A P
+        (with PETSc's assembly calls), linear solves (numeric LU + triangular solves), history
+        update (eq. 3.76), and the whole attempt (set-up and Python included)."""
+        asm = self.problem.cpu
+        return {"cpu_bulk": asm["bulk"], "cpu_contact": asm["hooks"], "cpu_condense": asm["condense"],
+                "cpu_linear": self.newton.cpu_linear, "cpu_history": self.sp.cpu_history,
+                "cpu_attempt": time.process_time() - self._cpu_start}
+
     def _result(self, rows, distance, status, reason, t) -> SlidingResult:
         cols = ["t", "s", "Fx", "Fz", "contact_length", "viscous_energy", "friction_energy", "mean_pressure"]
         arr = np.array(rows, dtype=float).reshape(-1, len(cols))
@@ -490,7 +499,7 @@ class SlidingRun:
                      "predictor_used": self.predictor_used,
                      "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size),
                      "window_start": lo, "window_end": hi,
-                     "compression_contact_fraction": self.compression_contact}
+                     "compression_contact_fraction": self.compression_contact, **self._cpu_split()}
         if len(rows) == 0:
             return res
         Fz = series["Fz"]

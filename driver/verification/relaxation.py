@@ -16,7 +16,6 @@ import argparse
 
 import numpy as np
 import ufl
-from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
@@ -24,6 +23,7 @@ from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
 from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.verification import check
+from rubberfriction.forms import jit
 from rubberfriction.forms.kinematics import deformation_gradient
 from rubberfriction.forms.compound import Compound, MooneyRivlin, PronySeries
 
@@ -48,7 +48,7 @@ class ShearCell:
         u, _ = self.sp.split()
         F = deformation_gradient(u)
         sigma = F * self.sp.second_piola() * F.T / ufl.det(F)
-        self._tau_xy = fem.Expression(sigma[0, 1], self.sp.rule.points)  # homogeneous: any point
+        self._tau_xy = jit.expression(sigma[0, 1], self.sp.rule.points)  # homogeneous: any point
 
     def step(self, gamma: float, dt: float) -> tuple[float, float]:
         """Advance one step to shear gamma; returns (shear stress, viscous energy of the step)."""
