@@ -267,6 +267,10 @@ def summary_text(result: Any) -> str:
     if stationary:
         lines.append(stationary)
     used = attempts_used(result.points)
+    if used.get("closed form"):
+        lines.append(f"  model only what a run requires: {used['closed form']} frictionless "
+                     "run(s) in full contact over small slopes are the linear viscoelastic closed "
+                     "form (driver.sliding.shortcut), not FE runs")
     if set(used) - {"", "mortar"}:  # say so when fallbacks produced results
         lines.append("  successful runs by attempt: " + ", ".join(
             f"{k or 'unrecorded'} {n}" for k, n in sorted(used.items(), key=lambda kv: -kv[1])))

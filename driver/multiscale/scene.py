@@ -171,6 +171,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
                             "end of every period of a cell (forms.viscoelastic."
                             "ViscoelasticHistory.extrapolate_periodic): the static part of the "
                             "load relaxes at once instead of creeping for tau_max / T periods"),
+        "shortcut": Key("bool", True, "a frictionless run in full contact over small slopes is "
+                        "the linear viscoelastic closed form instead of an FE run (criterion and "
+                        "guard: driver.sliding.shortcut; the report counts them)"),
         "slide_periods": Key("float", 2.0, "window = fixed: sliding distance in block lengths",
                              above=0.0),
         "window_start": Key("float", 1.0 / 3.0, "window = fixed: fraction of the sliding distance "
@@ -306,6 +309,7 @@ class NumericsConfig:
     convergence_tol: float
     max_slide_periods: float
     steady_state: bool
+    shortcut: bool
     slide_periods: float
     window_start: float
     step_per_element: float

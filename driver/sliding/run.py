@@ -47,6 +47,7 @@ import ufl
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
 from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
+from rubberfriction.driver.sliding import shortcut
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
 from rubberfriction.driver.sliding.window import (
     error_estimate,
@@ -546,7 +547,13 @@ def run_sliding(spec: SlidingSpec, progress=None, observers=(),
 
     ``wall_limit`` > 0 stops a run that is still going after that many seconds with a structured
     failure (``stats["failure"] == "wall_limit"``), e.g. for sweeps over extreme settings.
+    With ``spec.shortcut`` a run that ``driver.sliding.shortcut.check`` admits (frictionless,
+    full contact, small slopes) is the linear viscoelastic closed form, not an FE run.
     """
+    if spec.shortcut:
+        admitted = shortcut.check(spec)
+        if admitted.admitted:
+            return shortcut.closed_form_result(spec, admitted)
     try:
         return SlidingRun(spec, block_mesh, sliding_contact, progress=progress,
                           observers=observers, wall_limit=wall_limit).run()

@@ -50,6 +50,9 @@ class SlidingSpec:
     # cell (forms.viscoelastic.ViscoelasticHistory.extrapolate_periodic): the static part of the
     # load is relaxed at once instead of creeping for tau_max / T periods
     steady_state: bool = False
+    # the linear viscoelastic closed form replaces the FE run where driver.sliding.shortcut
+    # admits it (frictionless, full contact, small slopes)
+    shortcut: bool = False
     penalty: float = 0.0  # 0: automatic, c_N = penalty_alpha |E*_eff(omega)| / h_contact
     penalty_alpha: float = 100.0  # see PENALTY_ALPHA
     max_cutbacks: int = 8
