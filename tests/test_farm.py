@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 from rubberfriction.driver.runtime.farm import Executor, StaticPlanner, Task, run_serial
+from rubberfriction.driver.sliding.spec import SlidingResult
 from rubberfriction.driver.runtime.store import Outcome, Store, run_key
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -295,8 +296,16 @@ def test_a_hung_run_is_recorded_and_the_campaign_exits_for_resume(tmp_path: Path
     store = Store(tmp_path / "s")
     out = store.outcome("ab" * 32)
     assert out.status == "failed" and out.failure == "timeout" and "timeout" in out.reason
+    # stopped by the wall clock, not a result of its inputs: the next campaign computes it again
     calls = []
-    assert Executor(store, calls.append)(Task("ab" * 32, {}, {})).reused and calls == []
+
+    def rerun(spec):
+        calls.append(spec)
+        return SlidingResult("ok", mu_force=0.5, stats={"steps": 1})
+
+    again = Executor(store, rerun)(Task("ab" * 32, {"what": "hangs"}, {"sample": 0}))
+    assert not again.reused and again.ok and len(calls) == 1
+    assert store.outcome("ab" * 32).ok
 
 
 def test_progress_counts_and_estimates_time_left():
@@ -331,8 +340,8 @@ def test_progress_counts_and_estimates_time_left():
 def test_a_run_stopped_at_its_time_limit_is_a_timeout_and_the_campaign_goes_on(tmp_path: Path,
                                                                                 monkeypatch):
     """sliding_runner(wall_limit=) hands the scene's run_timeout to run_sliding; a run that
-    stopped itself there is stored as failure "timeout" (reused on resume, recomputed with
-    retry_failed) without stopping the process; the watchdog keeps a grace period."""
+    stopped itself there is stored as failure "timeout" without stopping the process and is
+    computed again by the next campaign; the watchdog keeps a grace period."""
     from types import SimpleNamespace
 
     from rubberfriction.driver.runtime import farm
@@ -354,7 +363,5 @@ def test_a_run_stopped_at_its_time_limit_is_a_timeout_and_the_campaign_goes_on(t
     assert ex.timeout == pytest.approx(720.0)
     out = ex(Task("cd" * 32, {"what": "slow"}, {"sample": 0}))
     assert seen == [600.0] and out.status == "failed" and out.failure == "timeout"
-    assert ex(Task("cd" * 32, {}, {})).reused and seen == [600.0]
-    Executor(store, runner, retry_failed=True)(Task("cd" * 32, {}, {}))
-    assert seen == [600.0, 600.0]
+    assert not ex(Task("cd" * 32, {}, {})).reused and seen == [600.0, 600.0]
     assert farm.hard_timeout(0.0) == 0.0

@@ -128,6 +128,11 @@ class CampaignResult:
     def n_failed(self) -> int:
         return sum(not o.ok for o in self.outcomes.values())
 
+    @property
+    def n_timed_out(self) -> int:
+        """Runs the wall clock stopped (part of n_failed; recomputed on the next run)."""
+        return sum(o.timed_out for o in self.outcomes.values())
+
     def provenance(self) -> dict:
         return {"scene": self.scene.name, "scene_source": self.scene.source,
                 "variant": self.scene.variant,
@@ -135,6 +140,7 @@ class CampaignResult:
                 "started": self.started,
                 "wall_time_s": self.wall_time, "workers": self.workers, "runs": self.n_runs,
                 "runs_reused": self.n_reused, "runs_failed": self.n_failed,
+                "runs_timed_out": self.n_timed_out,
                 "surface": self.scales.provenance if self.scales else {}}
 
 
@@ -186,8 +192,8 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
     """Run (or resume) a scene.  Every rank of ``comm`` calls this; rank 0 returns the result.
 
     ``fresh``: move the existing store aside (``store-<time>``, nothing is deleted) and compute
-    everything again.  ``retry_failed``: recompute runs stored as failed (physics failures are
-    otherwise reused like results; runs that raised are always retried).
+    everything again.  ``retry_failed``: recompute runs stored as physics failures (otherwise
+    reused like results; runs that raised or that the wall clock stopped are always recomputed).
     """
     comm = _comm() if comm is None else comm
     rank = comm.Get_rank()

@@ -55,7 +55,7 @@ from typing import Any, Callable, Protocol
 
 from mpi4py import MPI
 
-from rubberfriction.driver.runtime.store import Outcome, Store
+from rubberfriction.driver.runtime.store import Outcome, Store, reusable_failure
 
 TAG_REQUEST, TAG_TASK, TAG_STOP = 11, 12, 13
 
@@ -146,10 +146,11 @@ class Executor:
         self.timeout = float(timeout)
 
     def _reusable(self, task: Task) -> Outcome | None:
+        """The stored outcome of the task's key if it counts as a result of its inputs: a
+        success, or a physics failure without ``retry_failed``.  A run that raised or that the
+        wall clock stopped is recomputed (:func:`~rubberfriction.driver.runtime.store.reusable_failure`)."""
         out = self.store.outcome(task.key)
-        if out is None:
-            return None
-        if out.failure == "error" or (out.failure in ("physics", "timeout") and self.retry_failed):
+        if out is None or not reusable_failure(out.failure, self.retry_failed):
             return None
         return out
 
@@ -185,9 +186,10 @@ class Executor:
 
     def _watchdog(self, task: Task) -> threading.Timer:
         """Last resort against a run that hangs (e.g. inside compiled code, where no exception can
-        reach it): after ``timeout`` seconds the run is stored as failed ("timeout", reused on
-        resume like any physics failure, recomputed with --retry-failed) and the process exits
-        with status 3 (under MPI the job is aborted).  Rerunning the scene resumes past it."""
+        reach it): after ``timeout`` seconds the run is stored as failed ("timeout": shown in
+        the report, not a result of its inputs) and the process exits with status 3 (under MPI
+        the job is aborted).  Rerunning the scene resumes the campaign and computes this run
+        again; a run that hangs every time is a bug to report."""
 
         def expire() -> None:
             reason = f"timeout: the run exceeded {self.timeout:g} s and was killed"
@@ -197,9 +199,8 @@ class Executor:
                                label=task.label, failure="timeout", settings=self.settings)
             finally:
                 print(f"farm: run {task.key[:12]} ({task.label}) exceeded {self.timeout:g} s: "
-                      f"recorded as "
-                      "failed; exiting -- run the scene again to resume", file=sys.stderr,
-                      flush=True)
+                      "recorded as stopped by the wall clock; exiting -- run the scene again to "
+                      "resume (this run is computed again)", file=sys.stderr, flush=True)
                 try:
                     if MPI.Is_initialized() and MPI.COMM_WORLD.Get_size() > 1:
                         MPI.COMM_WORLD.Abort(3)
