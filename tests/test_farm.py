@@ -663,3 +663,38 @@ def test_mpi_workers_report_their_runs_to_rank_0(tmp_path: Path):
     assert len(res["ranks"]) == 8 and 1.0 in res["ranks"].values()  # rank 1 ran some
     assert all(res["seen"][k] == [None, 1, 2, 3, 4, 5] for k in res["ranks"])  # set-up, steps
     assert res["before"]
+
+
+def test_idle_naps_spin_after_an_event_then_double_up_to_the_poll(monkeypatch):
+    """The dispatcher's (and a waiting worker's) idle sleeps: none for SPIN s after an event,
+    then MIN_NAP doubling up to QUICK_NAP until QUICK_WINDOW s after it, then up to poll."""
+    from types import SimpleNamespace
+
+    from rubberfriction.driver.runtime import farm
+
+    clock, slept = FakeClock(), []
+
+    def sleep(s: float) -> None:
+        slept.append(s)
+        clock.now += s
+
+    monkeypatch.setattr(farm, "time", SimpleNamespace(monotonic=clock, sleep=sleep))
+    nap = farm._Nap(poll=0.02)
+    clock.now = 0.5 * farm.SPIN
+    nap.sleep()
+    assert slept == []  # spinning: poll again at once
+    clock.now = farm.SPIN
+    for _ in range(12):
+        nap.sleep()
+    quick = [min(farm.MIN_NAP * 2 ** k, farm.QUICK_NAP) for k in range(12)]
+    assert slept[0] == 0.0 and slept[1:] == pytest.approx(quick[:11])
+    clock.now = farm.QUICK_WINDOW
+    slept.clear()
+    for _ in range(8):
+        nap.sleep()
+    assert slept == pytest.approx([0.001, 0.002, 0.004, 0.008, 0.016, 0.02, 0.02, 0.02])
+    nap.event()
+    slept.clear()
+    clock.now += 2 * farm.SPIN
+    nap.sleep()
+    assert slept == [0.0]  # back to short naps after an event

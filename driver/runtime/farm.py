@@ -16,7 +16,10 @@ planner to the end:
       worker -> 0   tag PROGRESS ((key, report)) while a run goes on, at most ~1 a second
 
   The dispatcher polls with ``Iprobe`` (any tag, so a worker's reports come before its outcome)
-  and sleeps ``poll`` seconds when idle, so it costs rank 0 almost no CPU.  This needs
+  and sleeps when idle: not at all for 1 ms after an event, then from 10 us doubling up to 1 ms
+  for 50 ms, then up to ``poll`` seconds: an answer is quick while requests come in and rank 0 costs almost no CPU
+  while runs go on.  A worker waits for its next task the same way (a blocking receive would
+  spin its core while it waits for the next stage of the cascade).  This needs
   ``MPI_THREAD_MULTIPLE`` (rank 0's worker runs PETSc on ``COMM_SELF`` while the dispatcher
   talks on the world communicator); with a lower thread level rank 0 only dispatches (one
   worker fewer) and says so.
@@ -68,6 +71,11 @@ from rubberfriction.driver.runtime.progress import Stage, stage_key
 from rubberfriction.driver.runtime.store import Outcome, Store, reusable_failure
 
 TAG_REQUEST, TAG_TASK, TAG_STOP, TAG_PROGRESS = 11, 12, 13, 14
+#: idle sleeps of the dispatcher and of a worker waiting for a task (s): none (a yield) for
+#: SPIN seconds after an event, then MIN_NAP doubling up to QUICK_NAP until QUICK_WINDOW
+#: seconds after it, then up to ``poll``
+SPIN, MIN_NAP, QUICK_NAP, QUICK_WINDOW = 1e-3, 1e-5, 1e-3, 0.05
+
 
 @dataclass(frozen=True)
 class Task:
@@ -407,13 +415,43 @@ def run_farm(make_planner: Callable[[], Planner], execute: Callable[[Task], Outc
     try:
         if comm.Get_rank() == 0:
             return _master(comm, make_planner, execute, progress, poll)
-        _worker(comm, execute)
+        _worker(comm, execute, poll)
         return None, {}
     finally:
         comm.Free()
 
 
-def _worker(comm: Any, execute: Callable[[Task], Outcome]) -> None:
+class _Nap:
+    """Idle sleeps of a polling loop: none (a yield) for SPIN seconds after an event, then
+    MIN_NAP doubling up to QUICK_NAP for QUICK_WINDOW seconds (answers come soon after an
+    event), then up to ``poll``.  A sleep lasts at least ~0.1 ms whatever it asks for, so an
+    answer that needs a few of them right after an event would wait for the sleeps."""
+
+    def __init__(self, poll: float):
+        self.poll = poll
+        self.event()
+
+    def event(self) -> None:
+        self.nap, self.last = 0.0, time.monotonic()
+
+    def sleep(self) -> None:
+        since = time.monotonic() - self.last
+        if since < SPIN:
+            return  # poll again at once: even sleep(0) is a system call that yields the core
+        time.sleep(self.nap)
+        cap = min(QUICK_NAP, self.poll) if since < QUICK_WINDOW else self.poll
+        self.nap = min(max(2.0 * self.nap, MIN_NAP), cap)
+
+
+def _wait(comm: Any, source: int, poll: float) -> None:
+    """Wait for a message from ``source`` by polling: a blocking receive would spin a core at
+    100 % while a worker waits for the next stage of the campaign."""
+    nap = _Nap(poll)
+    while not comm.Iprobe(source=source, tag=MPI.ANY_TAG):
+        nap.sleep()
+
+
+def _worker(comm: Any, execute: Callable[[Task], Outcome], poll: float) -> None:
     status = MPI.Status()
     outcome: tuple[Task, Outcome] | None = None
     # reports go to rank 0 as they come (RunReports rate-limits them); a small pickled dict is
@@ -422,6 +460,7 @@ def _worker(comm: Any, execute: Callable[[Task], Outcome]) -> None:
     try:
         while True:
             comm.send(outcome, dest=0, tag=TAG_REQUEST)
+            _wait(comm, 0, poll)
             task = comm.recv(source=0, tag=MPI.ANY_TAG, status=status)
             if status.Get_tag() == TAG_STOP:
                 return
@@ -456,6 +495,7 @@ def _master(comm: Any, make_planner: Callable[[], Planner], execute: Callable[[T
         st = MPI.Status()
         idle: deque[int] = deque()
         local_idle = local
+        nap = _Nap(poll)
         try:
             book.pull()
             while True:
@@ -465,7 +505,7 @@ def _master(comm: Any, make_planner: Callable[[], Planner], execute: Callable[[T
                 while comm.Iprobe(source=MPI.ANY_SOURCE, tag=MPI.ANY_TAG, status=st):
                     src, tag = st.Get_source(), st.Get_tag()
                     msg = comm.recv(source=src, tag=tag)
-                    if tag == TAG_PROGRESS:  # a report needs no answer
+                    if tag == TAG_PROGRESS:  # needs no quick answer: not an event for the naps
                         book.report(*msg)
                         continue
                     busy = True
@@ -494,8 +534,10 @@ def _master(comm: Any, make_planner: Callable[[], Planner], execute: Callable[[T
                     busy = True
                 if book.finished and (local_idle or not local) and len(idle) == nworkers:
                     break
-                if not busy:
-                    time.sleep(poll)
+                if busy:
+                    nap.event()
+                else:
+                    nap.sleep()
         except BaseException as err:  # noqa: BLE001 -- reported on the main thread
             failure.append(err)
         finally:
