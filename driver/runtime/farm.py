@@ -17,9 +17,10 @@ planner to the end:
 
   The dispatcher polls with ``Iprobe`` (any tag, so a worker's reports come before its outcome)
   and sleeps when idle: not at all for 1 ms after an event, then from 10 us doubling up to 1 ms
-  for 50 ms, then up to ``poll`` seconds: an answer is quick while requests come in and rank 0 costs almost no CPU
-  while runs go on.  A worker waits for its next task the same way (a blocking receive would
-  spin its core while it waits for the next stage of the cascade).  This needs
+  for 50 ms, then up to ``poll`` seconds (:class:`_Nap`): an answer is quick while requests
+  come in and rank 0 costs almost no CPU while runs go on.  A worker waits for its next task
+  the same way (a blocking receive would spin its core while it waits for the next stage of
+  the cascade).  This needs
   ``MPI_THREAD_MULTIPLE`` (rank 0's worker runs PETSc on ``COMM_SELF`` while the dispatcher
   talks on the world communicator); with a lower thread level rank 0 only dispatches (one
   worker fewer) and says so.
@@ -71,8 +72,8 @@ from rubberfriction.driver.runtime.progress import Stage, stage_key
 from rubberfriction.driver.runtime.store import Outcome, Store, reusable_failure
 
 TAG_REQUEST, TAG_TASK, TAG_STOP, TAG_PROGRESS = 11, 12, 13, 14
-#: idle sleeps of the dispatcher and of a worker waiting for a task (s): none (a yield) for
-#: SPIN seconds after an event, then MIN_NAP doubling up to QUICK_NAP until QUICK_WINDOW
+#: idle sleeps of the dispatcher and of a worker waiting for a task (s): none for SPIN
+#: seconds after an event, then MIN_NAP doubling up to QUICK_NAP until QUICK_WINDOW
 #: seconds after it, then up to ``poll``
 SPIN, MIN_NAP, QUICK_NAP, QUICK_WINDOW = 1e-3, 1e-5, 1e-3, 0.05
 
@@ -422,10 +423,12 @@ def run_farm(make_planner: Callable[[], Planner], execute: Callable[[Task], Outc
 
 
 class _Nap:
-    """Idle sleeps of a polling loop: none (a yield) for SPIN seconds after an event, then
-    MIN_NAP doubling up to QUICK_NAP for QUICK_WINDOW seconds (answers come soon after an
-    event), then up to ``poll``.  A sleep lasts at least ~0.1 ms whatever it asks for, so an
-    answer that needs a few of them right after an event would wait for the sleeps."""
+    """Idle sleeps of a polling loop: none for SPIN seconds after an event (poll again at once),
+    then MIN_NAP doubling up to QUICK_NAP until QUICK_WINDOW seconds after it (answers come
+    soon after an event), then up to ``poll``.  A sleep lasts ~0.1 ms or more whatever it asks
+    for (more on a loaded machine), so an answer that waits for a few of them right after an
+    event is slow: 2000 no-op tasks from a dispatching rank 0 took 1.8 ms each with naps from
+    1 us, 0.25 ms with the spin."""
 
     def __init__(self, poll: float):
         self.poll = poll

@@ -9,28 +9,30 @@ and on a terminal, redrawn in place, times and runs in flight first::
 
     [14/42]  33%  2m05s, left ~41m  | micro2 up #0 v=100: 0.42/1.2 mm, step 84/240, 3
       cut-backs, ~2m10s  | computed 9, reused 5, failed 1
-  The line moves when a run finishes and while runs are in flight: a
-runner that reports (``driver.sliding.progress.StepReporter`` through
+
+The line moves when a run finishes and while runs are in flight: a runner that reports
+(``driver.sliding.progress.StepReporter`` through
 :class:`~rubberfriction.driver.runtime.farm.RunReports`, also from MPI worker ranks) says after
 each sliding step how far it is, and :meth:`Progress.running` keeps the latest report per run.
 
 Terminal output (:func:`terminal`): on a TTY the line is redrawn in place (carriage return, cut
 to the terminal width) at most every ``min_interval`` seconds, and a failed run leaves a line of
 its own; into a file or pipe (and under mpirun, unless ``RF_PROGRESS=tty``) plain lines are
-printed, one per finished run (at most one every ``min_interval``
-seconds, plus the last) and, while nothing finishes, one every ``plain_interval`` seconds.
-``quiet=True`` prints nothing (scripts); the campaign still writes its report.
+printed, one per finished run (at most one every ``min_interval`` seconds, plus the last) and,
+while nothing finishes, one every ``plain_interval`` seconds.  ``quiet=True`` prints nothing
+(scripts); the campaign still writes its report.
 
 Time left (:meth:`Progress.eta`).  With the planner's plan (its stages, :class:`Stage`) each run
 still to do is costed by :class:`CostEstimate` from the finished runs of the same group (branch
-and scale), else of the same scale, else from its model weight (e.g. dofs x steps) relative to all
-finished runs; a run in flight by its expected cost less the time it has run, blended with its
-own report (distance left at its rate so far) by the fraction of the distance done.  The estimate is the larger of (work left) / workers and
-the longest chain of stages still to run one after another (the cascade of one point: scale i+1
-needs all samples of scale i), so a few expensive lower-scale runs that cannot run side by side
-are not spread over idle workers.  Without a plan: runs left x mean computed wall time / workers.
-Reused runs cost nothing; runs the store will answer are not known in advance, so a resumed
-campaign's first estimate is high.  "?" until a run was computed.
+and scale), else of the same scale, else from its model weight (``sliding.spec.cost_model``)
+relative to all finished runs; a run in flight by its expected cost less the time it has run,
+blended with its own report (distance left at its rate so far) by the fraction of the distance
+done.  The estimate is the larger of (work left) / workers and the longest chain of stages
+still to run one after another (the cascade of one point: scale i+1 needs all samples of scale
+i), so a few expensive lower-scale runs that cannot run side by side are not spread over idle
+workers.  Without a plan: runs left x mean computed wall time / workers.  Reused runs cost
+nothing; runs the store will answer are not known in advance, so a resumed campaign's first
+estimate is high.  "?" until a run was computed.
 """
 
 from __future__ import annotations
@@ -92,26 +94,30 @@ class CostEstimate:
     """
 
     def __init__(self) -> None:
-        self._group: dict[tuple[str, str], list[float]] = {}
-        self._scale: dict[str, list[float]] = {}
+        # ("group", (branch, scale)) and ("scale", scale) -> [sum of wall times, runs]
+        self._sums: dict[tuple, list[float]] = {}
         self._wall = self._weight = 0.0
+
+    @staticmethod
+    def _keys(group: tuple[str, str]) -> tuple[tuple, tuple]:
+        return ("group", group), ("scale", group[1])
 
     def observe(self, group: tuple[str, str], weight: float, wall: float) -> None:
         """A run of ``group`` and model ``weight`` finished after ``wall`` seconds."""
-        for table, key in ((self._group, group), (self._scale, group[1])):
-            acc = table.setdefault(key, [0.0, 0])  # type: ignore[arg-type]
+        for key in self._keys(group):
+            acc = self._sums.setdefault(key, [0.0, 0.0])
             acc[0] += wall
-            acc[1] += 1
+            acc[1] += 1.0
         if weight > 0:
             self._wall += wall
             self._weight += weight
 
     def expect(self, group: tuple[str, str], weight: float) -> float:
         """Expected wall seconds of one run of ``group`` with model ``weight``."""
-        for table, key in ((self._group, group), (self._scale, group[1])):
-            acc = table.get(key)  # type: ignore[call-overload]
-            if acc:
-                return acc[0] / acc[1]
+        for key in self._keys(group):
+            if key in self._sums:
+                wall, runs = self._sums[key]
+                return wall / runs
         if self._weight > 0 and weight > 0:
             return weight * self._wall / self._weight
         return math.nan
@@ -152,7 +158,7 @@ def _rest(r: _InFlight, cost: float, now: float) -> float:
     the run's own estimate (aged since it came) by the fraction of the distance done -- a run's
     rate over its first steps says little (compression, run-in), over most of the distance a lot.
     """
-    expected = max(cost - (now - r.started), 0.0)
+    expected = max(cost - (now - r.started), 0.0) if math.isfinite(cost) else math.nan
     own = r.info.get("left", math.nan)
     if not (isinstance(own, (int, float)) and math.isfinite(own)):
         return expected
