@@ -498,6 +498,10 @@ def test_progress_line_shows_the_runs_in_flight_on_a_tty_and_in_plain_lines(monk
     assert len(lines) == 3 and "\r" not in plain.getvalue()  # start, at 0 s and at 31 s
     assert "elapsed 31s" in lines[-1] and "running: micro2 down #0" in lines[-1]
 
+    from rubberfriction.driver.runtime.progress import run_name
+
+    assert run_name({"scale_name": "micro", "branch": "micro", "sample": 3, "velocity": 500.0,
+                     "velocity_in": 250.0}) == "micro micro #3 v=250"
     quiet = io.StringIO()
     r = Progress(quiet=True, stream=quiet, tty=True)
     r.start(8, 2, plan)

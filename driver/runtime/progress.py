@@ -180,12 +180,14 @@ def _count(n: int, noun: str) -> str:
 
 
 def run_name(label: Mapping[str, Any]) -> str:
-    """Short name of a run in flight: 'micro2 up #0 v=100'."""
+    """Short name of a run in flight: 'micro2 up #0 v=100' (v: the run's own velocity, e.g. of a
+    micro grid run of the separated variant, else its point's)."""
     parts = [str(label[k]) for k in ("scale_name", "branch") if k in label]
     if "sample" in label:
         parts.append(f"#{label['sample']}")
-    if "velocity" in label:
-        parts.append(f"v={label['velocity']:g}")
+    v = label.get("velocity_in", label.get("velocity"))
+    if v is not None:
+        parts.append(f"v={v:g}")
     return " ".join(parts) or "run"
 
 
