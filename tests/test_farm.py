@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 from rubberfriction.driver.runtime.farm import Executor, StaticPlanner, Task, run_serial
+from rubberfriction.driver.sliding.spec import SlidingResult
 from rubberfriction.driver.runtime.store import Outcome, Store, run_key
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -297,8 +298,16 @@ def test_a_hung_run_is_recorded_and_the_campaign_exits_for_resume(tmp_path: Path
     store = Store(tmp_path / "s")
     out = store.outcome("ab" * 32)
     assert out.status == "failed" and out.failure == "timeout" and "timeout" in out.reason
+    # stopped by the wall clock, not a result of its inputs: the next campaign computes it again
     calls = []
-    assert Executor(store, calls.append)(Task("ab" * 32, {}, {})).reused and calls == []
+
+    def rerun(spec):
+        calls.append(spec)
+        return SlidingResult("ok", mu_force=0.5, stats={"steps": 1})
+
+    again = Executor(store, rerun)(Task("ab" * 32, {"what": "hangs"}, {"sample": 0}))
+    assert not again.reused and again.ok and len(calls) == 1
+    assert store.outcome("ab" * 32).ok
 
 
 def test_progress_counts_and_estimates_time_left():
@@ -333,8 +342,8 @@ def test_progress_counts_and_estimates_time_left():
 def test_a_run_stopped_at_its_time_limit_is_a_timeout_and_the_campaign_goes_on(tmp_path: Path,
                                                                                 monkeypatch):
     """sliding_runner(wall_limit=) hands the scene's run_timeout to run_sliding; a run that
-    stopped itself there is stored as failure "timeout" (reused on resume, recomputed with
-    retry_failed) without stopping the process; the watchdog keeps a grace period."""
+    stopped itself there is stored as failure "timeout" without stopping the process and is
+    computed again by the next campaign; the watchdog keeps a grace period."""
     from types import SimpleNamespace
 
     from rubberfriction.driver.runtime import farm
@@ -356,7 +365,342 @@ def test_a_run_stopped_at_its_time_limit_is_a_timeout_and_the_campaign_goes_on(t
     assert ex.timeout == pytest.approx(720.0)
     out = ex(Task("cd" * 32, {"what": "slow"}, {"sample": 0}))
     assert seen == [600.0] and out.status == "failed" and out.failure == "timeout"
-    assert ex(Task("cd" * 32, {}, {})).reused and seen == [600.0]
-    Executor(store, runner, retry_failed=True)(Task("cd" * 32, {}, {}))
-    assert seen == [600.0, 600.0]
+    assert not ex(Task("cd" * 32, {}, {})).reused and seen == [600.0, 600.0]
     assert farm.hard_timeout(0.0) == 0.0
+
+
+# ----------------------------------------------------------------------------------------------
+# progress inside runs and the time estimate (constructed data: the oracles are hand sums)
+# ----------------------------------------------------------------------------------------------
+
+
+class FakeClock:
+    def __init__(self) -> None:
+        self.now = 0.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def test_cost_estimate_uses_the_same_group_then_the_same_scale_then_the_model():
+    from rubberfriction.driver.runtime.progress import CostEstimate
+
+    est = CostEstimate()
+    assert math.isnan(est.expect(("up", "micro2"), 10.0))  # nothing finished yet
+    est.observe(("down", "macro"), 1.0, 12.0)
+    est.observe(("down", "macro"), 1.0, 8.0)
+    est.observe(("up", "micro2"), 50.0, 400.0)
+    assert est.expect(("down", "macro"), 1.0) == pytest.approx(10.0)  # mean of its group
+    assert est.expect(("up", "macro"), 1.0) == pytest.approx(10.0)  # same scale, other branch
+    assert est.expect(("down", "micro2"), 50.0) == pytest.approx(400.0)
+    # no run of micro1 yet: weight x (12 + 8 + 400) s / (1 + 1 + 50)
+    assert est.expect(("up", "micro1"), 20.0) == pytest.approx(20.0 * 420.0 / 52.0)
+
+
+def _cascade_plan():
+    """One point, four stages run one after another: macro (weight 1) and micro2 (weight 50)."""
+    from rubberfriction.driver.runtime.progress import Stage
+
+    pid = "c/p=0.3/v=100"
+    return pid, [Stage(pid, (pid, "down", 0), ("down", "macro"), 2, 1.0),
+                 Stage(pid, (pid, "down", 1), ("down", "micro2"), 2, 50.0),
+                 Stage(pid, (pid, "up", 1), ("up", "micro2"), 2, 50.0),
+                 Stage(pid, (pid, "up", 0), ("up", "macro"), 2, 1.0)]
+
+
+def _task(pid: str, branch: str, scale: int, name: str, sample: int) -> Task:
+    label = {"point": pid, "branch": branch, "scale": scale, "scale_name": name,
+             "sample": sample, "velocity": 100.0}
+    return Task(f"{branch}{scale}{sample}".ljust(64, "0"), None, label)
+
+
+def test_time_left_weighs_the_runs_left_by_scale_and_follows_the_cascade():
+    """After the first (cheap) macro runs the estimate must see the dear micro2 runs to come and
+    that the cascade runs its stages one after another, whatever the number of workers."""
+    from types import SimpleNamespace
+
+    from rubberfriction.driver.runtime.progress import Progress
+
+    import io
+
+    pid, plan = _cascade_plan()
+    clock = FakeClock()
+    p = Progress(stream=io.StringIO(), min_interval=0.0, clock=clock, tty=False)
+    p.start(8, 4, plan)
+    assert math.isnan(p.eta())
+    for s in (0, 1):
+        p.update(_task(pid, "down", 0, "macro", s), SimpleNamespace(status="ok", reused=False,
+                                                                    wall_time=10.0))
+    # micro2 by the model: 50 x (20 s / 2) = 500 s a run; macro up like macro down: 10 s.
+    # work 2 x 500 + 2 x 500 + 2 x 10 = 2020 s over 4 workers = 505 s; the chain of the
+    # three stages left, 500 + 500 + 10 = 1010 s, is longer
+    assert p.eta() == pytest.approx(1010.0)
+    # the old estimate (runs left x mean run time / workers) said 6 x 10 / 4 = 15 s
+    # two micro2 runs in flight: one reported at clock 100 (distance 3/4 done, 40 s left), one
+    # only its set-up at clock 0
+    clock.now = 0.0
+    p.running(_task(pid, "down", 1, "micro2", 1), {"phase": "set-up"})
+    t = _task(pid, "down", 1, "micro2", 0)
+    p.running(t, {"phase": "set-up"})
+    clock.now = 100.0
+    p.running(t, {"phase": "sliding", "distance": 3.0, "slide_distance": 4.0, "left": 40.0})
+    clock.now = 110.0
+    # t: 3/4 x (40 - 10) + 1/4 x (500 - 110) = 120 s; the other: 500 - 110 = 390 s
+    # chain: max(120, 390) + 500 + 10 = 900 s; work (120 + 390 + 1000 + 20) / 4 = 382.5 s
+    assert p.eta() == pytest.approx(900.0)
+    p.update(t, SimpleNamespace(status="ok", reused=False, wall_time=120.0))
+    assert t.key not in p.in_flight and p.left[(pid, "down", 1)] == 1
+    # micro2 down now measured (120 s): the one in flight 120 - 110 -> 10 s, micro2 up by the
+    # same scale 120 s: chain 10 + 120 + 10 = 140 s, work (10 + 240 + 20) / 4 = 67.5 s
+    assert p.eta() == pytest.approx(140.0)
+
+
+def test_progress_line_shows_the_runs_in_flight_on_a_tty_and_in_plain_lines(monkeypatch):
+    import io
+    from types import SimpleNamespace
+
+    from rubberfriction.driver.runtime.progress import Progress
+
+    monkeypatch.setenv("COLUMNS", "200")  # the terminal width the TTY line is cut to
+    pid, plan = _cascade_plan()
+    clock = FakeClock()
+    tty = io.StringIO()
+    p = Progress(stream=tty, min_interval=1.0, clock=clock, tty=True)
+    p.start(8, 2, plan)
+    task = _task(pid, "down", 1, "micro2", 0)
+    info = {"phase": "sliding", "step": 84, "steps": 240, "distance": 0.42,
+            "slide_distance": 1.2, "cutbacks": 3, "after": "", "left": 130.0}
+    p.running(task, info)
+    out = tty.getvalue()
+    assert out.count("\n") == 1 and out.endswith("\x1b[K")  # the start line, then in place
+    line = out.rsplit("\r", 1)[-1]
+    assert line.startswith("[0/8]    0%  0s, left ~?  | micro2 down #0 v=100: 0.42/1.2 mm, "
+                           "step 84/240, 3 cut-backs, ~2m10s  | computed 0, reused 0, failed 0")
+    clock.now = 0.5
+    p.running(task, dict(info, step=85))
+    assert tty.getvalue() == out  # at most one redraw a second
+    clock.now = 1.0
+    p.running(task, dict(info, step=90, after="mortar", cutbacks=1))
+    assert "step 90/240, 1 cut-back," in tty.getvalue() and "(after mortar failed)" in \
+        tty.getvalue()
+    p.update(task, SimpleNamespace(status="failed", reused=False, wall_time=5.0,
+                                   failure="timeout", reason="wall-time limit of 600 s\nmore"))
+    assert "\r\x1b[Kfailed: micro2 down #0 v=100: wall-time limit of 600 s\n" in tty.getvalue()
+    p.finish()
+    assert tty.getvalue().endswith("1 failed, 1 stopped by the wall clock) in 1s\n")
+
+    plain = io.StringIO()
+    q = Progress(stream=plain, min_interval=1.0, plain_interval=30.0, clock=clock, tty=False)
+    clock.now = 0.0
+    q.start(8, 2, plan)
+    for now in (0.0, 10.0, 29.0, 31.0, 45.0):
+        clock.now = now
+        q.running(task, info)
+    lines = plain.getvalue().splitlines()
+    assert len(lines) == 3 and "\r" not in plain.getvalue()  # start, at 0 s and at 31 s
+    assert "elapsed 31s" in lines[-1] and "running: micro2 down #0" in lines[-1]
+
+    from rubberfriction.driver.runtime.progress import run_name
+
+    assert run_name({"scale_name": "micro", "branch": "micro", "sample": 3, "velocity": 500.0,
+                     "velocity_in": 250.0}) == "micro micro #3 v=250"
+    quiet = io.StringIO()
+    r = Progress(quiet=True, stream=quiet, tty=True)
+    r.start(8, 2, plan)
+    r.running(task, info)
+    r.update(task, SimpleNamespace(status="ok", reused=False, wall_time=1.0))
+    r.finish()
+    assert quiet.getvalue() == ""
+
+
+def test_run_reports_pass_phase_changes_and_one_report_a_second():
+    from rubberfriction.driver.runtime.farm import RunReports
+
+    clock = FakeClock()
+    got: list[tuple[str, dict]] = []
+    reports = RunReports(min_interval=1.0, clock=clock)
+    reports({"phase": "set-up"})  # not connected, no task: nothing
+    reports.sink = lambda task, info: got.append((task.key, info))
+    task = Task("ab" * 32, None, {})
+    reports.begin(task)
+    for now, phase in ((0.0, "set-up"), (0.1, "sliding"), (0.5, "sliding"), (1.2, "sliding"),
+                       (1.3, "set-up"), (1.4, "sliding")):
+        clock.now = now
+        reports({"phase": phase, "at": now})
+    assert [info["at"] for _, info in got] == [0.0, 0.1, 1.2, 1.3, 1.4]
+    reports.end()
+    reports({"phase": "later"})
+    assert len(got) == 5
+
+    def broken(task, info):
+        raise BrokenPipeError("gone")
+
+    reports.sink = broken
+    reports.begin(task)
+    with pytest.warns(UserWarning, match="progress reports stopped"):
+        reports({"phase": "set-up"})
+    assert reports.sink is None
+
+
+def test_step_reporter_says_where_a_sliding_run_is():
+    from types import SimpleNamespace
+
+    from rubberfriction.driver.sliding.progress import StepReporter
+
+    clock = FakeClock()
+    got: list[dict] = []
+    rep = StepReporter(got.append, clock=clock)
+    run = SimpleNamespace(spec=SimpleNamespace(velocity=2.0), t_start=1.0, slide_distance=4.0,
+                          n_slide_steps=8, cutbacks=0)
+    clock.now = 5.0
+    rep.on_start(run)
+    assert got[-1]["phase"] == "sliding" and got[-1]["distance"] == 0.0
+    assert math.isnan(got[-1]["left"])
+    clock.now = 15.0
+    run.cutbacks = 3
+    rep.on_step(run, 4, 2.0)  # 2 mm/s x 1 s = 2 mm of 4 in 10 s: 10 s left
+    assert got[-1] == {"phase": "sliding", "step": 4, "steps": 8, "distance": 2.0,
+                       "slide_distance": 4.0, "cutbacks": 3, "after": "", "left": 10.0}
+    failed = SimpleNamespace(ok=False, stats={"attempt": "mortar", "cutbacks": 9})
+    rep.on_finish(run, failed)
+    assert got[-1] == {"phase": "set-up", "after": "mortar", "cutbacks": 9}
+    n = len(got)
+    rep.on_finish(run, SimpleNamespace(ok=False, stats={"failure": "wall_limit"}))
+    rep.on_finish(run, SimpleNamespace(ok=True, stats={}))
+    assert len(got) == n  # no next attempt follows these
+    rep.on_start(run)
+    assert got[-1]["after"] == "mortar"
+
+
+def test_serial_farm_routes_run_reports_to_the_progress():
+    from rubberfriction.driver.runtime.farm import RunReports
+
+    class Recorder:
+        def __init__(self) -> None:
+            self.events: list[tuple] = []
+
+        def start(self, total, workers, plan=None):
+            self.events.append(("start", total, workers, len(plan)))
+
+        def running(self, task, info):
+            self.events.append(("running", task.label["sample"], info.get("step")))
+
+        def update(self, task, outcome):
+            self.events.append(("done", task.label["sample"]))
+
+        def finish(self):
+            self.events.append(("finish",))
+
+    reports = RunReports(min_interval=0.0)
+
+    def runner(spec):
+        for k in (1, 2):
+            reports({"phase": "sliding", "step": k})
+        return SlidingResult("ok", mu_force=0.1, stats={"steps": 2})
+
+    import tempfile
+
+    tasks = [Task(f"{i:064x}", {"i": i}, {"point": "p", "branch": "b", "scale": 0,
+                                        "sample": i}) for i in range(2)]
+    rec = Recorder()
+    with tempfile.TemporaryDirectory() as d:
+        ex = Executor(Store(d), runner, reports=reports)
+        run_serial(StaticPlanner(tasks), ex, rec)
+        assert ex.reports.sink is None  # disconnected after the campaign
+    assert rec.events == [("start", 2, 1, 1),
+                          ("running", 0, None), ("running", 0, 1), ("running", 0, 2),
+                          ("done", 0),
+                          ("running", 1, None), ("running", 1, 1), ("running", 1, 2),
+                          ("done", 1), ("finish",)]
+
+
+@pytest.mark.mpi
+def test_mpi_workers_report_their_runs_to_rank_0(tmp_path: Path):
+    """Reports of runs on rank 1 reach the progress object on rank 0 in order, before the run's
+    outcome, and none is lost (rate limit off here)."""
+    script = tmp_path / "reports.py"
+    script.write_text(textwrap.dedent('''
+        import json, sys, time
+        sys.path.insert(0, ROOT)
+        from mpi4py import MPI
+        from rubberfriction.driver.runtime.farm import (Executor, RunReports, StaticPlanner,
+                                                        Task, run_farm)
+        from rubberfriction.driver.runtime.progress import Progress
+        from rubberfriction.driver.runtime.store import Store
+        from rubberfriction.driver.sliding.spec import SlidingResult
+
+        class Recorder(Progress):
+            def __init__(self):
+                super().__init__(quiet=True)
+                self.seen, self.order = {}, []
+            def running(self, task, info):
+                super().running(task, info)
+                self.seen.setdefault(task.key, []).append(info.get("step"))
+                self.order.append(("report", task.key))
+            def update(self, task, outcome):
+                super().update(task, outcome)
+                self.order.append(("done", task.key))
+
+        reports = RunReports(min_interval=0.0)
+        def runner(spec):
+            for k in range(1, 6):
+                reports({"phase": "sliding", "step": k, "distance": k, "slide_distance": 5})
+                time.sleep(0.01)
+            return SlidingResult("ok", mu_force=float(MPI.COMM_WORLD.rank), stats={"steps": 5})
+
+        tasks = [Task(f"{i:064x}", {"i": i}, {"point": "p", "branch": "b", "scale": 0,
+                                              "sample": i}) for i in range(8)]
+        rec = Recorder() if MPI.COMM_WORLD.rank == 0 else None
+        planner, out = run_farm(lambda: StaticPlanner(tasks), Executor(Store(sys.argv[1]),
+                                runner, reports=reports), rec)
+        if rec is not None:
+            last = {key: i for i, (what, key) in enumerate(rec.order) if what == "report"}
+            done = {key: i for i, (what, key) in enumerate(rec.order) if what == "done"}
+            print("RESULT", json.dumps({"ranks": {k: o.values["mu_force"] for k, o in out.items()},
+                                        "seen": rec.seen,
+                                        "before": all(last[k] < done[k] for k in done)}))
+    ''').replace("ROOT", repr(str(ROOT))))
+    r = subprocess.run(["mpirun", "-n", "2", sys.executable, str(script), str(tmp_path / "s")],
+                       env=_env(), capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr + r.stdout
+    import json
+
+    res = json.loads([ln for ln in r.stdout.splitlines() if ln.startswith("RESULT")][0][7:])
+    assert len(res["ranks"]) == 8 and 1.0 in res["ranks"].values()  # rank 1 ran some
+    assert all(res["seen"][k] == [None, 1, 2, 3, 4, 5] for k in res["ranks"])  # set-up, steps
+    assert res["before"]
+
+
+def test_idle_naps_spin_after_an_event_then_double_up_to_the_poll(monkeypatch):
+    """The dispatcher's (and a waiting worker's) idle sleeps: none for SPIN s after an event,
+    then MIN_NAP doubling up to QUICK_NAP until QUICK_WINDOW s after it, then up to poll."""
+    from types import SimpleNamespace
+
+    from rubberfriction.driver.runtime import farm
+
+    clock, slept = FakeClock(), []
+
+    def sleep(s: float) -> None:
+        slept.append(s)
+        clock.now += s
+
+    monkeypatch.setattr(farm, "time", SimpleNamespace(monotonic=clock, sleep=sleep))
+    nap = farm._Nap(poll=0.02)
+    clock.now = 0.5 * farm.SPIN
+    nap.sleep()
+    assert slept == []  # spinning: poll again at once
+    clock.now = farm.SPIN
+    for _ in range(12):
+        nap.sleep()
+    quick = [min(farm.MIN_NAP * 2 ** k, farm.QUICK_NAP) for k in range(12)]
+    assert slept[0] == 0.0 and slept[1:] == pytest.approx(quick[:11])
+    clock.now = farm.QUICK_WINDOW
+    slept.clear()
+    for _ in range(8):
+        nap.sleep()
+    assert slept == pytest.approx([0.001, 0.002, 0.004, 0.008, 0.016, 0.02, 0.02, 0.02])
+    nap.event()
+    slept.clear()
+    clock.now += 2 * farm.SPIN
+    nap.sleep()
+    assert slept == [0.0]  # back to short naps after an event

@@ -16,6 +16,7 @@ Part 2, physics with the real FE runs (``run_sliding``):
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import pickle
@@ -198,6 +199,61 @@ def test_adhesion_enters_on_the_macro_scale(tmp_path: Path):
                                                     rel=1e-12)  # eq. (7.8)
     assert r.scales[1].friction_in == pytest.approx(r.scales[2].mu.mean,
                                                     rel=1e-15)  # no adhesion below
+
+
+def test_cost_model_counts_mesh_nodes_times_time_steps():
+    """(n_x + 1)(n_z + 1)(sliding + compression steps)(1 + rms slope), counted by hand: a 1 mm
+    cell with 0.1 mm contact elements has 10 columns; uniform rows (grading 1) give 10 rows,
+    graded by 1.2 the smallest n with 0.1 (1.2^n - 1) / 0.2 >= 1 is n = 7; 3 mm of sliding in
+    0.05 mm steps; a saw tooth of rise 0.25 over 0.5 mm has slope 0.5 everywhere."""
+    from rubberfriction.driver.sliding.spec import cost_model, rms_slope
+
+    x = np.linspace(0.0, 1.0, 64, endpoint=False)
+    saw = 0.25 - 0.5 * np.abs(x - 0.5)  # slope +-0.5, periodic
+    spec = SlidingSpec(surface_x=x, surface_h=saw, period=1.0,
+                       pressure=0.3, velocity=10.0, compound=_compound(), h_contact=0.1,
+                       step_length=0.05, grading=1.0, compression_steps=10)
+    assert rms_slope(spec) == pytest.approx(0.5, rel=1e-12)
+    assert cost_model(spec) == pytest.approx(11 * 11 * 70 * 1.5)
+    assert cost_model(dataclasses.replace(spec, grading=1.2)) == pytest.approx(11 * 8 * 70 * 1.5)
+    assert cost_model(dataclasses.replace(spec, grading=1.2, slide_distance=1.5)) == \
+        pytest.approx(11 * 8 * 40 * 1.5)
+
+
+def test_plans_list_the_stages_the_planners_run(tmp_path: Path):
+    """plan() (for the campaign's time estimate) names every stage a planner hands out, in order,
+    with its number of runs and the model weight of its scale."""
+    from rubberfriction.driver.runtime.progress import stage_key
+    from rubberfriction.driver.sliding.spec import cost_model
+
+    sets = scales_with_distinct_samples(3)
+    pt = Point("tread_default", 0.3, 100.0)
+    casc = RoughCascade("t", pt, sets, make_spec, k=2, j=3)
+    plan = casc.plan()
+    assert [(st.key[1], st.key[2], st.runs) for st in plan] == [
+        ("down", 0, 2), ("down", 1, 2), ("up", 2, 3), ("up", 1, 3), ("up", 0, 3)]
+    assert sum(st.runs for st in plan) == casc.total() and {st.chain for st in plan} == {pt.id}
+    for st in plan:
+        i = st.key[2]
+        assert st.group == (st.key[1], f"s{i}")
+        assert st.weight == cost_model(make_spec(pt, i, sets[i].samples[0], 0.3, None, "down"))
+    run(CampaignPlanner([casc]), Store(tmp_path / "s"))
+    counts: dict[tuple, int] = {}
+    for runs in casc.result.runs.values():
+        for t, _ in runs:
+            counts[stage_key(t.label)] = counts.get(stage_key(t.label), 0) + 1
+    assert counts == {st.key: st.runs for st in plan}
+
+    macro = ScaleSet("macro", (5.0, 0.5), (sine_sample([0.05], [5.0], 5.0, 64),))
+    micro = ScaleSet("micro", (0.5, 0.05), (sine_sample([0.01], [0.5], 0.5, 64),))
+    full = sine_sample([0.05, 0.01], [5.0, 0.5], 5.0, 256)
+    sep = SeparatedTwoScale("t", pt, macro, micro, full, make_spec,
+                            pressure_factors=(0.5, 1.0, 2.0), velocity_factors=(1.0, 2.0))
+    plan = sep.plan()
+    assert [(st.key[1], st.runs) for st in plan] == [("macro0", 1), ("micro", 6), ("macro", 1),
+                                                     ("reference", 1)]
+    assert sum(st.runs for st in plan) == sep.total()
+    assert len({st.chain for st in plan}) == 2  # the reference runs beside the chain
 
 
 def test_sample_statistics():

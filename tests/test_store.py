@@ -128,7 +128,15 @@ def test_write_is_atomic(tmp_path: Path, spec: SlidingSpec, monkeypatch):
     assert store.has(key) and store.keys() == [key]
 
 
+def wall_limit_result() -> SlidingResult:
+    """What run_sliding returns when the run stopped itself at its wall-time limit."""
+    return SlidingResult("failed", reason="wall-time limit of 600 s reached at t = 0.1 s (mortar)",
+                         t_reached=0.1, stats={"failure": "wall_limit", "cutbacks": 3})
+
+
 def test_failures_are_stored_with_reason_and_reused_or_retried(tmp_path: Path, spec: SlidingSpec):
+    """Physics failures are results of the inputs (reused; retry_failed recomputes them); runs
+    that raised or that the wall clock stopped are kept for the report but always recomputed."""
     store = Store(tmp_path / "store")
     calls = []
 
@@ -140,20 +148,69 @@ def test_failures_are_stored_with_reason_and_reused_or_retried(tmp_path: Path, s
         calls.append(s)
         raise MemoryError("out of memory in the linear solver")
 
+    def slow_run(s):
+        calls.append(s)
+        return wall_limit_result()
+
     t1 = Task(run_key(spec), spec, {"sample": 0})
     spec2 = dataclasses.replace(spec, velocity=10.0)
     t2 = Task(run_key(spec2), spec2, {"sample": 1})
+    spec3 = dataclasses.replace(spec, velocity=1.0)
+    t3 = Task(run_key(spec3), spec3, {"sample": 2})
     o1 = Executor(store, failing_run)(t1)
     o2 = Executor(store, raising_run)(t2)
+    o3 = Executor(store, slow_run)(t3)
     assert (o1.status, o1.failure) == ("failed", "physics") and "no convergence" in o1.reason
     assert (o2.status, o2.failure) == ("failed", "error") and "MemoryError" in o2.reason
+    assert (o3.status, o3.failure) == ("failed", "timeout") and o3.timed_out
+    assert not o1.timed_out and not o2.timed_out
     assert "out of memory" in store.load(t2.key).reason
+    assert store.outcome(t3.key).timed_out and "wall-time limit" in store.load(t3.key).reason
     calls.clear()
     again = Executor(store, failing_run)
     assert again(t1).reused and calls == []  # a physics failure is a result of the inputs: reused
     assert not again(t2).reused and len(calls) == 1  # a run that raised is retried
+    assert not again(t3).reused and len(calls) == 2  # so is one the wall clock stopped
     calls.clear()
     assert not Executor(store, failing_run, retry_failed=True)(t1).reused and len(calls) == 1
+
+
+@pytest.mark.parametrize("failure, retry, reused", [
+    ("", False, True), ("", True, True), ("physics", False, True), ("physics", True, False),
+    ("error", False, False), ("error", True, False), ("timeout", False, False),
+    ("timeout", True, False)])
+def test_which_stored_runs_are_results_of_their_inputs(failure: str, retry: bool, reused: bool):
+    from rubberfriction.driver.runtime.store import reusable_failure
+
+    assert reusable_failure(failure, retry) is reused
+
+
+def test_summary_says_how_many_runs_the_wall_clock_stopped(tmp_path: Path):
+    from rubberfriction.driver.multiscale.campaign import CampaignResult
+    from rubberfriction.driver.multiscale.report import summary_text
+    from rubberfriction.driver.multiscale.scene import parse_scene
+    from rubberfriction.driver.runtime.store import Outcome
+
+    scene = parse_scene('name = "t"\n[surface]\nsource = "sines"\namplitudes = [0.01]\n'
+                        'wavelengths = [5.0]\n', "<test>", tmp_path)
+    kinds = ["", "physics", "timeout", "error", "timeout"]
+    outcomes = {f"{i:064x}": Outcome(f"{i:064x}", "ok" if not k else "failed", failure=k)
+                for i, k in enumerate(kinds)}
+
+    def summary(outs: dict) -> str:
+        return summary_text(CampaignResult(scene, tmp_path, [], outs, None, 1.0, 1, "now",
+                                           Store(tmp_path / "store")))
+
+    r = CampaignResult(scene, tmp_path, [], outcomes, None, 1.0, 1, "now", Store(tmp_path / "s"))
+    assert (r.n_failed, r.n_timed_out) == (4, 2) and r.provenance()["runs_timed_out"] == 2
+    text = summary(outcomes)
+    assert "5 single-scale runs (0 reused, 4 failed)" in text
+    assert "2 runs stopped by the wall clock (run_timeout); they are recomputed on the next run" \
+        in text
+    one = {k: o for k, o in outcomes.items() if o.failure != "timeout" or k.endswith("2")}
+    assert "1 run stopped by the wall clock (run_timeout); it is recomputed" in summary(one)
+    none = {k: o for k, o in outcomes.items() if o.failure != "timeout"}
+    assert "wall clock" not in summary(none)
 
 
 def test_campaign_lock(tmp_path: Path):

@@ -10,7 +10,8 @@
     rubberfriction samples-study --scale micro2 --n 30 --pressure 3 --velocity 10
 
 A campaign resumes by default: runs already in ``<output>/store`` are reused (``--fresh`` moves
-the store aside and starts again; ``--retry-failed`` recomputes runs stored as failed).  Exit
+the store aside and starts again; ``--retry-failed`` recomputes runs stored as physics failures;
+runs that raised or that the wall clock stopped are always computed again).  Exit
 status: 0 all points ok, 1 some point failed, 2 bad scene or command line.
 """
 
@@ -47,7 +48,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                       help="reuse finished runs of the output folder's store (default)")
     mode.add_argument("--fresh", dest="fresh", action="store_true",
                       help="move the existing store aside and compute everything again")
-    p.add_argument("--retry-failed", action="store_true", help="recompute runs stored as failed")
+    p.add_argument("--retry-failed", action="store_true",
+                   help="recompute runs stored as physics failures (runs that raised or that the "
+                        "wall clock stopped are always recomputed)")
     p.add_argument("--samples", nargs=2, type=int, metavar=("K", "J"),
                    help="override samples per scale: K pressure-branch, J friction-branch (eq. "
                         "6.12, 6.13)")

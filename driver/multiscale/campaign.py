@@ -35,7 +35,14 @@ from rubberfriction.driver.multiscale.scene import Scene, SceneError
 from rubberfriction.driver.multiscale.separated import SeparatedTwoScale
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
 from rubberfriction.driver.multiscale.statistics import sample_count_study
-from rubberfriction.driver.runtime.farm import Executor, StaticPlanner, Task, hard_timeout, run_farm
+from rubberfriction.driver.runtime.farm import (
+    Executor,
+    RunReports,
+    StaticPlanner,
+    Task,
+    hard_timeout,
+    run_farm,
+)
 from rubberfriction.driver.runtime.progress import Progress
 from rubberfriction.driver.runtime.store import Outcome, Store, code_version, git_describe, run_key
 from rubberfriction.driver.sliding.run import sliding_runner
@@ -128,6 +135,11 @@ class CampaignResult:
     def n_failed(self) -> int:
         return sum(not o.ok for o in self.outcomes.values())
 
+    @property
+    def n_timed_out(self) -> int:
+        """Runs the wall clock stopped (part of n_failed; recomputed on the next run)."""
+        return sum(o.timed_out for o in self.outcomes.values())
+
     def provenance(self) -> dict:
         return {"scene": self.scene.name, "scene_source": self.scene.source,
                 "variant": self.scene.variant,
@@ -135,6 +147,7 @@ class CampaignResult:
                 "started": self.started,
                 "wall_time_s": self.wall_time, "workers": self.workers, "runs": self.n_runs,
                 "runs_reused": self.n_reused, "runs_failed": self.n_failed,
+                "runs_timed_out": self.n_timed_out,
                 "surface": self.scales.provenance if self.scales else {}}
 
 
@@ -167,15 +180,16 @@ def open_store(out: Path, comm: Any, fresh: bool = False) -> Store:
     return store if store is not None else Store(out / "store")
 
 
-def _runner_and_timeout(scene: Scene, runner: Callable[[Any], Any] | None
-                        ) -> tuple[Callable[[Any], Any], float]:
+def _runner_and_timeout(scene: Scene, runner: Callable[[Any], Any] | None,
+                        reports: RunReports) -> tuple[Callable[[Any], Any], float]:
     """The run function and the watchdog time of a campaign: the default runner stops each run
     itself at ``run_timeout`` (a stored 'timeout' failure), so its watchdog only needs to catch
-    runs stuck in compiled code; a caller's runner gets the watchdog at ``run_timeout``."""
+    runs stuck in compiled code, and reports every sliding step to ``reports`` (the progress
+    line); a caller's runner gets the watchdog at ``run_timeout``."""
     timeout = scene.numerics.run_timeout
     if runner is not None:
         return runner, timeout
-    return sliding_runner(wall_limit=timeout), hard_timeout(timeout)
+    return sliding_runner(wall_limit=timeout, progress=reports), hard_timeout(timeout)
 
 
 def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = False,
@@ -186,18 +200,19 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
     """Run (or resume) a scene.  Every rank of ``comm`` calls this; rank 0 returns the result.
 
     ``fresh``: move the existing store aside (``store-<time>``, nothing is deleted) and compute
-    everything again.  ``retry_failed``: recompute runs stored as failed (physics failures are
-    otherwise reused like results; runs that raised are always retried).
+    everything again.  ``retry_failed``: recompute runs stored as physics failures (otherwise
+    reused like results; runs that raised or that the wall clock stopped are always recomputed).
     """
     comm = _comm() if comm is None else comm
     rank = comm.Get_rank()
     out = Path(output) if output is not None else scene.output
-    runner, timeout = _runner_and_timeout(scene, runner)  # fails early, identically on all ranks
+    reports = RunReports()
+    runner, timeout = _runner_and_timeout(scene, runner, reports)  # fails early, on all ranks
     started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
     store = open_store(out, comm, fresh=fresh)
     try:
         executor = Executor(store, runner, retry_failed=retry_failed,
-                            timeout=timeout,
+                            timeout=timeout, reports=reports,
                             settings={"scene": scene.name, "scene_source": scene.source})
         progress = Progress(quiet=quiet) if rank == 0 else None
         holder: dict[str, Any] = {}
@@ -237,7 +252,8 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
     comm = _comm() if comm is None else comm
     rank = comm.Get_rank()
     out = Path(output) if output is not None else scene.output
-    runner, timeout = _runner_and_timeout(scene, runner)
+    reports = RunReports()
+    runner, timeout = _runner_and_timeout(scene, runner, reports)
     names = scale_names(scene.n_scales) if not scene.surface.names else list(scene.surface.names)
     if scale is None:
         si = scene.n_scales - 1
@@ -260,7 +276,7 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
         raise SceneError(f"--n {n}: expected at least 2 samples")
     store = open_store(out, comm)
     try:
-        executor = Executor(store, runner, timeout=timeout,
+        executor = Executor(store, runner, timeout=timeout, reports=reports,
                             settings={"scene": scene.name, "study": "samples"})
         progress = Progress(quiet=quiet) if rank == 0 else None
         holder: dict[str, Any] = {}

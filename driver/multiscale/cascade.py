@@ -58,7 +58,9 @@ from rubberfriction.driver.multiscale.statistics import (
     usable,
 )
 from rubberfriction.driver.runtime.farm import Task
+from rubberfriction.driver.runtime.progress import Stage
 from rubberfriction.driver.runtime.store import Outcome, run_key
+from rubberfriction.driver.sliding.spec import cost_model
 from rubberfriction.driver.theory.adhesion import BellLaw, mu_adhesion
 
 
@@ -103,6 +105,18 @@ class RoughCascade:
     # --- planner protocol --------------------------------------------------------------------
     def total(self) -> int:
         return len(self.down_scales) * self.k + self.n * self.j
+
+    def plan(self) -> list[Stage]:
+        """The point's stages in order, pressure branch down then friction branch up (for the
+        campaign's time estimate); weight: the model cost of a run on the scale's first sample
+        (``sliding.spec.cost_model``; it does not depend on the pressure or friction)."""
+        order = [("down", i, self.k) for i in self.down_scales] + [
+            ("up", i, self.j) for i in range(self.n - 1, -1, -1)]
+        weight = {i: cost_model(self.make_spec(self.point, i, self.scales[i].samples[0],
+                                               self.point.pressure, None, "down"))
+                  for i in range(self.n)}
+        return [Stage(self.point.id, (self.point.id, branch, i), (branch, self.scales[i].name),
+                      count, weight[i]) for branch, i, count in order]
 
     def next_tasks(self) -> list[Task]:
         if self._stage is None or self._issued:
@@ -238,6 +252,10 @@ class CampaignPlanner:
 
     def total(self) -> int:
         return sum(p.total() for p in self.planners)
+
+    def plan(self) -> list[Stage]:
+        """The stages of every point (each point is a chain of its own)."""
+        return [st for p in self.planners for st in p.plan()]
 
     def next_tasks(self) -> list[Task]:
         out: list[Task] = []

@@ -12,7 +12,8 @@ Files written into the campaign's output folder:
   contact area (7.5), dissipation (mu_energy x p: energy per unit sliding length and nominal
   area, mJ/mm^3 = MPa), flags and notes.
 * ``samples.csv`` -- every single-scale run (thesis fig. 6.29 b): branch, scale, sample, status,
-  failure reason, the fallback attempt that gave the result (e.g. ``nts x2 mesh``), inputs and
+  failure kind (``physics``, ``error``, ``timeout``: stopped by the wall clock, recomputed on the
+  next run) and reason, the fallback attempt that gave the result (e.g. ``nts x2 mesh``), inputs and
   results, wall time, whether it was reused, store key.
 * ``mu_v.png``, ``mu_p.png`` -- the curves with 95 % CI error bars.  ``mu_v.png`` also shows,
   per (compound, p), the analytical baselines of the same surface PSD and compound (Persson line
@@ -228,11 +229,24 @@ def _pm(st: SampleStats | None) -> str:
     return f"{st.mean:.4g}{spread} [{st.n_used} samples{fail}]"
 
 
+def timeout_note(n_timed_out: int) -> str:
+    """The summary's line about runs the wall clock stopped ("" when there are none)."""
+    if n_timed_out <= 0:
+        return ""
+    runs = "1 run" if n_timed_out == 1 else f"{n_timed_out} runs"
+    they = "it is" if n_timed_out == 1 else "they are"
+    return (f"{runs} stopped by the wall clock (run_timeout); {they} recomputed on the next run "
+            "of the scene")
+
+
 def summary_text(result: Any) -> str:
     sc = result.scene
     lines = [f"scene {sc.name!r} ({sc.variant}) from {sc.source}: {len(result.points)} point(s), "
              f"{result.n_runs} single-scale runs ({result.n_reused} reused, {result.n_failed} "
              f"failed), {result.wall_time:.1f} s on {result.workers} worker(s)"]
+    note = timeout_note(result.n_timed_out)
+    if note:
+        lines.append(f"  {note}")
     for r in result.points:
         head = f"  {r.point.id}: "
         if not r.ok:

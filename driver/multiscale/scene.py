@@ -191,10 +191,11 @@ SCHEMA: dict[str, dict[str, Key]] = {
                              "contact compliance ~1/alpha of an element's; lower is faster on "
                              "steep surfaces and softer (more contact area)", above=0.0),
         "run_timeout": Key("float", 0.0, "seconds after which a single run stops with a stored "
-                                         "failure ('timeout', recomputed with --retry-failed) and "
-                                         "the campaign goes on; a run stuck where it cannot stop "
-                                         "itself is killed 10 % + 60 s later and the campaign "
-                                         "exits (rerun to resume); 0: no limit",
+                                         "failure ('timeout': reported, recomputed on the next "
+                                         "run of the scene) and the campaign goes on; a run stuck "
+                                         "where it cannot stop itself is killed 10 % + 60 s "
+                                         "later and the campaign exits (rerun to resume); 0: no "
+                                         "limit",
                            minimum=0.0),
     },
     "separated": {

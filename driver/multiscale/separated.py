@@ -20,7 +20,9 @@ from rubberfriction.driver.fe.friction_law import SplineLaw, fit_mu_pv
 from rubberfriction.driver.multiscale.results import Point, PointResult, ScaleResult, ScaleSet, SpecFactory
 from rubberfriction.driver.multiscale.statistics import mean_contact_pressure, sample_stats
 from rubberfriction.driver.runtime.farm import Task
+from rubberfriction.driver.runtime.progress import Stage
 from rubberfriction.driver.runtime.store import Outcome, run_key
+from rubberfriction.driver.sliding.spec import cost_model
 
 
 @functools.lru_cache(maxsize=1)
@@ -96,6 +98,22 @@ class SeparatedTwoScale:
     def total(self) -> int:
         n_p = len(self.p_given) or len(self.p_factors)
         return 1 + n_p * len(self.v_grid) + 1 + (1 if self.reference else 0)
+
+    def plan(self) -> list[Stage]:
+        """Stages for the campaign's time estimate: frictionless macro, micro grid, macro with
+        the law one after another; the reference beside them.  Weight: ``cost_model``."""
+        p, pid = self.point.pressure, self.point.id
+        macro = cost_model(self.make_spec(self.point, 0, self.macro.samples[0], p, None, "macro0"))
+        micro = cost_model(self.make_spec(self.point, 1, self.micro.samples[0], p, None, "micro"))
+        n_micro = (len(self.p_given) or len(self.p_factors)) * len(self.v_grid)
+        stages = [Stage(pid, (pid, "macro0", 0), ("macro0", self.macro.name), 1, macro),
+                  Stage(pid, (pid, "micro", 1), ("micro", self.micro.name), n_micro, micro),
+                  Stage(pid, (pid, "macro", 0), ("macro", self.macro.name), 1, macro)]
+        if self.reference:
+            ref = cost_model(self.make_spec(self.point, 0, self.full_sample, p, None, "reference"))
+            stages.append(Stage(f"{pid} reference", (pid, "reference", 0), ("reference", "full"),
+                                1, ref))
+        return stages
 
     @property
     def finished(self) -> bool:

@@ -13,11 +13,17 @@ planner to the end:
 
       worker -> 0   tag REQUEST  (outcome of the previous task or None)
       0 -> worker   tag TASK     (Task)  or  tag STOP (None)
+      worker -> 0   tag PROGRESS ((key, report)) while a run goes on, at most ~1 a second
 
-  The dispatcher polls with ``Iprobe`` and sleeps ``poll`` seconds when idle, so it costs rank 0
-  almost no CPU.  This needs ``MPI_THREAD_MULTIPLE`` (rank 0's worker runs PETSc on
-  ``COMM_SELF`` while the dispatcher talks on the world communicator); with a lower thread
-  level rank 0 only dispatches (one worker fewer) and says so.
+  The dispatcher polls with ``Iprobe`` (any tag, so a worker's reports come before its outcome)
+  and sleeps when idle: not at all for 1 ms after an event, then from 10 us doubling up to 1 ms
+  for 50 ms, then up to ``poll`` seconds (:class:`_Nap`): an answer is quick while requests
+  come in and rank 0 costs almost no CPU while runs go on.  A worker waits for its next task
+  the same way (a blocking receive would spin its core while it waits for the next stage of
+  the cascade).  This needs
+  ``MPI_THREAD_MULTIPLE`` (rank 0's worker runs PETSc on ``COMM_SELF`` while the dispatcher
+  talks on the world communicator); with a lower thread level rank 0 only dispatches (one
+  worker fewer) and says so.
 
 *Executing* a task (:class:`Executor`) happens on the rank that got it: look the key up in the
 store (a finished run is reused, not recomputed), otherwise run it on ``MPI.COMM_SELF`` (its own
@@ -26,6 +32,11 @@ return the small :class:`~rubberfriction.driver.runtime.store.Outcome`.  Storing
 finished run is on disk the moment it finishes, whatever happens to the other ranks; the store's
 one-file-per-run layout makes concurrent writers safe.  A run that raises is caught and recorded
 as a failure (``failure="error"``, with the traceback); it never stops the campaign.
+
+Progress inside runs: a runner may report where its run is (:class:`RunReports`: the sliding
+runner's per-step dict); the farm routes the reports to the progress object on rank 0 --
+directly when serial, through the dispatcher from rank 0's own worker, as small ``PROGRESS``
+messages (rate-limited at the source to one a second plus phase changes) from the other ranks.
 
 Determinism: a run depends only on its inputs (its key), and the planner combines outcomes in
 sample order, not arrival order, so the stored results and the averages do not depend on which
@@ -42,12 +53,14 @@ every rank sees (one small file per run; thousands are fine, millions would want
 
 from __future__ import annotations
 
+import math
 import os
 import queue
 import sys
 import threading
 import time
 import traceback
+import warnings
 from collections import deque
 from dataclasses import dataclass, field
 from types import SimpleNamespace
@@ -55,9 +68,14 @@ from typing import Any, Callable, Protocol
 
 from mpi4py import MPI
 
-from rubberfriction.driver.runtime.store import Outcome, Store
+from rubberfriction.driver.runtime.progress import Stage, stage_key
+from rubberfriction.driver.runtime.store import Outcome, Store, reusable_failure
 
-TAG_REQUEST, TAG_TASK, TAG_STOP = 11, 12, 13
+TAG_REQUEST, TAG_TASK, TAG_STOP, TAG_PROGRESS = 11, 12, 13, 14
+#: idle sleeps of the dispatcher and of a worker waiting for a task (s): none for SPIN
+#: seconds after an event, then MIN_NAP doubling up to QUICK_NAP until QUICK_WINDOW
+#: seconds after it, then up to ``poll``
+SPIN, MIN_NAP, QUICK_NAP, QUICK_WINDOW = 1e-3, 1e-5, 1e-3, 0.05
 
 
 @dataclass(frozen=True)
@@ -81,9 +99,13 @@ class Planner(Protocol):
     def total(self) -> int:
         """Number of tasks the campaign will run in total (for progress)."""
 
+    # optional: plan() -> list[progress.Stage], every stage the campaign will run (for the
+    # time estimate; planners without it get the plain estimate)
+
 
 class ProgressLike(Protocol):
-    def start(self, total: int, workers: int) -> None: ...
+    def start(self, total: int, workers: int, plan: list[Stage] | None = None) -> None: ...
+    def running(self, task: Task, info: dict) -> None: ...
     def update(self, task: Task, outcome: Outcome) -> None: ...
     def finish(self) -> None: ...
 
@@ -114,6 +136,16 @@ class StaticPlanner:
         """Outcomes in task order (after the farm finished)."""
         return [self.outcomes[i] for i in range(len(self.tasks))]
 
+    def plan(self) -> list[Stage]:
+        """One stage per (point, branch, scale) of the labels, all side by side, weight 1."""
+        counts: dict[tuple, list] = {}
+        for t in self.tasks:
+            key = stage_key(t.label)
+            counts.setdefault(key, [t.label, 0])[1] += 1
+        return [Stage(f"static{i}", key, (str(lab.get("branch", "")),
+                                          str(lab.get("scale_name", lab.get("scale", "")))), n)
+                for i, (key, (lab, n)) in enumerate(counts.items())]
+
 
 class FarmError(RuntimeError):
     """The campaign could not be driven (planner bug, dispatcher failure)."""
@@ -134,22 +166,71 @@ def hard_timeout(run_timeout: float) -> float:
     return 1.1 * run_timeout + 60.0 if run_timeout > 0.0 else 0.0
 
 
+class RunReports:
+    """The way from a running task's runner to the campaign's progress line.
+
+    A runner made to report (``sliding_runner(progress=reports)``) calls this object with a
+    small dict of plain values saying where its run is (``driver.sliding.progress``) as often as
+    it likes; the :class:`Executor` says which task is running (:meth:`begin`, :meth:`end`) and
+    reports ``{"phase": "set-up"}`` when a run starts; the farm driver connects ``sink``.  A
+    report passes when its phase changed or ``min_interval`` seconds passed since the last one
+    of the task, so an MPI worker sends rank 0 about one small message a second.  A sink that
+    raises is disconnected with a warning: progress never fails a run.
+    """
+
+    def __init__(self, min_interval: float = 1.0, clock: Callable[[], float] = time.monotonic):
+        self.min_interval = float(min_interval)
+        self.clock = clock
+        self.sink: Callable[[Task, dict], None] | None = None
+        self.task: Task | None = None
+        self._last = -math.inf
+        self._phase: Any = None
+
+    def begin(self, task: Task) -> None:
+        self.task, self._last, self._phase = task, -math.inf, None
+
+    def end(self) -> None:
+        self.task = None
+
+    def __call__(self, info: dict) -> None:
+        task, sink = self.task, self.sink
+        if task is None or sink is None:
+            return
+        now, phase = self.clock(), info.get("phase")
+        if phase == self._phase and now - self._last < self.min_interval:
+            return
+        self._last, self._phase = now, phase
+        try:
+            sink(task, dict(info))
+        except Exception as err:  # noqa: BLE001 -- a progress line must not fail a run
+            self.sink = None
+            warnings.warn(f"run progress reports stopped: {type(err).__name__}: {err}",
+                          stacklevel=2)
+
+
 class Executor:
-    """Execute one task where it lands: reuse from the store, or run and store it."""
+    """Execute one task where it lands: reuse from the store, or run and store it.
+
+    ``reports``: the :class:`RunReports` the runner was built with (if it reports); the farm
+    connects it to the progress line.
+    """
 
     def __init__(self, store: Store, runner: Callable[[Any], Any], *, retry_failed: bool = False,
-                 settings: dict | None = None, timeout: float = 0.0):
+                 settings: dict | None = None, timeout: float = 0.0,
+                 reports: RunReports | None = None):
         self.store = store
         self.runner = runner
         self.retry_failed = retry_failed
         self.settings = settings or {}
         self.timeout = float(timeout)
+        self.reports = reports if reports is not None else RunReports()
 
     def _reusable(self, task: Task) -> Outcome | None:
+        """The stored outcome of the task's key if it counts as a result of its inputs: a
+        success, or a physics failure without ``retry_failed``.  A run that raised or that the
+        wall clock stopped is recomputed (:func:`~rubberfriction.driver.runtime.store.reusable_failure`)."""
         out = self.store.outcome(task.key)
-        if out is None:
-            return None
-        if out.failure == "error" or (out.failure in ("physics", "timeout") and self.retry_failed):
+        if out is None or not reusable_failure(out.failure, self.retry_failed):
             return None
         return out
 
@@ -160,13 +241,16 @@ class Executor:
         t0 = time.perf_counter()
         failure = None
         watchdog = self._watchdog(task) if self.timeout > 0 else None
+        self.reports.begin(task)
         try:
+            self.reports({"phase": "set-up"})
             result = self.runner(task.payload)
         except Exception as err:  # noqa: BLE001 -- a failing run must never stop the campaign
             tb = traceback.format_exc(limit=6)
             result = failure_result(f"error: {type(err).__name__}: {err}\n{tb}")
             failure = "error"
         finally:
+            self.reports.end()
             if watchdog is not None:
                 watchdog.cancel()
         wall = time.perf_counter() - t0
@@ -185,9 +269,10 @@ class Executor:
 
     def _watchdog(self, task: Task) -> threading.Timer:
         """Last resort against a run that hangs (e.g. inside compiled code, where no exception can
-        reach it): after ``timeout`` seconds the run is stored as failed ("timeout", reused on
-        resume like any physics failure, recomputed with --retry-failed) and the process exits
-        with status 3 (under MPI the job is aborted).  Rerunning the scene resumes past it."""
+        reach it): after ``timeout`` seconds the run is stored as failed ("timeout": shown in
+        the report, not a result of its inputs) and the process exits with status 3 (under MPI
+        the job is aborted).  Rerunning the scene resumes the campaign and computes this run
+        again; a run that hangs every time is a bug to report."""
 
         def expire() -> None:
             reason = f"timeout: the run exceeded {self.timeout:g} s and was killed"
@@ -197,9 +282,8 @@ class Executor:
                                label=task.label, failure="timeout", settings=self.settings)
             finally:
                 print(f"farm: run {task.key[:12]} ({task.label}) exceeded {self.timeout:g} s: "
-                      f"recorded as "
-                      "failed; exiting -- run the scene again to resume", file=sys.stderr,
-                      flush=True)
+                      "recorded as stopped by the wall clock; exiting -- run the scene again to "
+                      "resume (this run is computed again)", file=sys.stderr, flush=True)
                 try:
                     if MPI.Is_initialized() and MPI.COMM_WORLD.Get_size() > 1:
                         MPI.COMM_WORLD.Abort(3)
@@ -222,6 +306,7 @@ class _Book:
         self.ready: deque[Task] = deque()
         self.done: dict[str, Outcome] = {}
         self.waiting: dict[str, list[Task]] = {}  # key in flight -> duplicate tasks
+        self.active: dict[str, Task] = {}  # key in flight -> the task executing it
         self.in_flight = 0
 
     def pull(self) -> None:
@@ -246,12 +331,20 @@ class _Book:
                 self.waiting[t.key].append(t)
                 continue
             self.waiting[t.key] = []
+            self.active[t.key] = t
             self.in_flight += 1
             return t
         return None
 
+    def report(self, key: str, info: dict) -> None:
+        """A report of the run of ``key``; late ones (the run has finished) are dropped."""
+        task = self.active.get(key)
+        if task is not None and self.progress is not None:
+            self.progress.running(task, info)
+
     def finish(self, task: Task, outcome: Outcome) -> None:
         self.in_flight -= 1
+        self.active.pop(task.key, None)
         self.done[task.key] = outcome
         dups = self.waiting.pop(task.key, [])
         self._record(task, outcome)
@@ -269,20 +362,38 @@ class _Book:
         return not self.ready and self.in_flight == 0
 
 
+def _plan(planner: Planner) -> list[Stage] | None:
+    """The planner's stages if it gives them (``plan()`` is optional)."""
+    plan = getattr(planner, "plan", None)
+    return plan() if callable(plan) else None
+
+
+def _connect(execute: Callable[[Task], Outcome],
+             sink: Callable[[Task, dict], None] | None) -> None:
+    """Route an Executor's run reports to ``sink`` (other execute callables report nothing)."""
+    if isinstance(execute, Executor):
+        execute.reports.sink = sink
+
+
 def run_serial(planner: Planner, execute: Callable[[Task], Outcome],
                progress: ProgressLike | None = None) -> dict[str, Outcome]:
     """Drive the planner on this process alone. Returns outcomes by key."""
     book = _Book(planner, progress)
     if progress is not None:
-        progress.start(planner.total(), 1)
-    book.pull()
-    while True:
-        task = book.take()
-        if task is None:
-            if book.finished:
-                break
-            raise FarmError("planner deadlock: no task ready and none running")  # pragma: no cover
-        book.finish(task, execute(task))
+        progress.start(planner.total(), 1, _plan(planner))
+    _connect(execute, lambda task, info: book.report(task.key, info))
+    try:
+        book.pull()
+        while True:
+            task = book.take()
+            if task is None:
+                if book.finished:
+                    break
+                raise FarmError("planner deadlock: no task ready and none "
+                                "running")  # pragma: no cover
+            book.finish(task, execute(task))
+    finally:
+        _connect(execute, None)
     if progress is not None:
         progress.finish()
     return book.done
@@ -305,21 +416,60 @@ def run_farm(make_planner: Callable[[], Planner], execute: Callable[[Task], Outc
     try:
         if comm.Get_rank() == 0:
             return _master(comm, make_planner, execute, progress, poll)
-        _worker(comm, execute)
+        _worker(comm, execute, poll)
         return None, {}
     finally:
         comm.Free()
 
 
-def _worker(comm: Any, execute: Callable[[Task], Outcome]) -> None:
+class _Nap:
+    """Idle sleeps of a polling loop: none for SPIN seconds after an event (poll again at once),
+    then MIN_NAP doubling up to QUICK_NAP until QUICK_WINDOW seconds after it (answers come
+    soon after an event), then up to ``poll``.  A sleep lasts ~0.1 ms or more whatever it asks
+    for (more on a loaded machine), so an answer that waits for a few of them right after an
+    event is slow: 2000 no-op tasks from a dispatching rank 0 took 1.8 ms each with naps from
+    1 us, 0.25 ms with the spin."""
+
+    def __init__(self, poll: float):
+        self.poll = poll
+        self.event()
+
+    def event(self) -> None:
+        self.nap, self.last = 0.0, time.monotonic()
+
+    def sleep(self) -> None:
+        since = time.monotonic() - self.last
+        if since < SPIN:
+            return  # poll again at once: even sleep(0) is a system call that yields the core
+        time.sleep(self.nap)
+        cap = min(QUICK_NAP, self.poll) if since < QUICK_WINDOW else self.poll
+        self.nap = min(max(2.0 * self.nap, MIN_NAP), cap)
+
+
+def _wait(comm: Any, source: int, poll: float) -> None:
+    """Wait for a message from ``source`` by polling: a blocking receive would spin a core at
+    100 % while a worker waits for the next stage of the campaign."""
+    nap = _Nap(poll)
+    while not comm.Iprobe(source=source, tag=MPI.ANY_TAG):
+        nap.sleep()
+
+
+def _worker(comm: Any, execute: Callable[[Task], Outcome], poll: float) -> None:
     status = MPI.Status()
     outcome: tuple[Task, Outcome] | None = None
-    while True:
-        comm.send(outcome, dest=0, tag=TAG_REQUEST)
-        task = comm.recv(source=0, tag=MPI.ANY_TAG, status=status)
-        if status.Get_tag() == TAG_STOP:
-            return
-        outcome = (task, execute(task))
+    # reports go to rank 0 as they come (RunReports rate-limits them); a small pickled dict is
+    # sent eagerly, so the run does not wait for the dispatcher
+    _connect(execute, lambda task, info: comm.send((task.key, info), dest=0, tag=TAG_PROGRESS))
+    try:
+        while True:
+            comm.send(outcome, dest=0, tag=TAG_REQUEST)
+            _wait(comm, 0, poll)
+            task = comm.recv(source=0, tag=MPI.ANY_TAG, status=status)
+            if status.Get_tag() == TAG_STOP:
+                return
+            outcome = (task, execute(task))
+    finally:
+        _connect(execute, None)
 
 
 def _master(comm: Any, make_planner: Callable[[], Planner], execute: Callable[[Task], Outcome],
@@ -337,9 +487,10 @@ def _master(comm: Any, make_planner: Callable[[], Planner], execute: Callable[[T
         raise
     book = _Book(planner, progress)
     if progress is not None:
-        progress.start(planner.total(), nworkers + (1 if local else 0))
+        progress.start(planner.total(), nworkers + (1 if local else 0), _plan(planner))
     to_local: queue.Queue = queue.Queue()
     from_local: queue.Queue = queue.Queue()
+    local_reports: queue.Queue = queue.Queue()  # rank 0's own runs -> the dispatcher thread
     failure: list[BaseException] = []
     abort = threading.Event()
 
@@ -347,24 +498,30 @@ def _master(comm: Any, make_planner: Callable[[], Planner], execute: Callable[[T
         st = MPI.Status()
         idle: deque[int] = deque()
         local_idle = local
+        nap = _Nap(poll)
         try:
             book.pull()
             while True:
                 if abort.is_set():
                     raise FarmError("rank 0 worker failed")
                 busy = False
-                while comm.Iprobe(source=MPI.ANY_SOURCE, tag=TAG_REQUEST, status=st):
-                    src = st.Get_source()
-                    msg = comm.recv(source=src, tag=TAG_REQUEST)
+                while comm.Iprobe(source=MPI.ANY_SOURCE, tag=MPI.ANY_TAG, status=st):
+                    src, tag = st.Get_source(), st.Get_tag()
+                    msg = comm.recv(source=src, tag=tag)
+                    if tag == TAG_PROGRESS:  # needs no quick answer: not an event for the naps
+                        book.report(*msg)
+                        continue
+                    busy = True
                     if msg is not None:
                         book.finish(*msg)
                     idle.append(src)
-                    busy = True
+                _drain(local_reports, book)
                 while True:
                     try:
                         msg = from_local.get_nowait()
                     except queue.Empty:
                         break
+                    _drain(local_reports, book)  # the run's reports were queued before it
                     book.finish(*msg)
                     local_idle = True
                     busy = True
@@ -380,20 +537,22 @@ def _master(comm: Any, make_planner: Callable[[], Planner], execute: Callable[[T
                     busy = True
                 if book.finished and (local_idle or not local) and len(idle) == nworkers:
                     break
-                if not busy:
-                    time.sleep(poll)
+                if busy:
+                    nap.event()
+                else:
+                    nap.sleep()
         except BaseException as err:  # noqa: BLE001 -- reported on the main thread
             failure.append(err)
         finally:
             for _ in range(nworkers):  # every worker is (or will be) waiting for an answer
-                while not idle:
-                    comm.recv(source=MPI.ANY_SOURCE, tag=TAG_REQUEST, status=st)
-                    idle.append(st.Get_source())
+                if not idle:
+                    idle.append(_next_request(comm, st))
                 comm.send(None, dest=idle.popleft(), tag=TAG_STOP)
             to_local.put(None)
 
     thread = threading.Thread(target=dispatch, name="rf-dispatcher", daemon=True)
     thread.start()
+    _connect(execute, lambda task, info: local_reports.put((task.key, info)))
     try:
         while local:
             task = to_local.get()
@@ -404,6 +563,8 @@ def _master(comm: Any, make_planner: Callable[[], Planner], execute: Callable[[T
         abort.set()  # the dispatcher stops the workers, then we re-raise
         thread.join()
         raise
+    finally:
+        _connect(execute, None)
     thread.join()
     if failure:
         raise FarmError(f"campaign dispatcher failed: {failure[0]!r}") from failure[0]
@@ -412,8 +573,24 @@ def _master(comm: Any, make_planner: Callable[[], Planner], execute: Callable[[T
     return planner, book.done
 
 
+def _drain(reports: queue.Queue, book: _Book) -> None:
+    """Hand the reports rank 0's own worker queued to the book."""
+    while True:
+        try:
+            book.report(*reports.get_nowait())
+        except queue.Empty:
+            return
+
+
+def _next_request(comm: Any, st: Any) -> int:
+    """Wait for a worker's next request (dropping its progress reports); returns its rank."""
+    while True:
+        comm.recv(source=MPI.ANY_SOURCE, tag=MPI.ANY_TAG, status=st)
+        if st.Get_tag() == TAG_REQUEST:
+            return st.Get_source()
+
+
 def _stop_all(comm: Any, nworkers: int) -> None:
     st = MPI.Status()
     for _ in range(nworkers):
-        comm.recv(source=MPI.ANY_SOURCE, tag=TAG_REQUEST, status=st)
-        comm.send(None, dest=st.Get_source(), tag=TAG_STOP)
+        comm.send(None, dest=_next_request(comm, st), tag=TAG_STOP)

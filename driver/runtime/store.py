@@ -39,12 +39,20 @@ A single-scale run is a pure function of its :class:`~rubberfriction.driver.slid
   during a metadata update can make the whole file unreadable.)  Several processes may write
   different runs at the same time without a lock -- this is what lets every MPI rank store its
   own finished runs the moment they finish (:mod:`.farm`).
-* **failures** are stored like results, with their reason.  ``failure = "physics"``: the run
-  returned ``status="failed"`` (no convergence after cut-backs and fallbacks, distortion); it is
-  a result of the inputs and is reused on resume.  ``failure = "error"``: the run raised (a bug,
-  a missing module, memory); it is kept for the report but retried on the next campaign.
-  ``failure = "timeout"``: the run exceeded the scene's ``run_timeout`` (hung) and was killed;
-  reused on resume like a physics failure (``--retry-failed`` recomputes it).
+* **failures** are stored like results, with their reason, and the report shows them.  Whether
+  a stored failure is reused depends on whether it is a result of the inputs
+  (:func:`reusable_failure`):
+
+  - ``failure = "physics"``: the run returned ``status="failed"`` (no convergence after
+    cut-backs and fallbacks, distortion).  A result of the inputs: reused on resume
+    (``--retry-failed`` recomputes it).
+  - ``failure = "error"``: the run raised (a bug, a missing module, memory).  Says nothing about
+    the inputs: kept for the report, recomputed on the next campaign.
+  - ``failure = "timeout"``: the wall clock stopped the run -- it reached the scene's
+    ``run_timeout`` and stopped itself, or the watchdog killed it (hung).  Where the clock
+    stops a run depends on the machine and its load, not on the inputs, so it is not a result
+    either: kept for the report ("N runs stopped by the wall clock"), recomputed on the next
+    campaign.
 
 Query API: :meth:`Store.has`, :meth:`Store.outcome` (scalars only, cheap),
 :meth:`Store.load` (everything), :meth:`Store.keys`, :meth:`Store.query` (by status and label),
@@ -186,6 +194,22 @@ def run_key(spec: Any, version: str | None = None) -> str:
 # ----------------------------------------------------------------------------------------------
 
 
+#: failure kinds that are results of the run's inputs (reused on resume unless retried)
+INPUT_FAILURES = ("physics",)
+
+
+def reusable_failure(failure: str, retry_failed: bool = False) -> bool:
+    """Whether a stored run with this ``failure`` kind ("" = ok) is reused on resume.
+
+    A success is always reused; a physics failure unless ``retry_failed``; a run that raised
+    ("error") or that the wall clock stopped ("timeout") never: neither is a result of the
+    inputs (see the module docstring).
+    """
+    if not failure:
+        return True
+    return failure in INPUT_FAILURES and not retry_failed
+
+
 @dataclass
 class Outcome:
     """What the campaign logic needs from a finished run (small, picklable, rank-independent)."""
@@ -193,7 +217,7 @@ class Outcome:
     key: str
     status: str  # "ok" | "failed"
     reason: str = ""
-    failure: str = ""  # "" | "physics" | "error"
+    failure: str = ""  # "" | "physics" | "error" | "timeout"
     values: dict[str, float] = field(default_factory=dict)  # RESULT_SCALARS
     wall_time: float = 0.0
     reused: bool = False  # taken from the store, not computed in this campaign
@@ -202,6 +226,11 @@ class Outcome:
     @property
     def ok(self) -> bool:
         return self.status == "ok"
+
+    @property
+    def timed_out(self) -> bool:
+        """Stopped by the wall clock (``failure == "timeout"``): not a result of the inputs."""
+        return self.failure == "timeout"
 
     def value(self, name: str) -> float:
         return float(self.values.get(name, math.nan))

@@ -49,19 +49,20 @@ from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonS
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.sliding import shortcut
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
-from rubberfriction.driver.sliding.window import (
-    error_estimate,
-    is_converged,
-    period_means,
-    step_lengths,
-    window_drift,
-)
+from rubberfriction.driver.sliding.progress import StepReporter
 from rubberfriction.driver.sliding.spec import (
     MESH_REFINEMENT,
     SlidingResult,
     SlidingSpec,
     default_h_contact,
     refined,
+)
+from rubberfriction.driver.sliding.window import (
+    error_estimate,
+    is_converged,
+    period_means,
+    step_lengths,
+    window_drift,
 )
 from rubberfriction.forms import jit
 from rubberfriction.forms.kinematics import deformation_gradient
@@ -561,13 +562,17 @@ def run_sliding(spec: SlidingSpec, progress=None, observers=(),
         return SlidingResult("failed", reason=f"{type(err).__name__}: {err}")
 
 
-def sliding_runner(wall_limit: float = 0.0) -> Callable[[SlidingSpec], SlidingResult]:
+def sliding_runner(wall_limit: float = 0.0, progress: Callable[[dict], None] | None = None
+                   ) -> Callable[[SlidingSpec], SlidingResult]:
     """The run function of a campaign: :func:`run_sliding` with the scene's per-run wall-time
     limit (``wall_limit`` > 0: a run still going after that many seconds stops itself with a
-    structured failure, stored as 'timeout')."""
+    structured failure, stored as 'timeout') and, with ``progress``, a
+    :class:`~rubberfriction.driver.sliding.progress.StepReporter` calling it after every sliding
+    step with a dict of where the run is (the campaign's progress line)."""
     limit = float(wall_limit)
 
     def runner(spec: SlidingSpec) -> SlidingResult:
-        return run_sliding(spec, wall_limit=limit)
+        observers = (StepReporter(progress),) if progress is not None else ()
+        return run_sliding(spec, observers=observers, wall_limit=limit)
 
     return runner

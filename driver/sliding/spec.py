@@ -7,11 +7,14 @@ and the automatic normal penalty's modulus are functions of the spec alone, so t
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from rubberfriction.driver.sliding.sinusoid import effective_modulus
+from rubberfriction.meshes.common import contact_divisions
+from rubberfriction.meshes.grading import geometric_sizes
 
 
 @dataclass(frozen=True)
@@ -97,6 +100,39 @@ def default_h_contact(spec: SlidingSpec) -> float:
     lam = 2.0 * L / max(changes, 1)
     lam = max(lam, 4.0 * dx)
     return lam / spec.elements_per_wavelength
+
+
+def rms_slope(spec: SlidingSpec) -> float:
+    """Root-mean-square slope of the rigid surface (the periodic closing segment included)."""
+    x, h = np.asarray(spec.surface_x, float), np.asarray(spec.surface_h, float)
+    if spec.period > 0:
+        x, h = np.append(x, x[0] + spec.period), np.append(h, h[0])
+    return float(np.sqrt(np.mean((np.diff(h) / np.diff(x)) ** 2))) if x.size > 1 else 0.0
+
+
+def cost_model(spec: SlidingSpec) -> float:
+    """Model cost of a run in arbitrary units, for time estimates: nodes of the block mesh times
+    time steps of the first attempt times a difficulty factor,
+    (n_x + 1) (n_z + 1) (n_slide + compression_steps) (1 + rms slope).
+
+    n_x = L / h_contact elements along the contact face and n_z graded rows up to the block
+    height (``meshes.block.rubber_block``), n_slide = sliding distance / step length (as in
+    ``SlidingRun._attempt``).  Steep samples need more Newton iterations and cut-backs
+    (README "Status": active-set cycling above rms slope ~1.5); 1 + rms slope brings the model
+    of the default scene's scales (rms slope 0.8, 0.5, 2.0, 4.0) to 1 : 2.1 : 2.3 : 13.7 per run
+    against the measured 1 : 2.0 : 1.8 : 17.8 (nodes x steps alone: 1 : 2.6 : 1.4 : 4.8).  Only
+    ratios mean something; finished runs of the same scale estimate better
+    (``driver.runtime.progress.CostEstimate``).
+    """
+    L = spec.block_length or spec.period
+    H = spec.block_height or L
+    hc = spec.h_contact or default_h_contact(spec)
+    n_x = contact_divisions(L, None, hc)
+    n_z = geometric_sizes(H, hc, spec.grading)[0].size
+    distance = spec.slide_distance or 3.0 * L
+    n_slide = math.ceil(distance / (spec.step_length or 0.5 * hc) - 1e-9)
+    nodes_steps = (n_x + 1) * (n_z + 1) * (n_slide + spec.compression_steps)
+    return float(nodes_steps * (1.0 + rms_slope(spec)))
 
 
 #: contact elements of the refined fallback attempts are this many times shorter
