@@ -141,6 +141,7 @@ class ContactInterface {
   struct NodalIntegrals {
     DX gx, gy, area;                       ///< gbar_A, A_A
     std::vector<std::pair<int, DX>> D, M;  ///< D_AB by slave node B, M_AC by entity ns + C
+    V2<DX> nu;                             ///< Int M_A nu2 da (chain ends only: their frame)
   };
 
   void positions(const double* u, std::size_t n, std::vector<V2<double>>& xs, std::vector<V2<double>>& xm) const;
@@ -169,6 +170,7 @@ class ContactInterface {
   LawParameters law_parameters(double dt) const;
   int prev_node(int A) const { return slave_.prev[static_cast<std::size_t>(A)]; }
   int next_node(int A) const { return slave_.next[static_cast<std::size_t>(A)]; }
+  bool chain_end(int A) const { return prev_node(A) < 0 || next_node(A) < 0; }
   int stride() const;  ///< dual variables per entity: 2 (x, y) or 3 (x, y, T)
   bool conduction_possible() const;
   V2<DX> position_dual(const Stencil& L, int e) const;

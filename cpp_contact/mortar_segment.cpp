@@ -45,6 +45,7 @@ void PairIntegrals::set_zero() {
     for (auto& b : a) b = constant12(0.0);
   for (auto& a : M)
     for (auto& b : a) b = constant12(0.0);
+  for (auto& a : nu) a = {constant12(0.0), constant12(0.0)};
 }
 
 void nodal_normals(const SlaveSegment& s, V2<double>& na, V2<double>& nb) {
@@ -169,6 +170,8 @@ void integrate_piece(const SlaveSegment& s, const MasterSegment& m, const Breakp
   const D12 len = norm(X[2] - X[1]);
   const D12 half = (xhi - xlo) * 0.5;
 
+  // the master's normal seen from the slave, constant on the piece
+  const V2<D12> nu2 = -1.0 * m.outward_normal(X[4], X[5]);
   const GaussRule& rule = gauss_legendre(n_gauss);
   for (std::size_t g = 0; g < static_cast<std::size_t>(rule.n); ++g) {
     const D12 xi = xlo + half * (1.0 + rule.x[g]);
@@ -186,6 +189,8 @@ void integrate_piece(const SlaveSegment& s, const MasterSegment& m, const Breakp
       out.gap[A][0] += MAw * dx.x;
       out.gap[A][1] += MAw * dx.y;
       out.area[A] += MAw;
+      out.nu[A].x += MAw * nu2.x;
+      out.nu[A].y += MAw * nu2.y;
       for (std::size_t B = 0; B < 2; ++B) out.D[A][B] += MAw * N[B];
       for (std::size_t C = 0; C < 2; ++C) out.M[A][C] += MAw * Nm[C];
     }
@@ -227,6 +232,7 @@ bool node_to_segment(const std::array<V2<double>, 3>& x, bool has_prev, bool has
   out.D[0][0] = w;
   out.M[0][0] = w * (1.0 - e);
   out.M[0][1] = w * e;
+  out.nu[0] = -1.0 * (w * m.outward_normal(X[4], X[5]));
   return true;
 }
 

@@ -13,6 +13,8 @@
 //   gap[A]  = Int M_A (x2 - x1) da          (vector weighted gap, 5.38)
 //   area[A] = Int M_A da                    (nodal mortar weight)
 //   D[A][B] = Int M_A N_B da,  M[A][C] = Int M_A N_C(eta) da
+//   nu[A]   = Int M_A nu2 da,  nu2 = -(outward master normal): the master's normal seen from
+//             the slave, the contact frame of a slave chain end (contact_interface.cpp, phase 4)
 // with M_A = N_A the standard linear Lagrange-multiplier shape functions (5.35).
 #pragma once
 
@@ -38,6 +40,11 @@ struct MasterSegment {
     const V2<double> n = normalized(right_normal(q1 - q0));
     return normal_sign * n;
   }
+  /// The same over dual coordinates (q0 -> q1 given as duals).
+  template <class T>
+  V2<T> outward_normal(const V2<T>& d0, const V2<T>& d1) const {
+    return normal_sign * normalized(right_normal(d1 - d0));
+  }
 };
 
 /// Where an end point of an integration piece comes from.
@@ -55,6 +62,7 @@ struct PairIntegrals {
   std::array<D12, 2> area;
   std::array<std::array<D12, 2>, 2> D;  ///< [A][B]
   std::array<std::array<D12, 2>, 2> M;  ///< [A][C]
+  std::array<V2<D12>, 2> nu;            ///< [A] Int M_A nu2 da, nu2 = -(outward master normal)
   void set_zero();
 };
 
@@ -82,7 +90,8 @@ void integrate_piece(const SlaveSegment& s, const MasterSegment& m, const Breakp
 
 /// Node-to-segment collocation at slave node A (slots: 0 prev, 1 A, 2 next, 4/5 master):
 /// the node is projected along its averaged normal onto the master segment; weight = half the
-/// adjacent slave segment lengths. Fills index A = 0 of `out` (D[0][0] is the lumped weight).
+/// adjacent slave segment lengths. Fills index A = 0 of `out` (D[0][0] is the lumped weight; nu[0]
+/// the weight times the master's normal seen from the slave).
 /// Returns false if the projection does not fall on the segment.
 bool node_to_segment(const std::array<V2<double>, 3>& x, bool has_prev, bool has_next, const MasterSegment& m,
                      PairIntegrals& out, double& eta, double& gap);

@@ -4,7 +4,8 @@ Central finite differences of the assembled residual against the Jacobian, colum
 curved slave and master surfaces (so the projection, the segmentation points and the averaged
 normals all vary with u), for every group of terms: normal penalty, stick, slip with constant mu,
 slip with mu(p, v, T) from a spline, and the thermal blocks (conduction with h_c(p), frictional
-heating, temperature coupling of mu).  Mortar and node-to-segment, rigid and deformable master.
+heating, temperature coupling of mu).  Mortar and node-to-segment, rigid and deformable master, and a chain end in contact across a
+master kink (its frame is the master normal averaged over its support).
 Tolerance: 1e-6 relative, per block (u-u, u-T, T-u, T-T), to the block's largest entry.
 """
 
@@ -170,3 +171,81 @@ def test_jacobian_exact_for_a_slave_wrapped_around_a_sharp_peak():
     errors, status = fd_check(c, np.zeros(2 * n), 2, h=1e-8)
     assert np.count_nonzero(status) == n  # every node in contact
     assert errors["u-u"] < RTOL, f"tangent error {errors['u-u']:.2e}"
+
+
+def corner_chain(method, *, deformable, friction):
+    """A slave chain whose end segment dips into a kinked master like a sharp corner pressed into
+    a road: the end node's support spans a kink of the master, so its frame (the mortar average of
+    the master normal over the support, cpp_contact/README.md, Kinematics) moves with the slave
+    and (deformable) master nodes."""
+    n = 5
+    X = np.column_stack([np.linspace(0.0, 1.0, n), [0.02, 0.021, 0.019, 0.02, -0.005]])
+    slave = SlaveSurface(X, np.column_stack([2 * np.arange(n), 2 * np.arange(n) + 1]),
+                         np.column_stack([np.arange(n - 1), np.arange(1, n)]))
+    xm = np.array([-0.5, 0.3, 0.87, 1.5])
+    zm = np.array([0.0, 0.004, -0.008, 0.01])
+    ndof = 2 * n
+    if deformable:  # the lower body's top face runs right to left
+        m = len(xm)
+        master = DeformableMaster(np.column_stack([xm[::-1], zm[::-1]]),
+                                  ndof + np.column_stack([2 * np.arange(m), 2 * np.arange(m) + 1]),
+                                  np.column_stack([np.arange(m - 1), np.arange(1, m)]))
+        ndof += 2 * m
+    else:
+        master = RigidMaster(np.column_stack([xm, zm]))
+    c = Contact(slave, master, method=method, friction=friction, penalty=PenaltySettings(c_N=100.0, c_T=60.0),
+                search_radius=0.3)
+    rng = np.random.default_rng(3)
+    u = np.zeros(ndof)
+    u[1:2 * n:2] = -0.03 + 0.002 * rng.standard_normal(n)
+    u[0:2 * n:2] = (0.03 if friction else 0.0) + 0.002 * rng.standard_normal(n)
+    if deformable:
+        u[2 * n:] = 0.002 * rng.standard_normal(ndof - 2 * n)
+    return c, u, n
+
+
+@pytest.mark.parametrize("method,deformable,friction", [("mortar", False, 0.3), ("mortar", True, 0.3),
+                                                        ("mortar", False, None), ("nts", False, 0.3),
+                                                        ("nts", True, 0.3)])
+def test_jacobian_exact_at_a_chain_end_on_a_kinked_master(method, deformable, friction):
+    """FD check of the chain-end frame: the end node is in contact, its frame is the master's
+    normal averaged over its support (not the one-sided normal of the tilted end segment), the
+    support straddles the master kink at x = 0.87 (mortar: two master pieces with moving
+    breakpoints; node-to-segment: the segment under the node) and the tangent stays exact."""
+    c, u, n = corner_chain(method, deformable=deformable, friction=friction)
+    errors, status = fd_check(c, u, 2, dt=0.1)
+    assert status[n - 1] == (2 if friction else 1) and np.count_nonzero(status) == n
+    assert errors["u-u"] < RTOL, f"tangent error {errors['u-u']:.2e}"
+    nrm = c.state()["normal"][n - 1]
+    x = c.slave.X + u[c.slave.dofs]
+    t_end = x[n - 1] - x[n - 2]
+    one_sided = np.array([t_end[1], -t_end[0]]) / np.linalg.norm(t_end)
+    assert np.degrees(np.arccos(np.clip(nrm @ one_sided, -1.0, 1.0))) > 5.0  # the end segment is tilted
+    assert nrm[1] < -0.99  # the master's normal, seen from the slave
+
+
+def test_chain_end_frame_is_the_flat_masters_normal():
+    """On a flat rigid master the frame of a chain end in contact is exactly -z, whatever the
+    tilt of its end segment, so p n_A + t_T tau_A adds nothing to F_x from the pressure and
+    nothing to F_z from the friction; the interior nodes keep their averaged normals (5.36)."""
+    n = 4
+    X = np.column_stack([np.linspace(0.0, 0.3, n), np.zeros(n)])
+    slave = SlaveSurface(X, np.column_stack([2 * np.arange(n), 2 * np.arange(n) + 1]),
+                         np.column_stack([np.arange(n - 1), np.arange(1, n)]))
+    c = Contact(slave, RigidMaster(np.array([[-1.0, 0.0], [1.0, 0.0]])), friction=0.5,
+                penalty=PenaltySettings(c_N=100.0, c_T=10.0), search_radius=0.2)
+    u = np.zeros(2 * n)
+    u[1::2] = [-0.001, -0.001, -0.002, -0.02]  # the last node digs in: end segment tilted 10 degrees
+    u[0::2] = 0.5  # slip everywhere: c_T x 0.5 > mu p
+    st = c.evaluate(u, dt=1.0)
+    assert np.all(st["status"] == 2)
+    assert np.array_equal(st["normal"][[0, n - 1]], [[0.0, -1.0], [0.0, -1.0]])
+    assert st["normal"][n - 2, 0] < -0.02  # interior: averaged over the tilted end segment
+    t = st["tangential_traction"]
+    assert np.allclose(np.abs(t), 0.5 * st["pressure"], rtol=1e-14)
+    # force of the two chain ends: exactly on the master's friction cone
+    w, p = st["weight"], st["pressure"]
+    ends = [0, n - 1]
+    Fz_ends = np.sum(w[ends] * p[ends])
+    Fx_ends = -np.sum(w[ends] * t[ends])
+    assert Fx_ends == pytest.approx(-0.5 * Fz_ends, rel=1e-14)
