@@ -340,6 +340,8 @@ PYBIND11_MODULE(_contact, m) {
       .def("set_search_radius", &rf::ContactInterface::set_search_radius, py::arg("radius"))
       .def("set_gauss_points", &rf::ContactInterface::set_gauss_points, py::arg("n"))
       .def("set_allow_new_nonzeros", &rf::ContactInterface::set_allow_new_nonzeros, py::arg("allow"))
+      .def("set_periodic_seam", &rf::ContactInterface::set_periodic_seam, py::arg("seam"),
+           "The slave's chain ends are the seam of a periodic cell: they keep the slave normal")
       .def(
           "reset_history",
           [](rf::ContactInterface& c, const DArray& u, const std::array<double, 2>& offset) {

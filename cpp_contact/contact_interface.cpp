@@ -552,7 +552,7 @@ std::vector<ContactInterface::NodalIntegrals> ContactInterface::integrate(const 
     a.gx = constantX(0.0, S);
     a.gy = constantX(0.0, S);
     a.area = constantX(0.0, S);
-    if (chain_end(A)) a.nu = {constantX(0.0, S), constantX(0.0, S)};
+    if (vertex_end(A)) a.nu = {constantX(0.0, S), constantX(0.0, S)};
   }
   PairIntegrals pi;
   for (std::size_t i = 0; i < pairs.size(); ++i) {
@@ -589,7 +589,7 @@ void ContactInterface::scatter_pair(const PairIntegrals& pi, const PairSlots& ps
   scatter(pi.gap[r][0], a.gx, base);
   scatter(pi.gap[r][1], a.gy, base);
   scatter(pi.area[r], a.area, base);
-  if (chain_end(ps.receivers[r])) {
+  if (vertex_end(ps.receivers[r])) {
     scatter(pi.nu[r].x, a.nu.x, base);
     scatter(pi.nu[r].y, a.nu.y, base);
   }
@@ -611,7 +611,8 @@ void ContactInterface::scatter_pair(const PairIntegrals& pi, const PairSlots& ps
 // sum_C M_AC theta_C - sum_B D_AB theta_B of the conduction (4.24-4.26).
 //
 // n_A is the averaged slave normal of 5.36, n_A ⟂ x_{A+1} - x_{A-1}, wherever the node has two
-// slave neighbours. A chain end has one adjacent slave segment and nothing to average: it is a
+// slave neighbours (at the seam of a periodic cell, one-sided; see vertex_end). Any other chain
+// end has one adjacent slave segment and nothing to average: it is a
 // vertex of the slave touching the master's face, and the normal of a vertex-to-face contact is
 // the face's. Its frame is the master's normal averaged over the node's support,
 // n_A = Int M_A nu2 da / |Int M_A nu2 da| (nu2 = -(outward master normal)), the direction along
@@ -628,7 +629,7 @@ NodalKinematics ContactInterface::nodal_kinematics(int A, const Stencil& L, cons
   kin.gx = a.gx;
   kin.gy = a.gy;
   kin.area = a.area;
-  if (chain_end(A) && norm(values(a.nu)) > 0.0) {
+  if (vertex_end(A) && norm(values(a.nu)) > 0.0) {
     kin.normal = normalized(a.nu);
   } else {
     const int p = prev_node(A), q = next_node(A);

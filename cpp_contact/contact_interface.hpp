@@ -73,6 +73,8 @@ class ContactInterface {
   void set_search_radius(double r);
   void set_gauss_points(int n);
   void set_allow_new_nonzeros(bool allow) { allow_new_nonzeros_ = allow; }
+  /// The slave's two chain ends are the seam of a periodic cell (see vertex_end)
+  void set_periodic_seam(bool seam) { periodic_seam_ = seam; }
 
   /// History reference: positions at u and the rigid offset become the last converged state;
   /// tangential elastic gaps are cleared.
@@ -171,6 +173,10 @@ class ContactInterface {
   int prev_node(int A) const { return slave_.prev[static_cast<std::size_t>(A)]; }
   int next_node(int A) const { return slave_.next[static_cast<std::size_t>(A)]; }
   bool chain_end(int A) const { return prev_node(A) < 0 || next_node(A) < 0; }
+  /// A chain end that is a vertex of the body touching the master's face, not the seam of a
+  /// periodic cell (there the two ends are one point of a closed chain, tied by the cell's
+  /// constraint, and keep the one-sided slave normal of 5.36)
+  bool vertex_end(int A) const { return chain_end(A) && !periodic_seam_; }
   int stride() const;  ///< dual variables per entity: 2 (x, y) or 3 (x, y, T)
   bool conduction_possible() const;
   V2<DX> position_dual(const Stencil& L, int e) const;
@@ -187,6 +193,7 @@ class ContactInterface {
   double search_radius_ = -1.0;
   int n_gauss_ = 4;
   bool allow_new_nonzeros_ = false;
+  bool periodic_seam_ = false;
   DofIndex max_dof_ = -1;
 
   // state of the current evaluation

@@ -129,3 +129,31 @@ def test_diverged_iterate_is_assembled_at_once():
         _, g, p = outputs(c, ub)
         assert np.all(np.isfinite(p[: n - 3]))
         np.testing.assert_allclose(p[: n - 3], p_ok[: n - 3], rtol=1e-12, atol=0)
+
+
+def test_seam_of_a_periodic_cell_is_not_a_corner():
+    """A flat chain exactly one period long is a closed periodic chain; with ``periodic_seam`` its
+    two ends keep the slave normal (vertical here), so frictionless contact gives F_x = 0 to
+    roundoff and the forces do not depend on where the seam sits (the same node set rolled by m
+    nodes).  Without the flag the ends are corners of an open body: they take the master's normal
+    and, at the tilted crest the seam sits on, push sideways (|F_x| > 1e-4 F_z)."""
+    n = 41
+    h = L / (n - 1)
+    pen = PenaltySettings(c_N=300.0)
+
+    def forces(x0: float, seam: bool) -> tuple[float, float]:
+        s = chain(x0, L, n, 0.035)
+        s.periodic_seam = seam
+        c = Contact(s, periodic_master(), penalty=pen, search_radius=0.2)
+        R, _, p = outputs(c, np.zeros(2 * n))
+        assert p[0] > 0 and p[-1] > 0 and np.count_nonzero(p) < n  # ends in contact, partial contact
+        return R[0::2].sum(), R[1::2].sum()
+
+    Fx0, Fz0 = forces(0.0, True)
+    assert abs(Fz0) > 0 and abs(Fx0) <= 1e-12 * abs(Fz0)
+    for m in (1, 2):  # seam still on the crest region, node set unchanged modulo L
+        Fx, Fz = forces(m * h, True)
+        assert abs(Fx) <= 1e-12 * abs(Fz0)
+        assert abs(Fz - Fz0) <= 1e-12 * abs(Fz0)
+    Fx_open, _ = forces(0.0, False)
+    assert abs(Fx_open) > 1e-4 * abs(Fz0)

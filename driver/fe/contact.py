@@ -90,19 +90,23 @@ class SlaveSurface:
     """Slave surface arrays: X (n, 2) reference coordinates, dofs (n, 2) global (u_x, u_z) dofs,
     segments (m, 2) node pairs (counter-clockwise around the body), optional temperature dofs (n,)
     and optional interior points (m, 2), one point inside the body per segment, to check the
-    orientation."""
+    orientation.  ``periodic_seam``: the chain's two ends are one point of a periodic cell (tied by
+    its constraint, eq. 6.5) and keep the one-sided slave normal; any other chain end is a vertex
+    of the body and takes the master's normal (``contact_interface.cpp``, nodal_kinematics)."""
 
     X: np.ndarray
     dofs: np.ndarray
     segments: np.ndarray
     temperature_dofs: np.ndarray | None = None
     interior_points: np.ndarray | None = None
+    periodic_seam: bool = False
 
     @classmethod
-    def from_boundary(cls, boundary, temperature_dofs=None) -> "SlaveSurface":
+    def from_boundary(cls, boundary, temperature_dofs=None, periodic_seam: bool = False) -> "SlaveSurface":
         """From ``SolidProblem.boundary(tag)`` (``BoundaryNodes``: X, dofs, segments)."""
         return cls(np.asarray(boundary.X, float), np.asarray(boundary.dofs), np.asarray(boundary.segments),
-                   None if temperature_dofs is None else np.asarray(temperature_dofs))
+                   None if temperature_dofs is None else np.asarray(temperature_dofs),
+                   periodic_seam=periodic_seam)
 
 
 @dataclass
@@ -175,6 +179,7 @@ class Contact:
             None if slave.temperature_dofs is None else np.asarray(slave.temperature_dofs, np.int64),
             None if slave.interior_points is None else np.asarray(slave.interior_points, float),
             "mortar" if self.method == "mortar" else "node_to_segment")
+        self._c.set_periodic_seam(bool(slave.periodic_seam))
         if isinstance(master, RigidMaster):
             self._c.set_rigid_master(np.asarray(master.vertices, float), float(master.period))
         elif isinstance(master, DeformableMaster):

@@ -20,8 +20,9 @@ def sliding_contact(sp, spec, formulation: str) -> Contact:
     """Contact for ``driver.sliding.run.SlidingRun``: the block's facets tagged 1 against the rigid
     (periodic) surface of a SlidingSpec.  Automatic penalty c_N = alpha |E*_eff(omega)| / h from the
     modulus at the run's excitation frequency (``sliding.penalty_modulus``) unless ``spec.penalty``
-    > 0; history referenced to the current state."""
-    slave = SlaveSurface.from_boundary(sp.boundary(1))
+    > 0; history referenced to the current state.  A periodic cell's contact face is a chain
+    closed by the cell's constraint: its ends are a seam, not corners."""
+    slave = SlaveSurface.from_boundary(sp.boundary(1), periodic_seam=spec.period > 0)
     master = RigidMaster(np.column_stack([np.asarray(spec.surface_x, float), np.asarray(spec.surface_h, float)]),
                          float(spec.period))
     if getattr(spec, "penalty", 0.0) > 0:
