@@ -405,7 +405,10 @@ def fit_adhesion(inputs: Sequence[CompoundInput], pressure: float, *, approach: 
     """
     if approach not in APPROACHES:
         raise AdhesionInputError(f"approach = {approach!r}: expected one of {APPROACHES}")
+    if alpha is not None and not (math.isfinite(alpha) and 0.0 <= alpha <= 1.0):
+        raise AdhesionInputError(f"alpha = {alpha!r}: expected 0 <= alpha <= 1")
     inputs = list(inputs)
+    notes: list[str] = []
     diffs, data = [], []
     for c in inputs:
         if approach == "original":
@@ -419,8 +422,7 @@ def fit_adhesion(inputs: Sequence[CompoundInput], pressure: float, *, approach: 
                 raise AdhesionInputError(f"compound {c.name!r}: the modified approach (dry minus "
                                          "simulated hysteresis, thesis 7.5) needs mu_H(v)")
             d = mu_diff_modified(c.dry, c.hysteresis, extrapolate=extrapolate)
-        area = on_speeds(c.area, d.v, log_values=True, extrapolate=extrapolate,
-                         what=f"contact area A_r {c.area.source}")
+        area = _area(c, d.v, extrapolate, notes)
         diffs.append(d)
         data.append(CompoundData(c.name, d.v, d.values, area))
     bell = fit_bell(data, pressure, approach=approach, bounds=bounds)
@@ -437,12 +439,23 @@ def fit_adhesion(inputs: Sequence[CompoundInput], pressure: float, *, approach: 
             mu_h = on_speeds(base, meas.v, extrapolate=extrapolate,
                              what=f"{'soap-water' if approach == 'original' else 'mu_H'} "
                                   f"{base.source} (base of the {cond} curve)")
-            area = on_speeds(c.area, meas.v, log_values=True, extrapolate=extrapolate,
-                             what=f"contact area A_r {c.area.source}")
+            area = _area(c, meas.v, extrapolate, notes)
             ys.append(meas.values - mu_h)
             mas.append(bell.mu_adhesion(c.name, meas.v, area))
         shares.append(fit_share(cond, ys, mas, given=alpha))
     if alpha is not None and not shares:
         shares.append(Share("given", float(alpha), math.nan, float(alpha), float(alpha),
                             math.nan, 0, given=True))
-    return AdhesionFit(bell, tuple(shares), tuple(inputs), tuple(diffs))
+    return AdhesionFit(bell, tuple(shares), tuple(inputs), tuple(diffs),
+                       tuple(dict.fromkeys(notes)))
+
+
+def _area(c: CompoundInput, v: np.ndarray, extrapolate: bool, notes: list[str]) -> np.ndarray:
+    """A_r of ``c`` at speeds v (log-log); an extrapolated value above 1 is capped at 1 (a
+    relative area cannot exceed full contact), and the notes say so."""
+    area = on_speeds(c.area, v, log_values=True, extrapolate=extrapolate,
+                     what=f"contact area A_r {c.area.source}")
+    if np.any(area > 1.0):
+        notes.append(f"{c.name}: extrapolated A_r above 1 capped at 1 (full contact) at "
+                     + ", ".join(f"{x:g}" for x in v[area > 1.0]) + " mm/s")
+    return np.minimum(area, 1.0)
