@@ -450,3 +450,38 @@ def test_cli_fits_from_files_and_campaign_and_writes_json(tmp_path: Path, campai
     # unequal numbers of files
     assert main(argv[:4] + [str(tmp_path / "dry.csv")] + argv[4:]) == 2
     assert "one per --dry file" in capsys.readouterr().err
+
+
+# ----------------------------------------------------------------------------------------------
+# the campaign report: A_r(v) with its spread (fig. 7.6 top)
+# ----------------------------------------------------------------------------------------------
+
+
+def test_report_writes_the_area_spread_and_the_area_plot(tmp_path: Path):
+    """results.csv / scales.csv ``area_ratio_ci95`` = A_r sqrt(sum (ci95_n / A_n)^2) over the
+    scales (scales.csv: over scales 0..i), written out by hand for two scales; ``area_v.png``."""
+    from rubberfriction.driver.multiscale.report import plot_area, point_rows, scale_rows
+    from rubberfriction.driver.multiscale.results import Point, PointResult, ScaleResult
+    from rubberfriction.driver.multiscale.statistics import sample_stats
+
+    points = []
+    for v, a0, a1 in ((1.0, [0.9, 0.8, 0.85], [0.5, 0.4]), (10.0, [0.7, 0.6, 0.75], [0.3, 0.2])):
+        s0 = ScaleResult(0, "macro", (2.0, 0.2), contact=sample_stats(a0))
+        s1 = ScaleResult(1, "micro", (0.2, 0.02), contact=sample_stats(a1))
+        s0.area_ratio = s0.contact.mean
+        s1.area_ratio = s0.contact.mean * s1.contact.mean
+        points.append(PointResult(Point("X", 0.2, v), "rough", status="ok",
+                                  area_ratio=s1.area_ratio, scales=[s0, s1]))
+    rows, srows = point_rows(points), scale_rows(points)
+    for r, row in zip(points, rows):
+        c0, c1 = r.scales[0].contact, r.scales[1].contact
+        by_hand = c0.mean * c1.mean * math.sqrt((c0.ci95 / c0.mean) ** 2
+                                                + (c1.ci95 / c1.mean) ** 2)
+        assert row["area_ratio_ci95"] == pytest.approx(by_hand, rel=1e-12)
+    assert srows[0]["area_ratio_ci95"] == pytest.approx(points[0].scales[0].contact.ci95,
+                                                        rel=1e-12)
+    assert srows[1]["area_ratio_ci95"] == pytest.approx(rows[0]["area_ratio_ci95"], rel=1e-12)
+    (f,) = plot_area(points, tmp_path)
+    assert f.name == "area_v.png" and f.stat().st_size > 10_000
+    assert plot_area([PointResult(Point("X", 0.2, 1.0), "rough", status="failed")],
+                     tmp_path) == []

@@ -29,6 +29,7 @@ import csv
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Sequence
 
 import numpy as np
 
@@ -78,6 +79,16 @@ class CampaignCurves:
                                      "= false")
         return SpeedCurve(self.v, self.mu, "mu_H", f"{self.folder} ({self.compound}, p = "
                           f"{self.pressure:g} MPa)")
+
+
+def relative_area_ci95(fractions: Sequence[float], ci95: Sequence[float]) -> float:
+    """95 % spread of A_r = prod_n A_n (eq. 7.5) from the per-scale half widths ``ci95``, first
+    order with independent scales: ``A_r sqrt(sum_n (ci95_n / A_n)^2)``; a scale without a
+    spread (one sample: NaN) adds nothing."""
+    a = np.asarray(fractions, dtype=float)
+    ci = np.asarray(ci95, dtype=float)
+    ci = np.where(np.isfinite(ci), ci, 0.0)
+    return float(np.prod(a) * np.sqrt(np.sum((ci / a) ** 2)))
 
 
 def _rows(path: Path) -> list[dict[str, str]]:
@@ -158,13 +169,13 @@ def _group(folder: Path, key: tuple[str, float], pts: list, skipped: tuple[str, 
                                 col["contact_fraction_ci95"][:, i],
                                 col["contact_fraction_n_used"][:, i]) for i in range(ns))
     area = np.prod(frac, axis=1)  # eq. (7.5)
-    ci = col["contact_fraction_ci95"]
-    rel = np.sqrt(np.sum(np.where(np.isfinite(ci), ci, 0.0) ** 2 / frac ** 2, axis=1))
+    area_ci = np.array([relative_area_ci95(f, c) for f, c in
+                        zip(frac, col["contact_fraction_ci95"])])
     with_adh = any(math.isfinite(_num(p.get("mu_adhesion"))) for _, p, _ in pts)
     return CampaignCurves(str(folder), key[0], key[1], np.array([v for v, _, _ in pts]),
                           np.array([_num(p.get("mu")) for _, p, _ in pts]),
                           np.array([_num(p.get("mu_ci95")) for _, p, _ in pts]),
-                          area, area * rel, scales, with_adh, skipped)
+                          area, area_ci, scales, with_adh, skipped)
 
 
 def campaign_curves(folder: str | Path, compound: str | None = None,
