@@ -485,3 +485,45 @@ def test_report_writes_the_area_spread_and_the_area_plot(tmp_path: Path):
     assert f.name == "area_v.png" and f.stat().st_size > 10_000
     assert plot_area([PointResult(Point("X", 0.2, 1.0), "rough", status="failed")],
                      tmp_path) == []
+
+
+# ----------------------------------------------------------------------------------------------
+# the shipped thesis 7.4 scene and its illustrative files
+# ----------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("approach,tau0,alphas", [
+    ("modified", {"A": 5.0, "B": 4.0, "C": 3.0}, {"soap": 0.3, "water": 0.6}),
+    ("original", {"A": 3.5, "B": 2.8, "C": 2.1}, {"water": (0.6 - 0.3) / 0.7}),
+])
+def test_shipped_thesis_7_4_files_return_their_stated_parameters(approach: str, tau0: dict,
+                                                                  alphas: dict):
+    """The files of driver/scenes/thesis_7_4 (README there): mu = mu_H + alpha mu_A with
+    c = 0.12, v0 = 0.11 m/s, tau0 = 5 / 4 / 3 MPa, alpha dry / water / soap = 1 / 0.6 / 0.3.
+    Modified approach: exactly those; original (dry - soap = 0.7 mu_A): tau0 x 0.7 and
+    alpha(water) = 0.3 / 0.7 (1e-6; the files carry 10 digits).  The scene loads with the
+    thesis' set-up (ten samples per scale)."""
+    from importlib import resources
+
+    from rubberfriction.driver.multiscale.scene import load_scene
+
+    folder = Path(str(resources.files("rubberfriction.driver.scenes") / "thesis_7_4"))
+    inputs = [CompoundInput(k, read_measurement(folder / f"{k}_dry.csv"),
+                            read_curve(folder / f"{k}_area.csv", "A_r"),
+                            soap=read_measurement(folder / f"{k}_soap.csv"),
+                            hysteresis=read_curve(folder / f"{k}_hysteresis.csv", "mu_H"),
+                            water=read_measurement(folder / f"{k}_water.csv"))
+              for k in ("A", "B", "C")]
+    assert all("ILLUSTRATIVE, NOT MEASURED" in c.dry.notes[0] for c in inputs)
+    fit = fit_adhesion(inputs, 0.2, approach=approach)
+    assert fit.bell.c.value == pytest.approx(0.12, rel=1e-6)
+    assert fit.bell.v0.value == pytest.approx(110.0, rel=1e-6)
+    for name, t in zip(fit.bell.compounds, fit.bell.tau0):
+        assert t.value == pytest.approx(tau0[name], rel=1e-6)
+    assert {s.condition: s.alpha for s in fit.shares} == pytest.approx(alphas, rel=1e-6)
+    scene = load_scene("thesis_7_4")
+    assert scene.conditions.compounds == ("A", "B", "C")
+    assert scene.conditions.pressures == (0.2,)
+    assert scene.conditions.velocities == (0.01, 0.1, 1.0, 10.0)  # 1e-5 .. 1e-2 m/s
+    assert not scene.physics.adhesion
+    assert scene.samples.pressure == scene.samples.friction == 10
