@@ -35,6 +35,7 @@ Speeds outside the range of the A_r, mu_H or soap-water data are an error unless
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, field
 from typing import Any, Sequence
@@ -390,6 +391,25 @@ class AdhesionFit:
                         "speeds": "mm/s"}
         out["notes"] = list(self.bell.notes) + list(self.notes)
         return out
+
+    def to_json(self, extra: dict[str, Any] | None = None) -> str:
+        """:meth:`to_dict` (plus ``extra``) as JSON; NaN and inf become null."""
+        return json.dumps(_plain({**self.to_dict(), **(extra or {})}), indent=2) + "\n"
+
+
+def _plain(obj: Any) -> Any:
+    """JSON-ready copy: numpy scalars and arrays to Python, non-finite floats to None."""
+    if isinstance(obj, dict):
+        return {str(k): _plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_plain(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _plain(obj.tolist())
+    if isinstance(obj, (np.floating, np.integer, np.bool_)):
+        return _plain(obj.item())
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
 
 
 def fit_adhesion(inputs: Sequence[CompoundInput], pressure: float, *, approach: str,

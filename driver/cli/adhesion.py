@@ -25,28 +25,11 @@ v0 (mm/s) with standard errors and 95 % intervals, the residual, the approach an
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 import time
 from pathlib import Path
 from typing import Any
-
-import numpy as np
-
-
-def _jsonable(obj: Any) -> Any:
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, (np.floating, np.integer, np.bool_)):
-        return _jsonable(obj.item())
-    if isinstance(obj, np.ndarray):
-        return _jsonable(obj.tolist())
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj
 
 
 def _same_count(args: argparse.Namespace, n: int) -> None:
@@ -143,14 +126,13 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         print(f"rubberfriction adhesion fit: error: {err}", file=sys.stderr)
         return 2
     _print(fit, seconds)
-    data = fit.to_dict()
-    data["wall_time_s"] = seconds
+    extra: dict[str, Any] = {"wall_time_s": seconds}
     if groups:
-        data["campaign"] = {"folder": groups[0].folder,
-                            "skipped_points": [s for g in groups for s in g.skipped]}
+        extra["campaign"] = {"folder": groups[0].folder,
+                             "skipped_points": [s for g in groups for s in g.skipped]}
     path = Path(args.json)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(_jsonable(data), indent=2) + "\n")
+    path.write_text(fit.to_json(extra))
     print(f"json: {path}")
     if args.plot:
         ci = [g.area_ratio_ci95 for g in groups] if groups else None
