@@ -3,8 +3,8 @@
 Command line and benchmarks on top, physics at the bottom; dependencies point one way:
 
     cli -> bench -> verification -> multiscale -> sliding -> fe -> forms, meshes -> rubberfriction
-                                    multiscale -> runtime, surfaces, theory
-                                    theory -> surfaces
+                                    multiscale -> runtime, surfaces, theory, adhesion
+                                    adhesion -> theory -> surfaces
 
 Nothing imports ``cli``; only ``cli`` imports ``bench``; production code never imports
 ``verification``; ``forms`` and ``meshes`` import nothing from ``driver``.  Function-local
@@ -29,18 +29,19 @@ ALLOWED: dict[str, set[str]] = {
     "meshes": {"root"},
     "surfaces": {"root"},
     "theory": {"root", "surfaces"},
+    "adhesion": {"root", "surfaces", "theory"},
     "runtime": {"root"},
     "fe": {"root", "forms", "meshes"},
     "sliding": {"root", "forms", "meshes", "fe"},
     "scenes": set(),
     "multiscale": {"root", "forms", "meshes", "fe", "sliding", "runtime", "surfaces", "theory",
-                   "scenes"},
+                   "adhesion", "scenes"},
     "verification": {"root", "forms", "meshes", "fe", "sliding", "runtime", "surfaces", "theory",
-                     "scenes", "multiscale"},
+                     "adhesion", "scenes", "multiscale"},
     "bench": {"root", "forms", "meshes", "fe", "sliding", "runtime", "surfaces", "theory",
-              "scenes", "multiscale", "verification"},
-    "cli": {"root", "forms", "meshes", "fe", "sliding", "runtime", "surfaces", "theory", "scenes",
-            "multiscale", "verification", "bench"},
+              "adhesion", "scenes", "multiscale", "verification"},
+    "cli": {"root", "forms", "meshes", "fe", "sliding", "runtime", "surfaces", "theory", "adhesion",
+            "scenes", "multiscale", "verification", "bench"},
 }
 
 

@@ -18,6 +18,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "rubberfriction.driver.cli.surface",
     "rubberfriction.driver.cli.material",
     "rubberfriction.driver.cli.theory",
+    "rubberfriction.driver.cli.adhesion",
     "rubberfriction.driver.cli.bench",
 )
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import datetime as _dt
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Callable
 
@@ -22,6 +22,11 @@ from typing import Any, Callable
 # MPI_THREAD_FUNNELED): the farm's dispatcher thread on rank 0 needs MPI_THREAD_MULTIPLE.
 from mpi4py import MPI  # isort: skip
 
+import numpy as np
+
+from rubberfriction.driver.adhesion.fit import AdhesionFit, CompoundInput, fit_adhesion
+from rubberfriction.driver.adhesion.measurements import SpeedCurve, read_measurement
+from rubberfriction.driver.multiscale.adhesion_report import write_adhesion_report
 from rubberfriction.driver.multiscale.cascade import CampaignPlanner, RoughCascade
 from rubberfriction.driver.multiscale.report import (
     plot_sample_study,
@@ -47,6 +52,8 @@ from rubberfriction.driver.runtime.progress import Progress
 from rubberfriction.driver.runtime.store import Outcome, Store, code_version, git_describe, run_key
 from rubberfriction.driver.sliding.run import sliding_runner
 from rubberfriction.driver.surfaces.multiscale import scale_names
+from rubberfriction.driver.theory.adhesion import BellLaw
+from rubberfriction.validation import InputError
 
 
 def points(scene: Scene) -> list[Point]:
@@ -83,8 +90,10 @@ def check_scene(scene: Scene) -> None:
     build_scales(scene, max(scene.samples.pressure, scene.samples.friction))
 
 
-def make_planner(scene: Scene, scales: Scales, make_spec: Callable[..., Any]) -> CampaignPlanner:
-    """One planner per (compound, p, v) point, combined."""
+def make_planner(scene: Scene, scales: Scales, make_spec: Callable[..., Any],
+                 laws: dict[str, BellLaw] | None = None) -> CampaignPlanner:
+    """One planner per (compound, p, v) point, combined; ``laws``: a bell law per compound
+    (fitted, ``[adhesion] fit_from``) instead of the scene's one ``[adhesion]`` law."""
     if scene.variant == "separated":
         sep = scene.separated
         assert sep is not None
@@ -103,7 +112,8 @@ def make_planner(scene: Scene, scales: Scales, make_spec: Callable[..., Any]) ->
                     for pt in points(scene)]
     else:
         planners = [RoughCascade(scene.name, pt, scales.sets, make_spec, scene.samples.pressure,
-                                 scene.samples.friction, adhesion=scene.adhesion,
+                                 scene.samples.friction,
+                                 adhesion=laws[pt.compound] if laws else scene.adhesion,
                                  max_failed_fraction=scene.samples.max_failed_fraction)
                     for pt in points(scene)]
     return CampaignPlanner(planners)
@@ -155,19 +165,22 @@ def _comm() -> Any:
     return MPI.COMM_WORLD
 
 
-def open_store(out: Path, comm: Any, fresh: bool = False) -> Store:
-    """The campaign store ``<out>/store``; rank 0 takes the campaign lock (and with ``fresh``
-    moves an existing store aside first).  Collective over ``comm``; errors reach every rank."""
+def open_store(out: Path, comm: Any, fresh: bool = False,
+               folder: Path | None = None) -> Store:
+    """The campaign store ``<out>/store`` (or ``folder``); rank 0 takes the campaign lock (and
+    with ``fresh`` moves an existing store aside first).  Collective over ``comm``; errors reach
+    every rank."""
     rank, size = comm.Get_rank(), comm.Get_size()
+    folder = out / "store" if folder is None else folder
     err: Exception | None = None
     store: Store | None = None
     if rank == 0:
         try:
             out.mkdir(parents=True, exist_ok=True)
-            if fresh and (out / "store").exists():
+            if fresh and folder.exists():
                 stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
-                (out / "store").rename(out / f"store-{stamp}")
-            store = Store(out / "store")
+                folder.rename(folder.parent / f"store-{stamp}")
+            store = Store(folder)
             store.lock()  # raises if another campaign runs in this folder
         except Exception as e:  # noqa: BLE001 -- shared with the other ranks below
             err = e
@@ -177,7 +190,7 @@ def open_store(out: Path, comm: Any, fresh: bool = False) -> Store:
             raise RuntimeError(f"rank 0 could not open the output folder: {err_any}")
     if err is not None:
         raise err
-    return store if store is not None else Store(out / "store")
+    return store if store is not None else Store(folder)
 
 
 def _runner_and_timeout(scene: Scene, runner: Callable[[Any], Any] | None,
@@ -196,20 +209,27 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
               fresh: bool = False,
               retry_failed: bool = False, runner: Callable[[Any], Any] | None = None,
               comm: Any = None,
-              report: bool = True) -> CampaignResult | None:
+              report: bool = True, laws: dict[str, BellLaw] | None = None,
+              store_folder: Path | None = None) -> CampaignResult | None:
     """Run (or resume) a scene.  Every rank of ``comm`` calls this; rank 0 returns the result.
 
     ``fresh``: move the existing store aside (``store-<time>``, nothing is deleted) and compute
     everything again.  ``retry_failed``: recompute runs stored as physics failures (otherwise
     reused like results; runs that raised or that the wall clock stopped are always recomputed).
+    A scene with ``[adhesion] fit_from`` runs :func:`run_adhesion_fit`.  ``laws``: a bell law
+    per compound on the macro scale; ``store_folder``: the store (default ``<output>/store``).
     """
+    if scene.adhesion_fit is not None:
+        return run_adhesion_fit(scene, output=output, quiet=quiet, fresh=fresh,
+                                retry_failed=retry_failed, runner=runner, comm=comm,
+                                report=report)
     comm = _comm() if comm is None else comm
     rank = comm.Get_rank()
     out = Path(output) if output is not None else scene.output
     reports = RunReports()
     runner, timeout = _runner_and_timeout(scene, runner, reports)  # fails early, on all ranks
     started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
-    store = open_store(out, comm, fresh=fresh)
+    store = open_store(out, comm, fresh=fresh, folder=store_folder)
     try:
         executor = Executor(store, runner, retry_failed=retry_failed,
                             timeout=timeout, reports=reports,
@@ -220,7 +240,7 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
         def planner_factory() -> CampaignPlanner:
             n = max(scene.samples.pressure, scene.samples.friction)
             holder["scales"] = scales = build_scales(scene, n)
-            return make_planner(scene, scales, SpecBuilder(scene, load_compounds(scene)))
+            return make_planner(scene, scales, SpecBuilder(scene, load_compounds(scene)), laws)
 
         t0 = time.perf_counter()
         planner, outcomes = run_farm(planner_factory, executor, progress, comm)
@@ -235,6 +255,120 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
         return result
     finally:
         store.unlock()
+
+
+def _measurements(scene: Scene) -> dict[str, list[SpeedCurve]]:
+    """The ``fit_from`` files read (every rank, before any run: a bad file fails at once), and
+    their speeds checked against the scene's velocities unless ``extrapolate``."""
+    cfg = scene.adhesion_fit
+    assert cfg is not None
+    lo, hi = min(scene.conditions.velocities), max(scene.conditions.velocities)
+    out: dict[str, list[SpeedCurve]] = {}
+    try:
+        for cond, files in cfg.files.items():
+            out[cond] = [read_measurement(f) for f in files]
+            for c in out[cond]:
+                outside = c.v[0] < lo * (1 - 1e-12) or c.v[-1] > hi * (1 + 1e-12)
+                if outside and not cfg.extrapolate:
+                    raise SceneError(f"{scene.source}: [adhesion].fit_from.{cond}: {c.source} "
+                                     f"spans {c.v[0]:g} .. {c.v[-1]:g} mm/s, outside the scene's "
+                                     f"velocities {lo:g} .. {hi:g} mm/s: expected measurement "
+                                     "speeds inside them, or [adhesion].extrapolate = true")
+    except InputError as err:
+        if isinstance(err, SceneError):
+            raise
+        raise SceneError(f"{scene.source}: [adhesion].fit_from: {err}") from None
+    return out
+
+
+def fit_campaign(scene: Scene, hysteresis: CampaignResult,
+                 measured: dict[str, list[SpeedCurve]]) -> AdhesionFit:
+    """Fit the bell law (thesis 7.3-7.5) to the measurements with A_r(v) and mu_H(v) of the
+    finished hysteresis campaign (eq. 7.5: ``PointResult.area_ratio``; mu_H: its mu)."""
+    cfg = scene.adhesion_fit
+    assert cfg is not None
+    inputs = []
+    try:
+        for k, name in enumerate(scene.conditions.compounds):
+            rs = sorted((r for r in hysteresis.points if r.ok and r.point.compound == name),
+                        key=lambda r: r.point.velocity)
+            if len(rs) < 2:
+                raise SceneError(f"{scene.source}: [adhesion].fit_from: compound {name!r} has "
+                                 f"{len(rs)} successful point(s) in the hysteresis campaign: "
+                                 "expected at least two velocities for A_r(v) and mu_H(v)")
+            v = np.array([r.point.velocity for r in rs])
+            src = f"hysteresis campaign {hysteresis.output} ({name})"
+            area = SpeedCurve(v, np.array([r.area_ratio for r in rs]), "A_r", src)
+            mu_h = SpeedCurve(v, np.array([r.mu.mean for r in rs]), "mu_H",  # type: ignore
+                              src)
+            inputs.append(CompoundInput(
+                name, measured["dry"][k], area, hysteresis=mu_h,
+                soap=measured["soap"][k] if "soap" in measured else None,
+                water=measured["water"][k] if "water" in measured else None))
+        return fit_adhesion(inputs, scene.conditions.pressures[0], approach=cfg.approach,
+                            alpha=cfg.alpha, extrapolate=cfg.extrapolate)
+    except InputError as err:
+        if isinstance(err, SceneError):
+            raise
+        raise SceneError(f"{scene.source}: [adhesion].fit_from: {err}") from None
+
+
+def run_adhesion_fit(scene: Scene, *, output: str | Path | None = None, quiet: bool = False,
+                     fresh: bool = False, retry_failed: bool = False,
+                     runner: Callable[[Any], Any] | None = None, comm: Any = None,
+                     report: bool = True) -> CampaignResult | None:
+    """``[adhesion] fit_from``, thesis fig. 7.3: (A, B) the hysteresis campaign into
+    ``<output>/hysteresis``; (C, D) the bell-law fit of tau0 (per compound), c, v0 to the
+    measurements and alpha (:func:`fit_campaign`); (E) the macro friction runs again with
+    ``mu* = mu_1 + alpha mu_A`` (eq. 7.8) for alpha = 1 and each fitted alpha in (0, 1), into
+    ``<output>/alpha=<a>``.  All share ``<output>/store``: only the macro friction runs are new
+    ("a recalculation of the lower scales is omitted", thesis 7.3).  alpha = 0 is the hysteresis
+    campaign itself.  ``<output>/adhesion/`` gets the fit and the comparison with the
+    measurements (:mod:`.adhesion_report`).  Returns (rank 0) the alpha = 1 campaign."""
+    comm = _comm() if comm is None else comm
+    rank = comm.Get_rank()
+    out = Path(output) if output is not None else scene.output
+    measured = _measurements(scene)
+    base = replace(scene, adhesion=None, adhesion_fit=None)
+    store = out / "store"
+    t0 = time.perf_counter()
+    hyst = run_scene(base, output=out / "hysteresis", quiet=quiet, fresh=fresh,
+                     retry_failed=retry_failed, runner=runner, comm=comm, report=report,
+                     store_folder=store)
+    fit, message = None, None
+    if rank == 0:
+        assert hyst is not None
+        try:
+            fit = fit_campaign(scene, hyst, measured)
+        except SceneError as err:
+            message = str(err)
+    payload = (None if fit is None else
+               ([(c, t.value) for c, t in zip(fit.bell.compounds, fit.bell.tau0)],
+                fit.bell.c.value, fit.bell.v0.value, [s.alpha for s in fit.shares]), message)
+    if comm.Get_size() > 1:
+        payload = comm.bcast(payload, root=0)
+    law_data, message = payload
+    if message is not None:
+        raise SceneError(message)
+    assert law_data is not None
+    tau0, c, v0, shares = law_data
+    alphas = [1.0] + sorted({a for a in shares if 0.0 < a < 1.0}, reverse=True)
+    t_fit = time.perf_counter() - t0
+    runs: dict[float, CampaignResult] = {}
+    for alpha in alphas:
+        laws = {name: BellLaw(t, c, v0, alpha) for name, t in tau0}
+        res = run_scene(base, output=out / f"alpha={alpha:.4g}", quiet=quiet,
+                        retry_failed=retry_failed, runner=runner, comm=comm, report=report,
+                        laws=laws, store_folder=store)
+        if res is not None:
+            runs[alpha] = res
+    if rank != 0:
+        return None
+    assert hyst is not None and fit is not None
+    write_adhesion_report(out / "adhesion", scene, hyst, fit, runs,
+                          {"campaigns_and_fit_s": t_fit,
+                           "macro_runs_s": time.perf_counter() - t0 - t_fit}, quiet=quiet)
+    return runs[1.0]
 
 
 def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 30,

@@ -15,6 +15,9 @@ Files written into the campaign's output folder:
   failure kind (``physics``, ``error``, ``timeout``: stopped by the wall clock, recomputed on the
   next run) and reason, the fallback attempt that gave the result (e.g. ``nts x2 mesh``), inputs and
   results, wall time, whether it was reused, store key.
+* ``area_v.png`` -- fig. 7.6 top: A_r(v) (eq. 7.5) per (compound, p) with its 95 % sample spread
+  (``area_ratio_ci95`` in results.csv and scales.csv: first order from the per-scale contact
+  fraction intervals) and each scale's contact fraction (eq. 7.4) over v.
 * ``mu_v.png``, ``mu_p.png`` -- the curves with 95 % CI error bars.  ``mu_v.png`` also shows,
   per (compound, p), the analytical baselines of the same surface PSD and compound (Persson line
   roughness = plane strain and isotropic eq. 2.10, at the scene's T0; ``baseline.py``)
@@ -41,6 +44,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from rubberfriction.driver.adhesion.area import relative_area_ci95
 from rubberfriction.driver.multiscale import baseline
 from rubberfriction.driver.multiscale.results import PointResult
 from rubberfriction.driver.multiscale.separated import _law_from_dict
@@ -92,6 +96,16 @@ def write_csv(path: Path, rows: list[dict[str, Any]]) -> Path:
 # ----------------------------------------------------------------------------------------------
 
 
+def area_spread(scales: Sequence[Any]) -> float:
+    """95 % sample spread of the overall A_r of ``scales`` (eq. 7.5), first order from the
+    per-scale contact-fraction intervals (``adhesion.area.relative_area_ci95``); NaN without
+    contact fractions."""
+    st = [s.contact for s in scales]
+    if not st or any(c is None or not math.isfinite(c.mean) or c.mean <= 0 for c in st):
+        return math.nan
+    return relative_area_ci95([c.mean for c in st], [c.ci95 for c in st])
+
+
 def point_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
     rows = []
     for r in points:
@@ -103,6 +117,7 @@ def point_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
         if r.variant == "rough":
             row["mu_adhesion"] = r.mu_adhesion
             row["area_ratio"] = r.area_ratio
+            row["area_ratio_ci95"] = area_spread(r.scales)
             row["flagged_scales"] = " ".join(s.name for s in r.scales if s.flagged)
         else:
             for k in ("mu_reference", "relative_difference", "time_multiscale", "time_reference",
@@ -136,6 +151,7 @@ def scale_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
             row.update(_stats("mu_energy", s.mu_energy))
             row.update(_stats("contact_fraction", s.contact))
             row["area_ratio"] = s.area_ratio
+            row["area_ratio_ci95"] = area_spread(r.scales[: s.index + 1])
             row.update(_stats("dissipation_MPa", s.dissipation))
             row["flagged"] = s.flagged
             row["notes"] = "; ".join(s.notes)
@@ -389,6 +405,45 @@ def plot_curves(points: Sequence[PointResult], out: Path, *, scene: Any | None =
     return files
 
 
+def plot_area(points: Sequence[PointResult], out: Path) -> list[Path]:
+    """Thesis fig. 7.6 top: the relative real contact area A_r(v) (eq. 7.5) per (compound, p) with
+    its 95 % sample spread, and the contact fraction of each scale (eq. 7.4) over v
+    (``area_v.png``; nothing without rough-surface points that have contact areas)."""
+    groups: dict[tuple[str, float], list[PointResult]] = {}
+    for r in points:
+        if r.variant == "rough" and r.ok and math.isfinite(r.area_ratio):
+            groups.setdefault((r.point.compound, r.point.pressure), []).append(r)
+    if not groups:
+        return []
+    plt = _plt()
+    fig, axs = plt.subplots(1, 2, figsize=(10, 3.8))
+    for g, ((comp, p), rs) in enumerate(groups.items()):
+        rs = sorted(rs, key=lambda r: r.point.velocity)
+        v = [r.point.velocity for r in rs]
+        err = [area_spread(r.scales) for r in rs]
+        axs[0].errorbar(v, [r.area_ratio for r in rs],
+                        yerr=[e if math.isfinite(e) else 0.0 for e in err], marker="o",
+                        capsize=3, color=f"C{g}", label=f"{comp}, p = {p:g} MPa")
+        for i, name in enumerate(s.name for s in rs[0].scales):
+            _errorbar(axs[1], v, [r.scales[i].contact if i < len(r.scales) else None for r in rs],
+                      color=f"C{g}", ls=("-", "--", ":", "-.")[i % 4],
+                      label=f"{comp}, p = {p:g}: {name}")
+    axs[0].set_ylabel("relative real contact area A_r (eq. 7.5)")
+    axs[1].set_ylabel("contact fraction A_n,c / A_n,0 (eq. 7.4)")
+    for ax in axs:
+        ax.set_xscale("log")
+        ax.set_xlabel("sliding velocity v (mm/s)")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle("real contact area over v (thesis fig. 7.6 top; 95 % CI over samples)",
+                 fontsize=10)
+    fig.tight_layout()
+    f = out / "area_v.png"
+    fig.savefig(f, dpi=120)
+    plt.close(fig)
+    return [f]
+
+
 def plot_scales(r: PointResult, out: Path) -> list[Path]:
     """Thesis fig. 6.29 a (overall p, mu, A_r over scales) and b (per-sample values)."""
     plt = _plt()
@@ -585,6 +640,7 @@ def write_report(result: Any, quiet: bool = False, theory: bool = True) -> list[
              write_csv(out / "samples.csv", sample_rows(pts))]
     theory_notes: list[str] = []
     files += plot_curves(pts, out, scene=result.scene if theory else None, notes=theory_notes)
+    files += plot_area(pts, out)
     for r in pts:
         if r.variant == "rough" and r.ok:
             files += plot_scales(r, out)

@@ -140,9 +140,19 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "tau0": Key("float", 3.0, "peak adhesive shear stress in MPa (eq. 7.6)", minimum=0.0),
         "c": Key("float", 0.15, "width of the bell (eq. 7.6, decadic log)", above=0.0),
         "v0": Key("float", 20.0, "velocity of the peak in mm/s (eq. 7.6)", above=0.0),
-        "alpha": Key("float", 1.0, "share of adhesion, 1 dry .. 0 lubricated (eq. 7.8)",
-                     minimum=0.0,
-                     maximum=1.0),
+        "alpha": Key("float", 1.0, "share of adhesion, 1 dry .. 0 lubricated (eq. 7.8); with "
+                     "fit_from: given (not fitted) when written", minimum=0.0, maximum=1.0),
+        "fit_from": Key("table", {}, "fit tau0, c, v0 to friction measurements instead of giving "
+                        "them (thesis 7.3-7.5): { dry = ..., soap = ..., water = ... }, each a "
+                        "file or a list of files, one per compound in [conditions].compounds "
+                        "(relative to the scene file; format: driver/adhesion/measurements.py); "
+                        "the campaign runs the hysteresis cascade, fits, then the macro scale "
+                        "with alpha = 1 and with each fitted alpha (lower scales reused)"),
+        "approach": Key("str", "original", "with fit_from: original = dry - soap-water (eq. 7.3, "
+                        "7.4); modified = dry - the campaign's mu_H (thesis 7.5)",
+                        choices=("original", "modified")),
+        "extrapolate": Key("bool", False, "with fit_from: allow measurement speeds outside the "
+                           "campaign's velocities (A_r, mu_H extended linearly in log v)"),
     },
     "numerics": {
         "elements_per_wavelength": Key("int", 8,
@@ -337,6 +347,17 @@ class SeparatedConfig:
 
 
 @dataclass(frozen=True)
+class AdhesionFitConfig:
+    """``[adhesion] fit_from``: the measurement files per surface condition (one per compound,
+    in the order of ``[conditions].compounds``), the approach, a given alpha (None: fitted)."""
+
+    files: dict[str, tuple[Path, ...]]  # "dry" | "soap" | "water" -> files
+    approach: str
+    alpha: float | None
+    extrapolate: bool
+
+
+@dataclass(frozen=True)
 class Scene:
     """A validated scene (plain typed data; see :data:`SCHEMA`)."""
 
@@ -354,6 +375,7 @@ class Scene:
     source: str  # file path or "embedded:<name>"
     text: str = field(repr=False, default="")  # the TOML as given (stored with the results)
     warnings: tuple[str, ...] = ()
+    adhesion_fit: AdhesionFitConfig | None = None  # [adhesion] fit_from (thesis 7.3-7.5)
 
     @property
     def n_scales(self) -> int:
@@ -394,6 +416,10 @@ def _check_value(origin: str, section: str, name: str, key: Key, value: Any) -> 
         return int(V.number(where, value, what="an integer", **bounds))
     if k == "float":
         return V.number(where, value, **bounds)
+    if k == "table":
+        if not isinstance(value, dict):
+            V.fail(where, value, "a table { key = value, ... }", SceneError)
+        return dict(value)
     if k == "opt_float":
         return None if value is None else V.number(where, value, **bounds)
     if k in ("floats", "strs"):
@@ -470,6 +496,43 @@ def _check_edges(origin: str, edges: tuple[float, ...]) -> None:
             raise SceneError(f"{where}: expected strictly descending wavelengths (lambda_max "
                              f"first), but edges[{i + 1}] = {edges[i + 1]:g} >= edges[{i}] = "
                              f"{edges[i]:g}")
+
+
+def _adhesion_fit(origin: str, base: Path | None, given: dict, fit_from: dict, approach: str,
+                  extrapolate: bool, conditions: ConditionsConfig) -> AdhesionFitConfig:
+    """Validate ``[adhesion] fit_from`` (see :data:`SCHEMA`)."""
+    where = f"{origin}: [adhesion].fit_from"
+    fitted = sorted(k for k in ("tau0", "c", "v0") if k in given)
+    if fitted:
+        raise SceneError(f"{where}: {fitted} given as well: expected either fit_from (they are "
+                         "fitted) or tau0, c, v0")
+    unknown = sorted(set(fit_from) - {"dry", "soap", "water"})
+    if unknown:
+        raise SceneError(f"{where}: unknown surface condition(s) {unknown}"
+                         f"{V.suggest(unknown[0], ['dry', 'soap', 'water'])}; expected dry, "
+                         "soap, water")
+    if "dry" not in fit_from:
+        raise SceneError(f"{where}: expected a dry measurement (dry = \"file.csv\")")
+    if approach == "original" and "soap" not in fit_from:
+        raise SceneError(f"{where}: approach = \"original\" (dry - soap-water, eq. 7.3, 7.4): "
+                         "expected a soap-water measurement (soap = \"file.csv\")")
+    if len(conditions.pressures) != 1:
+        raise SceneError(f"{where}: [conditions].pressures = {list(conditions.pressures)}: the "
+                         "fit is at one pressure (mu_A = tau_A A_r / p); expected one pressure")
+    n = len(conditions.compounds)
+    files: dict[str, tuple[Path, ...]] = {}
+    for cond, value in fit_from.items():
+        names = [value] if isinstance(value, str) else value
+        if not isinstance(names, list) or not all(isinstance(x, str) for x in names):
+            raise SceneError(f"{where}.{cond} = {value!r}: expected a file name or a list of "
+                             "file names")
+        if len(names) != n:
+            raise SceneError(f"{where}.{cond} = {value!r}: expected {n} file(s), one per compound "
+                             f"of [conditions].compounds {list(conditions.compounds)}")
+        files[cond] = tuple(_resolve_file(origin, base, f"[adhesion].fit_from.{cond}[{i}]", x)
+                            for i, x in enumerate(names))
+    alpha = float(given["alpha"]) if "alpha" in given else None
+    return AdhesionFitConfig(files, approach, alpha, extrapolate)
 
 
 def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) -> Scene:
@@ -562,12 +625,23 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
                          f"nothing to "
                          "compute; expected at least one of them true")
     adhesion = None
+    adhesion_fit = None
     if physics.adhesion:
         if "adhesion" not in doc:
             raise SceneError(f"{origin}: [physics].adhesion = true: expected an [adhesion] table "
                              f"with tau0 "
                              "(MPa), c, v0 (mm/s) and alpha (eq. 7.6-7.8)")
-        adhesion = BellLaw(**vals["adhesion"])
+        a = dict(vals["adhesion"])
+        fit_from, approach = a.pop("fit_from"), a.pop("approach")
+        extrapolate = a.pop("extrapolate")
+        if fit_from:
+            adhesion_fit = _adhesion_fit(origin, base, doc["adhesion"], fit_from, approach,
+                                         extrapolate, conditions)
+        else:
+            adhesion = BellLaw(**a)
+            for k in ("approach", "extrapolate"):
+                if k in doc["adhesion"]:
+                    warnings.append(f"[adhesion].{k} is ignored without fit_from")
     elif "adhesion" in doc:
         warnings.append("[adhesion] is ignored: [physics].adhesion = false")
 
@@ -602,7 +676,8 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
     return Scene(name=name, description=top["description"], variant=top["variant"], output=output,
                  surface=surface, samples=SamplesConfig(**vals["samples"]), conditions=conditions,
                  physics=physics, adhesion=adhesion, numerics=NumericsConfig(**vals["numerics"]),
-                 separated=separated, source=origin, text=text, warnings=tuple(warnings))
+                 separated=separated, source=origin, text=text, warnings=tuple(warnings),
+                 adhesion_fit=adhesion_fit)
 
 
 def shipped_scenes() -> list[str]:
