@@ -525,5 +525,9 @@ def test_shipped_thesis_7_4_files_return_their_stated_parameters(approach: str, 
     assert scene.conditions.compounds == ("A", "B", "C")
     assert scene.conditions.pressures == (0.2,)
     assert scene.conditions.velocities == (0.01, 0.1, 1.0, 10.0)  # 1e-5 .. 1e-2 m/s
-    assert not scene.physics.adhesion
     assert scene.samples.pressure == scene.samples.friction == 10
+    cfg = scene.adhesion_fit  # [adhesion] fit_from: the shipped files, original approach (7.4)
+    assert scene.physics.adhesion and scene.adhesion is None and cfg.approach == "original"
+    assert {k: [f.name for f in v] for k, v in cfg.files.items()} == {
+        cond: [f"{k}_{cond}.csv" for k in ("A", "B", "C")] for cond in ("dry", "soap", "water")}
+    assert all(f.parent.resolve() == folder.resolve() for v in cfg.files.values() for f in v)

@@ -103,9 +103,15 @@ def _plan(scene: Scene) -> str:
     n = scene.n_scales
     pts = points(scene)
     per, how = runs_per_point(scene)
+    extra = ""
+    if scene.adhesion_fit is not None:
+        j = scene.samples.friction
+        extra = (f"  [adhesion] fit_from: then {len(pts)} x j={j} = {len(pts) * j} macro friction "
+                 "runs per alpha (alpha = 1 and each fitted alpha in (0, 1); lower scales "
+                 "reused)\n")
     return (f"scene {scene.name!r} ({scene.variant}, {n} scales) from {scene.source}\n"
             f"  {len(pts)} point(s) x {per} runs ({how}) = {len(pts) * per} single-scale runs\n"
-            f"  output: {scene.output}")
+            + extra + f"  output: {scene.output}")
 
 
 def _run(args: argparse.Namespace) -> int:

@@ -695,8 +695,10 @@ def load_scene(path: str | Path | None = None) -> Scene:
         return parse_scene(p.read_text(), str(p), p.resolve().parent)
     name = str(path)
     if "/" not in name and not name.endswith(".toml") and name in shipped_scenes():
-        text = resources.files(SCENES_PACKAGE).joinpath(f"{name}.toml").read_text()
-        return parse_scene(text, f"embedded:{name}", None)
+        folder = resources.files(SCENES_PACKAGE)
+        text = folder.joinpath(f"{name}.toml").read_text()
+        # relative paths of a shipped scene (e.g. [adhesion] fit_from) are its package folder's
+        return parse_scene(text, f"embedded:{name}", Path(str(folder)))
     hint = V.suggest(name, shipped_scenes())
     raise SceneError(f"scene {name!r}: no such file and no shipped scene of that name{hint} "
                      f"(shipped: {', '.join(shipped_scenes())})")
