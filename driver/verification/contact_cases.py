@@ -433,8 +433,8 @@ def westergaard(*, E: float = 6.0, nu: float = 0.4999, wavelength: float = 1.0, 
     xm = np.arange(master_points) * lam / master_points
     master = RigidMaster(np.column_stack([xm, h * np.cos(2.0 * np.pi * (xm - 0.5 * lam) / lam) - h]), period=lam)
     pen = PenaltySettings(c_N=c_N) if c_N else PenaltySettings()
-    contact = Contact(SlaveSurface.from_boundary(sp.boundary(1)), master, method=method, E_eff=Es, penalty=pen,
-                      search_radius=4.0 * h, comm=body.mesh.comm)
+    contact = Contact(SlaveSurface.from_boundary(sp.boundary(1), periodic_seam=True), master, method=method,
+                      E_eff=Es, penalty=pen, search_radius=4.0 * h, comm=body.mesh.comm)
     F = p_mean * lam
     pb, solver = make_newton(sp, cmap, contact, force_scale=F, rtol=1e-10, max_iterations=60)
     iterations = 0
@@ -573,8 +573,8 @@ def sliding_block(*, E: float = 6.0, nu: float = 0.45, pressure: float = 0.2, ve
         else:
             master = RigidMaster(np.array([[0.0, 0.0], [0.5 * length, 0.0]]), period=length)
             friction = law
-        contact = Contact(SlaveSurface.from_boundary(sp.boundary(1)), master, method=method, friction=friction,
-                          E_eff=Es, comm=body.mesh.comm)
+        contact = Contact(SlaveSurface.from_boundary(sp.boundary(1), periodic_seam=kind == "periodic"), master,
+                          method=method, friction=friction, E_eff=Es, comm=body.mesh.comm)
         F = pressure * length
         pb, solver = make_newton(sp, cmap, contact, force_scale=F, rtol=1e-11, max_iterations=40)
         contact.set_time_step(dt)
@@ -792,8 +792,8 @@ def periodic_sliding(*, E: float = 6.0, nu: float = 0.45, wavelength: float = 1.
     cmap = ConstraintMap(spec)
     xm = np.arange(8 * n_contact) * lam / (8 * n_contact)
     master = RigidMaster(np.column_stack([xm, h * np.cos(2.0 * np.pi * (xm - 0.5 * lam) / lam) - h]), period=lam)
-    contact = Contact(SlaveSurface.from_boundary(sp.boundary(1)), master, method=method, friction=mu, E_eff=Es,
-                      search_radius=4.0 * h, comm=body.mesh.comm)
+    contact = Contact(SlaveSurface.from_boundary(sp.boundary(1), periodic_seam=True), master, method=method,
+                      friction=mu, E_eff=Es, search_radius=4.0 * h, comm=body.mesh.comm)
     F = p_ratio * p_star * lam
     pb, solver = make_newton(sp, cmap, contact, force_scale=F, rtol=1e-12, max_iterations=60)
     dt = lam / steps_per_period / velocity
