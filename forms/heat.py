@@ -25,3 +25,35 @@ def heat_residual(theta, theta_n, dtheta, *, rho: float, c: float, k: float, dt,
             raise ValueError("flux_out needs the boundary measure ds (e.g. ds(tag))")
         F += flux_out * dtheta * ds
     return F
+
+
+def convected_heat_forms(theta, dtheta, theta_n, *, rho_c, k, dt, velocity=None, tau=None, dx=None):
+    """Bilinear and linear forms of the linear heat equation (3.89) with implicit Euler (5.25) in
+    a frame where the material moves with `velocity` (Eulerian road under a sliding block):
+
+        a = int rho c/dt theta s + k grad theta . grad s + rho c (b . grad theta) s dV
+            + int tau (b . grad s) rho c (theta/dt + b . grad theta) dV        (SUPG)
+        L = int rho c/dt theta_n s + tau (b . grad s) rho c theta_n/dt dV
+
+    rho_c, k, tau may be cellwise (DG0) coefficients; dt = None drops the time terms (steady
+    state).  The SUPG term uses the strong residual without the diffusion part, which vanishes
+    for bilinear elements on rectangles (Delta theta = 0), so the scheme stays consistent; its
+    test function b . grad s integrates to zero over the body, so the heat balance is unchanged.
+    L is None in the steady case.
+    """
+    dx = dx or ufl.dx
+    a = k * ufl.inner(ufl.grad(theta), ufl.grad(dtheta)) * dx
+    L = None
+    if dt is not None:
+        a += rho_c / dt * theta * dtheta * dx
+        L = rho_c / dt * theta_n * dtheta * dx
+    if velocity is not None:
+        b_grad = ufl.dot(velocity, ufl.grad(theta))
+        a += rho_c * b_grad * dtheta * dx
+        if tau is not None:
+            test = tau * ufl.dot(velocity, ufl.grad(dtheta))
+            a += test * rho_c * b_grad * dx
+            if dt is not None:
+                a += test * rho_c / dt * theta * dx
+                L += test * rho_c / dt * theta_n * dx
+    return a, L

@@ -3,6 +3,7 @@
 Command line and benchmarks on top, physics at the bottom; dependencies point one way:
 
     cli -> bench -> verification -> multiscale -> sliding -> fe -> forms, meshes -> rubberfriction
+                                    multiscale -> thermal -> sliding, theory
                                     multiscale -> runtime, surfaces, theory, adhesion
                                     adhesion -> theory -> surfaces
 
@@ -33,14 +34,15 @@ ALLOWED: dict[str, set[str]] = {
     "runtime": {"root"},
     "fe": {"root", "forms", "meshes"},
     "sliding": {"root", "forms", "meshes", "fe"},
+    "thermal": {"root", "forms", "meshes", "fe", "sliding", "theory", "surfaces"},
     "scenes": set(),
-    "multiscale": {"root", "forms", "meshes", "fe", "sliding", "runtime", "surfaces", "theory",
+    "multiscale": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces", "theory",
                    "adhesion", "scenes"},
-    "verification": {"root", "forms", "meshes", "fe", "sliding", "runtime", "surfaces", "theory",
+    "verification": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces", "theory",
                      "adhesion", "scenes", "multiscale"},
-    "bench": {"root", "forms", "meshes", "fe", "sliding", "runtime", "surfaces", "theory",
+    "bench": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces", "theory",
               "adhesion", "scenes", "multiscale", "verification"},
-    "cli": {"root", "forms", "meshes", "fe", "sliding", "runtime", "surfaces", "theory", "adhesion",
+    "cli": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces", "theory", "adhesion",
             "scenes", "multiscale", "verification", "bench"},
 }
 

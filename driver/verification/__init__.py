@@ -19,6 +19,12 @@ CASES: dict[str, tuple[str, str]] = {
     "viscoelastic-sinusoid": ("rubberfriction.driver.verification.viscoelastic_sinusoid",
                               "viscoelastic block sliding over a sinusoid in full contact"),
     "sawtooth": ("rubberfriction.driver.verification.sawtooth", "sawtooth anisotropy, sharp vs smooth"),
+    "flash-flux": ("rubberfriction.driver.verification.heat_cases",
+                   "uniform frictional power into a resting block: surface temperature vs 2 q sqrt(t / (pi k rho c))"),
+    "two-body-conduction": ("rubberfriction.driver.verification.heat_cases",
+                            "two conducting half-spaces heated at the interface: temperature and heat split by effusivity"),
+    "moving-heat-source": ("rubberfriction.driver.verification.heat_cases",
+                           "steady road temperature under a sliding block vs Jaeger's moving band source"),
     "relaxation": ("rubberfriction.driver.verification.relaxation",
                    "bulk stress relaxation and harmonic shear vs the Prony closed form"),
 }
@@ -32,3 +38,41 @@ def check(quantity: str, computed: float, analytical: float, tolerance: float | 
     if tolerance is not None:
         out["passed"] = bool(rel <= tolerance)
     return out
+
+
+def case_function(functions: dict, parser, module: str):
+    """The case function of a sub-command parser (its last program word names the case)."""
+    name = parser.prog.split()[-1]
+    if name not in functions:
+        raise ValueError(f"{module}: unknown case {name!r} (expected one of {sorted(functions)})")
+    return functions[name]
+
+
+def add_keyword_arguments(parser, fn) -> None:
+    """One --option per keyword parameter of `fn` (booleans and `law` are not options)."""
+    import inspect
+
+    for name, prm in inspect.signature(fn).parameters.items():
+        default = prm.default
+        flag = "--" + name.replace("_", "-")
+        if isinstance(default, bool) or default is inspect.Parameter.empty or name == "law":
+            continue
+        if isinstance(default, tuple):
+            parser.add_argument(flag, dest=name, type=type(default[0]), nargs="+", default=list(default),
+                                help=f"(default: {' '.join(map(str, default))})")
+        elif default is None:
+            parser.add_argument(flag, dest=name, type=float, default=None, help="(default: automatic)")
+        else:
+            parser.add_argument(flag, dest=name, type=type(default), default=default, help=f"(default: {default})")
+
+
+def call_with_arguments(fn, args) -> dict:
+    """Call `fn` with the parsed options named like its keyword parameters."""
+    import inspect
+
+    kwargs = {}
+    for name in inspect.signature(fn).parameters:
+        if hasattr(args, name):
+            v = getattr(args, name)
+            kwargs[name] = tuple(v) if isinstance(v, list) else v
+    return fn(**kwargs)

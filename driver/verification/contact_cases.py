@@ -26,7 +26,6 @@ of the closed forms; contact: ``driver.fe.contact`` (C++ mortar or node-to-segme
 from __future__ import annotations
 
 import argparse
-import inspect
 import math
 import time
 
@@ -53,7 +52,7 @@ from rubberfriction.driver.fe.newton import (
     NewtonSolver,
 )
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
-from rubberfriction.driver.verification import check
+from rubberfriction.driver.verification import add_keyword_arguments, call_with_arguments, case_function, check
 from rubberfriction.forms.compound import Compound, MooneyRivlin
 from rubberfriction.forms.kinematics import deformation_gradient
 from rubberfriction.forms.viscoelastic import evaluate_at_points
@@ -837,37 +836,10 @@ CASE_FUNCTIONS = {"patch": patch, "hertz": hertz, "westergaard": westergaard, "s
                   "thermal-bars": thermal_bars, "periodic-sliding": periodic_sliding}
 
 
-def _case_of(parser) -> str:
-    name = parser.prog.split()[-1]
-    if name not in CASE_FUNCTIONS:
-        raise ValueError(f"contact_cases: unknown case {name!r} (expected one of {sorted(CASE_FUNCTIONS)})")
-    return name
-
-
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """One --option per keyword parameter of the case function (defaults shown in --help)."""
-
-    fn = CASE_FUNCTIONS[_case_of(parser)]
-    for name, prm in inspect.signature(fn).parameters.items():
-        default = prm.default
-        flag = "--" + name.replace("_", "-")
-        if isinstance(default, bool) or default is inspect.Parameter.empty or name == "law":
-            continue
-        if isinstance(default, tuple):
-            parser.add_argument(flag, dest=name, type=type(default[0]), nargs="+", default=list(default),
-                                help=f"(default: {' '.join(map(str, default))})")
-        elif default is None:
-            parser.add_argument(flag, dest=name, type=float, default=None, help="(default: automatic)")
-        else:
-            parser.add_argument(flag, dest=name, type=type(default), default=default, help=f"(default: {default})")
+    add_keyword_arguments(parser, case_function(CASE_FUNCTIONS, parser, "contact_cases"))
 
 
 def run(args: argparse.Namespace) -> dict:
-
-    fn = CASE_FUNCTIONS[args.case]
-    kwargs = {}
-    for name in inspect.signature(fn).parameters:
-        if hasattr(args, name):
-            v = getattr(args, name)
-            kwargs[name] = tuple(v) if isinstance(v, list) else v
-    return fn(**kwargs)
+    return call_with_arguments(CASE_FUNCTIONS[args.case], args)
