@@ -91,9 +91,11 @@ rf::V2<double> offset_of(const std::array<double, 2>& o) { return {o[0], o[1]}; 
 void evaluate(rf::ContactInterface& c, const DArray& u, const std::array<double, 2>& offset, double dt,
               double temperature, bool blocks) {
   const rf::FrictionLaw* law = c.friction();
-  if (law && law->depends_on_temperature() && !c.slave().has_temperature() && std::isnan(temperature))
+  if (law && law->depends_on_temperature() && !c.slave().has_temperature() && c.slave_temperatures().empty() &&
+      std::isnan(temperature))
     throw std::invalid_argument(
-        "the friction law depends on temperature: pass temperature=T [K] or give the slave temperature dofs");
+        "the friction law depends on temperature: pass temperature=T [K], set the slave node temperatures or "
+        "give the slave temperature dofs");
   std::size_t n = 0;
   const double* x = solution(u, n);
   c.evaluate(x, n, offset_of(offset), dt, temperature, blocks);
@@ -121,6 +123,7 @@ py::dict state_dict(const rf::ContactInterface& c) {
   d["tangential_increment"] = as_array(o.dg_T);
   d["slip_velocity"] = as_array(o.velocity);
   d["mu"] = as_array(o.mu);
+  d["friction_power_density"] = as_array(o.power);
   d["weight"] = as_array(o.area);
   d["heat_flux_slave"] = as_array(o.q_slave);
   d["heat_flux_master"] = as_array(o.q_master);
@@ -332,6 +335,14 @@ PYBIND11_MODULE(_contact, m) {
           },
           py::arg("h0"), py::arg("h1") = 0.0, py::arg("beta") = 1.0, py::arg("kappa") = 0.5,
           py::arg("master_temperature") = std::numeric_limits<double>::quiet_NaN())
+      .def(
+          "set_slave_temperatures",
+          [](rf::ContactInterface& c, const py::object& T) {
+            std::vector<double> v;
+            if (!T.is_none()) v = py::cast<std::vector<double>>(T);
+            c.set_slave_temperatures(std::move(v));
+          },
+          py::arg("T").none(true))
       .def("disable_thermal", [](rf::ContactInterface& c) { c.set_thermal(rf::ThermalParameters{}); })
       .def(
           "set_fixed_dofs",

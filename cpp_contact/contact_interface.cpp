@@ -57,7 +57,7 @@ void NodeOutput::resize(std::size_t n) {
   status.assign(n, 0);
   paired.assign(n, 0);
   for (auto* v :
-       {&gap, &pressure, &t_T, &dgamma, &dg_T, &velocity, &mu, &area, &q_slave, &q_master, &nx, &ny, &elastic_gap})
+       {&gap, &pressure, &t_T, &dgamma, &dg_T, &velocity, &mu, &area, &q_slave, &q_master, &nx, &ny, &elastic_gap, &power})
     v->assign(n, 0.0);
 }
 
@@ -131,6 +131,16 @@ void ContactInterface::set_auto_penalty(double E_eff, double alpha, double tange
 void ContactInterface::set_thermal(const ThermalParameters& t) {
   t.validate();
   thermal_ = t;
+}
+
+void ContactInterface::set_slave_temperatures(std::vector<double> T) {
+  if (!T.empty() && T.size() != slave_.X.size())
+    throw std::invalid_argument("slave temperatures: " + std::to_string(T.size()) + " values for " +
+                                std::to_string(slave_.X.size()) + " slave nodes");
+  for (const double v : T)
+    if (!std::isfinite(v) || v <= 0.0)
+      throw std::invalid_argument("slave temperatures: " + std::to_string(v) + " K is not a temperature > 0 K");
+  slave_T_ = std::move(T);
 }
 
 void ContactInterface::set_fixed_dofs(std::vector<DofIndex> dofs) {
@@ -657,7 +667,8 @@ NodalKinematics ContactInterface::nodal_kinematics(int A, const Stencil& L, cons
       kin.slip_y -= a.area * (offset_.y - offset_n_.y);
     }
   }
-  kin.temperature = slave_.has_temperature() ? temperature_dual(L, A, u) : constantX(T_ref, S);
+  const double T_node = slave_T_.empty() ? T_ref : slave_T_[static_cast<std::size_t>(A)];
+  kin.temperature = slave_.has_temperature() ? temperature_dual(L, A, u) : constantX(T_node, S);
   kin.thermal_gap = constantX(0.0, S);
   if (conduction_possible()) {
     for (const auto& [B, DAB] : a.D) kin.thermal_gap -= DAB * temperature_dual(L, B, u);
@@ -684,6 +695,7 @@ void ContactInterface::record_node(int A, const NodalIntegrals& a, const NodalKi
   out_.velocity[iA] = resp.velocity;
   out_.mu[iA] = resp.mu;
   out_.area[iA] = a.area.v;
+  out_.power[iA] = resp.friction_power;
   out_.nx[iA] = kin.normal.x.v;
   out_.ny[iA] = kin.normal.y.v;
   out_.elastic_gap[iA] = resp.status == open ? 0.0 : resp.elastic_gap;

@@ -45,6 +45,7 @@ struct NodeOutput {
   std::vector<int> status;  ///< 0 open (or unpaired), 1 stick, 2 slip
   std::vector<char> paired;
   std::vector<double> gap, pressure, t_T, dgamma, dg_T, velocity, mu, area, q_slave, q_master, nx, ny;
+  std::vector<double> power;  ///< frictional power density |t_T| dgamma/dt [mW/mm^2] (zero in stick)
   std::vector<double> elastic_gap;  ///< trial tangential elastic gap (committed by commit())
   void resize(std::size_t n);
 };
@@ -75,6 +76,10 @@ class ContactInterface {
   void set_allow_new_nonzeros(bool allow) { allow_new_nonzeros_ = allow; }
   /// The slave's two chain ends are the seam of a periodic cell (see vertex_end)
   void set_periodic_seam(bool seam) { periodic_seam_ = seam; }
+  /// Temperature of each slave node for mu(p, v, T) when the slave carries no temperature dofs
+  /// (staggered thermomechanical coupling: the heat solver owns the temperature); empty: T_ref.
+  void set_slave_temperatures(std::vector<double> T);
+  const std::vector<double>& slave_temperatures() const { return slave_T_; }
 
   /// History reference: positions at u and the rigid offset become the last converged state;
   /// tangential elastic gaps are cleared.
@@ -189,6 +194,7 @@ class ContactInterface {
   PenaltyChoice penalty_;
   std::shared_ptr<const FrictionLaw> friction_;
   ThermalParameters thermal_;
+  std::vector<double> slave_T_;
   std::vector<DofIndex> fixed_;  // sorted
   double search_radius_ = -1.0;
   int n_gauss_ = 4;

@@ -230,6 +230,12 @@ class Contact:
         """Contact temperature [K] for mu(p, v, T) when the slave has no temperature dofs."""
         self.temperature = float(T)
 
+    def set_slave_temperatures(self, T: np.ndarray | None) -> None:
+        """Temperature [K] of each slave node for mu(p, v, T), overriding ``set_temperature``
+        (staggered thermomechanical coupling: the heat solver owns the field); None: back to the
+        one contact temperature."""
+        self._c.set_slave_temperatures(None if T is None else np.asarray(T, float))
+
     def _kw(self, offset, dt, temperature) -> dict:
         return {"offset": self.offset if offset is None else (float(offset[0]), float(offset[1])),
                 "dt": self.dt if dt is None else float(dt),
@@ -279,7 +285,8 @@ class Contact:
 
         Per slave node (arrays): status (0 open, 1 stick, 2 slip), active, paired, gap (NaN where
         no master within the search radius), pressure, tangential_traction, slip_increment,
-        tangential_increment, slip_velocity, mu, weight (A_A), heat_flux_slave/master, normal.
+        tangential_increment, slip_velocity, mu, weight (A_A), heat_flux_slave/master, normal,
+        friction_power_density (|t_T| dgamma/dt, mW/mm^2; times weight: the node's frictional power).
         Scalars: contact_length (sum of A_A over active nodes, the contact area per unit depth),
         force_x/Fx, force_z/Fz (on the slave), mean_pressure (weighted over active nodes),
         dissipation (frictional, this step, mJ/mm), friction_power, heat_slave/master (mW/mm),

@@ -98,7 +98,7 @@ class TwoBodyHeat:
     def __init__(self, geometry: HeatGeometry, rubber: Thermal, road: Thermal, *, T0: float,
                  kappa: float = 1.0, h_c: float = 1.0e6, road_velocity: float = 0.0,
                  top_temperature: float | None = None, supg: bool = True) -> None:
-        self.geometry = g = geometry
+        self.geometry = geometry
         self.rubber, self.road = rubber, road
         self.T0 = V.positive("T0", T0, "K")
         self.kappa = float(kappa)

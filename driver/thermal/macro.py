@@ -1,0 +1,194 @@
+"""Thermomechanical macro run: the rubber block sliding over the road with frictional heating
+(thesis 8.3.1, 8.5.1), staggered.
+
+Each converged sliding step of the mechanical run (``driver.sliding.run.SlidingRun``, non-periodic
+block, rigid road) is followed by one heat step of block and road (``conduction.TwoBodyHeat``)
+with the nodal frictional power of that step, P_i = |t_T| dgamma/dt A_i (zero in stick; the
+contact's own dissipation, so sum_i P_i dt is the step's frictional dissipation exactly); the new
+block surface temperature enters mu(p, v, T) of the next step per slave node
+(``Contact.set_slave_temperatures``).  The road is rigid for the mechanics (E_road / E_rubber
+~ 1e4, thesis 8.4.1) and Eulerian for the heat (road moving at -v under the block).
+
+Why staggered: the mechanical run keeps its Newton, cut-backs and fallbacks unchanged, the heat
+problem is linear and its factorisation is reused for every step of equal length, and the
+coupling is one-way within a step (mu depends on T, T on the frictional power).  The lag of one
+step is the scheme's error; its measure is the largest change of the contact temperature per
+step (stats ``max_step_dT``), and halving the sliding step shows it (``tests/test_thermal_macro.py``).
+
+Not yet here (issue 15 stays open): rounded leading edge, repeated slides with pauses, a
+thermo-viscoelastic bulk with WLF-shifted relaxation per cell, XDMF fields and the scene table.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from rubberfriction import validation as V
+from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
+from rubberfriction.driver.sliding.run import SlidingRun
+from rubberfriction.driver.sliding.spec import SlidingResult, SlidingSpec
+from rubberfriction.driver.thermal.conduction import FIRST_LAYER, HeatGeometry, TwoBodyHeat
+from rubberfriction.forms.compound import Thermal
+
+
+@dataclass(frozen=True)
+class ThermalSettings:
+    """Thermal part of a macro run: heat share kappa to the rubber, conductance h_c
+    (mW/(mm^2 K)) where in contact, initial and block-top temperature T0 (K), the road's thermal
+    data, road extents in the block frame (mm: depth, ahead of and behind the block), first
+    element height and growth ratio, and probe points (x, z) in the block frame (mm).
+    Defaults: thesis 8.3.1 (kappa = 1, h_c = 1e6)."""
+
+    road: Thermal
+    T0: float = 293.15
+    kappa: float = 1.0
+    h_c: float = 1.0e6
+    road_depth: float = 10.0
+    road_ahead: float = 2.0
+    road_behind: float = 10.0
+    first_layer: float = FIRST_LAYER
+    grading: float = 1.2
+    probes: tuple[tuple[float, float], ...] = ()
+
+    def __post_init__(self) -> None:
+        V.instance("thermal.road", self.road, Thermal)
+        V.positive("thermal.T0", self.T0, "K")
+        k = V.real("thermal.kappa", self.kappa)
+        if not 0.0 <= k <= 1.0:
+            raise V.InputError(f"thermal.kappa = {self.kappa!r}: expected a heat share in [0, 1]")
+        V.nonnegative("thermal.h_c", self.h_c, "mW/(mm^2 K)")
+        for name in ("road_depth", "first_layer"):
+            V.positive(f"thermal.{name}", getattr(self, name), "mm")
+        for name in ("road_ahead", "road_behind"):
+            V.nonnegative(f"thermal.{name}", getattr(self, name), "mm")
+
+
+@dataclass
+class ThermalMacroResult:
+    """The mechanical result plus the thermal series (one row per sliding step): t, s, mu,
+    T_contact (pressure-weighted mean block surface temperature over contact nodes), T_max
+    (hottest block surface node), T_road_behind (road surface one element behind the block),
+    heat_block, heat_road (stored, mJ/mm), friction_energy (cumulative heat input, mJ/mm),
+    contact_dissipation (the contact's cumulative frictional dissipation, mJ/mm), probes (K);
+    the final profiles along the interface; stats."""
+
+    sliding: SlidingResult
+    series: dict[str, np.ndarray] = field(default_factory=dict)
+    profiles: dict[str, np.ndarray] = field(default_factory=dict)
+    stats: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return self.sliding.ok and "thermal_error" not in self.stats
+
+
+class ThermalCoupler:
+    """Observer of a SlidingRun that carries the heat problem along (see the module doc)."""
+
+    def __init__(self, rubber: Thermal, settings: ThermalSettings) -> None:
+        self.rubber, self.settings = rubber, settings
+        self.error: str | None = None
+        self.heat: TwoBodyHeat | None = None
+
+    def on_start(self, run) -> None:
+        """A new attempt starts sliding (the run's fallbacks restart it): fresh heat problem at T0."""
+        self.error = None
+        s = self.settings
+        slave = run.contact.slave
+        order = np.argsort(slave.X[:, 0])
+        x = slave.X[order, 0]
+        h_x = float(np.diff(x).mean())
+        if np.ptp(np.diff(x)) > 1e-9 * h_x:
+            raise RuntimeError("thermal macro run: the block's contact face must have equal elements")
+        whole = lambda d: h_x * math.ceil(d / h_x - 1e-9)  # noqa: E731
+        geo = HeatGeometry(block_length=float(x[-1] - x[0]), block_height=float(run.H), road_depth=s.road_depth,
+                           road_ahead=whole(s.road_ahead), road_behind=whole(s.road_behind), h_x=h_x,
+                           first_layer=s.first_layer, grading=s.grading)
+        self.x0 = float(x[0])
+        self.heat = TwoBodyHeat(geo, self.rubber, s.road, T0=s.T0, kappa=s.kappa, h_c=s.h_c,
+                                road_velocity=-float(run.spec.velocity), top_temperature=s.T0)
+        itf = self.heat.interface
+        if np.abs(itf.x + self.x0 - x).max() > 1e-9 * max(1.0, geo.block_length):
+            raise RuntimeError("thermal macro run: slave nodes and heat interface nodes do not match")
+        self.order = order  # interface node i is slave node order[i]
+        self.probe_dofs = [int(np.argmin(np.hypot(self.heat.X[:, 0] - (px - self.x0), self.heat.X[:, 1] - pz)))
+                           for px, pz in s.probes]
+        self.rows: list[tuple] = []
+        self.energy = self.dissipation = 0.0
+        self.max_step_dT = 0.0
+        self._T_prev = np.full(len(x), s.T0)
+        run.contact.set_slave_temperatures(np.full(len(x), s.T0))
+
+    def on_step(self, run, k: int, t: float) -> None:
+        if self.error is not None:
+            return
+        try:
+            self._step(run, t)
+        except Exception as err:  # noqa: BLE001 -- reported as a failed thermal run
+            self.error = f"{type(err).__name__}: {err}"
+
+    def _step(self, run, t: float) -> None:
+        st = run.contact.state()
+        o = self.order
+        power = (st["friction_power_density"] * st["weight"])[o]
+        active = st["active"][o]
+        dt = float(run.dt_slide)
+        self.heat.step(dt, power, active)
+        self.energy += float(power.sum()) * dt
+        self.dissipation += float(st["dissipation"])
+        Tb, _ = self.heat.interface_temperatures()
+        slave_T = np.empty_like(Tb)
+        slave_T[o] = Tb
+        run.contact.set_slave_temperatures(slave_T)
+        p = st["pressure"][o] * st["weight"][o] * active
+        T_contact = float(p @ Tb / p.sum()) if p.sum() > 0 else float("nan")
+        self.max_step_dT = max(self.max_step_dT, float(np.max(np.abs(Tb - self._T_prev))))
+        self._T_prev = Tb
+        xr, Tr = self.heat.road_surface()
+        behind = int(np.argmin(np.abs(xr + self.heat.geometry.h_x)))
+        eb, er = self.heat.heat_content()
+        mu = -st["Fx"] / st["Fz"] if st["Fz"] else float("nan")
+        self.rows.append((t, float(run.spec.velocity) * (t - run.t_start), mu, T_contact, float(Tb.max()),
+                          float(Tr[behind]), eb, er, self.energy, self.dissipation,
+                          *[float(self.heat.T.x.array[d]) for d in self.probe_dofs]))
+        self._last = {"x": self.heat.interface.x + self.x0, "T_block": Tb, "pressure": st["pressure"][o],
+                      "power": power / self.heat.interface.weights, "mu": st["mu"][o]}
+
+
+def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSettings, *,
+                      observers=(), wall_limit: float = 0.0) -> ThermalMacroResult:
+    """One thermomechanical macro run (see the module doc).  The spec must be non-periodic
+    (period = 0: a finite block over a road longer than the slide).  The bulk is evaluated at
+    ``settings.T0`` (its WLF shift; a temperature-dependent bulk is not built yet)."""
+    V.instance("rubber thermal data", rubber, Thermal)
+    if spec.period > 0:
+        raise V.InputError("thermal macro run: the block must be finite (period = 0)")
+    if spec.temperature is None or spec.temperature != settings.T0:
+        # bulk (WLF shift) and contact start at T0; the heat solver then owns the contact temperature
+        spec = replace(spec, temperature=float(settings.T0))
+    coupler = ThermalCoupler(rubber, settings)
+    run = SlidingRun(spec, block_mesh, sliding_contact, observers=(coupler, *observers), wall_limit=wall_limit)
+    res = run.run()
+    out = ThermalMacroResult(res)
+    if coupler.error is not None:
+        out.stats["thermal_error"] = coupler.error
+        return out
+    if coupler.heat is None:
+        return out
+    cols = ["t", "s", "mu", "T_contact", "T_max", "T_road_behind", "heat_block", "heat_road", "friction_energy",
+            "contact_dissipation"]
+    cols += [f"probe_{i}" for i in range(len(settings.probes))]
+    arr = np.array(coupler.rows, float).reshape(-1, len(cols))
+    out.series = {c: arr[:, i] for i, c in enumerate(cols)}
+    out.profiles = getattr(coupler, "_last", {})
+    out.stats.update({"max_step_dT": coupler.max_step_dT, "heat_dofs": float(len(coupler.heat.X)),
+                      "heat_description": coupler.heat.describe()})
+    return out
+
+
+def with_friction(spec: SlidingSpec, friction) -> SlidingSpec:
+    """The spec with another friction law (e.g. a mu(T) law for the thermal run)."""
+    return replace(spec, friction=friction)
