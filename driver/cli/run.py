@@ -139,6 +139,8 @@ def _run(args: argparse.Namespace) -> int:
             print(f"rubberfriction: warning: {w}", file=sys.stderr)
     from rubberfriction.driver.multiscale.campaign import check_scene, run_scene
 
+    if scene.physics.thermal:
+        return _run_thermal(scene, args)
     if args.check:
         try:  # every compound and surface file the scene names is read, samples are cut
             check_scene(scene)
@@ -164,6 +166,27 @@ def _run(args: argparse.Namespace) -> int:
     if args.quiet:
         print(result.output / "results.csv")
     return 0 if all(r.ok for r in result.points) else 1
+
+
+def _run_thermal(scene: Scene, args: argparse.Namespace) -> int:
+    """A thermal scene with given friction: the thermomechanical macro runs (no lower scales)."""
+    from rubberfriction.driver.multiscale.thermal_scene import run_thermal_scene
+
+    t = scene.thermal
+    if args.check:
+        if _rank() == 0:
+            n = len(scene.conditions.compounds) * len(scene.conditions.pressures) * len(scene.conditions.velocities)
+            print(f"thermal scene {scene.name!r} from {scene.source}: {n} macro runs, block "
+                  f"{t.block_length} x {t.block_height} mm, slide {t.slide_distance} mm, kappa {t.kappa}, "
+                  f"h_c {t.h_c:g}\n  output: {scene.output}")
+        return 0
+    if _rank() != 0:
+        return 0
+    try:
+        rows = run_thermal_scene(scene, quiet=args.quiet)
+    except SceneError as err:
+        return _error(str(err))
+    return 0 if all(r.ok for r in rows) else 1
 
 
 def _study(args: argparse.Namespace) -> int:

@@ -133,8 +133,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "adhesion": Key("bool", False, "bell-law adhesion on the macro scale with the multiscale "
                                        "real contact area (thesis 7.3, eq. 7.5-7.8); needs the "
                                        "[adhesion] table"),
-        "thermal": Key("bool", False, "thermomechanical macro scale (thesis ch. 8): not available "
-                                      "in this version"),
+        "thermal": Key("bool", False, "thermomechanical macro scale (thesis ch. 8): a block sliding "
+                                      "over the road with frictional heating, with the friction of "
+                                      "[thermal].mu or mu_curve (the thermal loop over lower scales "
+                                      "is not built yet)"),
     },
     "adhesion": {
         "tau0": Key("float", 3.0, "peak adhesive shear stress in MPa (eq. 7.6)", minimum=0.0),
@@ -207,6 +209,43 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                          "later and the campaign exits (rerun to resume); 0: no "
                                          "limit",
                            minimum=0.0),
+    },
+    "thermal": {
+        "mu": Key("opt_float", None, "constant friction coefficient of the macro run (or mu_curve)",
+                  minimum=0.0),
+        "mu_curve_T": Key("floats", [], "mu(T_s) curve (thesis fig. 8.5 a): temperatures in K, "
+                                        "increasing; the contact temperature of each node selects mu",
+                          above=0.0),
+        "mu_curve_mu": Key("floats", [], "mu(T_s) curve: friction coefficients at mu_curve_T",
+                           minimum=0.0),
+        "kappa": Key("float", 1.0, "share of the frictional heat going into the rubber (thesis "
+                                   "8.3.1: 1; 0.8-0.9 elsewhere)", minimum=0.0, maximum=1.0),
+        "h_c": Key("float", 1.0e6, "interface conductance in mW/(mm^2 K) where in contact (thesis "
+                                   "8.3.1: 1e6, i.e. perfect contact)", minimum=0.0),
+        "road": Key("str", "r1", "road material with [thermal] data (forms/data or a TOML file)"),
+        "block_length": Key("float", 20.0, "rubber block length in mm (thesis 8.5.1: 20)", above=0.0),
+        "block_height": Key("float", 8.0, "rubber block height in mm", above=0.0),
+        "edge_radius": Key("float", 0.0, "rounded leading edge in mm (not built yet: 0)", minimum=0.0),
+        "slide_distance": Key("float", 10.0, "sliding distance in mm", above=0.0),
+        "h_contact": Key("float", 0.25, "contact element length of block and road along x, mm",
+                         above=0.0),
+        "step_per_element": Key("float", 0.5, "sliding step / h_contact", above=0.0),
+        "road_depth": Key("float", 10.0, "depth of the road body in mm", above=0.0),
+        "road_ahead": Key("float", 2.0, "road ahead of the block (block frame, inflow at T0), mm",
+                          minimum=0.0),
+        "road_behind": Key("float", 20.0, "road behind the block (the heated track, outflow), mm",
+                           minimum=0.0),
+        "first_layer": Key("float", 0.01, "first element height at the interface in mm (thesis "
+                                          "8.4.1: 0.01)", above=0.0),
+        "grading": Key("float", 1.2, "growth ratio of element heights away from the interface",
+                       minimum=1.0),
+        "probes_x": Key("floats", [], "thermocouple positions x in mm (block frame, 0 = trailing "
+                                      "edge)"),
+        "probes_z": Key("floats", [], "thermocouple positions z in mm (> 0 rubber, < 0 road)"),
+        "pauses": Key("floats", [], "repeated slides with pauses (thesis 8.5.2; not built yet: empty)",
+                      minimum=0.0),
+        "coupling": Key("str", "staggered", "heat step after each converged sliding step (see "
+                                            "driver/thermal/macro.py)", choices=("staggered",)),
     },
     "separated": {
         "pressures": Key("floats", [], "micro grid pressures in MPa; empty: pressure_factors x the "
@@ -334,6 +373,29 @@ class NumericsConfig:
 
 
 @dataclass(frozen=True)
+class ThermalSceneConfig:
+    """``[thermal]`` of a thermal scene (see SCHEMA): friction (constant mu or a mu(T) curve),
+    heat split and conductance, road material, block and road geometry, probes."""
+
+    mu: float | None
+    mu_curve: tuple[tuple[float, float], ...]
+    kappa: float
+    h_c: float
+    road: str
+    block_length: float
+    block_height: float
+    slide_distance: float
+    h_contact: float
+    step_per_element: float
+    road_depth: float
+    road_ahead: float
+    road_behind: float
+    first_layer: float
+    grading: float
+    probes: tuple[tuple[float, float], ...]
+
+
+@dataclass(frozen=True)
 class SeparatedConfig:
     pressures: tuple[float, ...]
     pressure_factors: tuple[float, ...]
@@ -376,6 +438,7 @@ class Scene:
     text: str = field(repr=False, default="")  # the TOML as given (stored with the results)
     warnings: tuple[str, ...] = ()
     adhesion_fit: AdhesionFitConfig | None = None  # [adhesion] fit_from (thesis 7.3-7.5)
+    thermal: ThermalSceneConfig | None = None  # [thermal] when [physics].thermal
 
     @property
     def n_scales(self) -> int:
@@ -616,10 +679,9 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
 
     # --- physics ---------------------------------------------------------------------------------
     physics = PhysicsConfig(**vals["physics"])
-    if physics.thermal:
-        raise SceneError(f"{origin}: [physics].thermal = true: the thermomechanical macro scale "
-                         f"(thesis "
-                         "ch. 8) is not available in this version; expected false")
+    thermal = _thermal(origin, doc, vals["thermal"]) if physics.thermal else None
+    if not physics.thermal and "thermal" in doc:
+        warnings.append("[thermal] is ignored: [physics].thermal = false")
     if not physics.hysteresis and not physics.adhesion:
         raise SceneError(f"{origin}: [physics]: hysteresis = false and adhesion = false leave "
                          f"nothing to "
@@ -677,7 +739,49 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
                  surface=surface, samples=SamplesConfig(**vals["samples"]), conditions=conditions,
                  physics=physics, adhesion=adhesion, numerics=NumericsConfig(**vals["numerics"]),
                  separated=separated, source=origin, text=text, warnings=tuple(warnings),
-                 adhesion_fit=adhesion_fit)
+                 adhesion_fit=adhesion_fit, thermal=thermal)
+
+
+def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
+    """The [thermal] table of a thermal scene, with the checks across its keys."""
+    where = f"{origin}: [thermal]"
+    if "thermal" not in doc:
+        raise SceneError(f"{origin}: [physics].thermal = true: expected a [thermal] table with the "
+                         "friction (mu or mu_curve_T/mu_curve_mu), kappa, h_c and the geometry")
+    T, m = t["mu_curve_T"], t["mu_curve_mu"]
+    if len(T) != len(m):
+        raise SceneError(f"{where}.mu_curve_T has {len(T)} values and mu_curve_mu {len(m)}: expected "
+                         "one friction coefficient per temperature")
+    if (t["mu"] is None) == (not T):
+        raise SceneError(f"{where}: expected exactly one of mu (constant) and mu_curve_T/mu_curve_mu "
+                         "(mu(T_s)); mu from the lower scales (the thermal loop) is not built yet")
+    if T and (len(T) < 2 or any(b <= a for a, b in zip(T[:-1], T[1:]))):
+        raise SceneError(f"{where}.mu_curve_T = {list(T)}: expected at least two increasing "
+                         "temperatures in K")
+    if t["edge_radius"] > 0:
+        raise SceneError(f"{where}.edge_radius = {t['edge_radius']}: a rounded leading edge is not "
+                         "built yet; expected 0")
+    if t["pauses"]:
+        raise SceneError(f"{where}.pauses = {list(t['pauses'])}: repeated slides with pauses "
+                         "(thesis 8.5.2) are not built yet; expected an empty list")
+    if len(t["probes_x"]) != len(t["probes_z"]):
+        raise SceneError(f"{where}.probes_x has {len(t['probes_x'])} values and probes_z "
+                         f"{len(t['probes_z'])}: expected one z per x")
+    for name in ("block_length", "road_ahead", "road_behind"):
+        n = t[name] / t["h_contact"]
+        if abs(n - round(n)) > 1e-9 * max(1.0, n):
+            raise SceneError(f"{where}.{name} = {t[name]} mm: expected a whole number of contact "
+                             f"elements h_contact = {t['h_contact']} mm")
+    if t["first_layer"] > min(t["block_height"], t["road_depth"]):
+        raise SceneError(f"{where}.first_layer = {t['first_layer']} mm: expected at most the block "
+                         "height and the road depth")
+    return ThermalSceneConfig(
+        mu=t["mu"], mu_curve=tuple(zip(T, m)), kappa=t["kappa"], h_c=t["h_c"], road=t["road"],
+        block_length=t["block_length"], block_height=t["block_height"],
+        slide_distance=t["slide_distance"], h_contact=t["h_contact"],
+        step_per_element=t["step_per_element"], road_depth=t["road_depth"],
+        road_ahead=t["road_ahead"], road_behind=t["road_behind"], first_layer=t["first_layer"],
+        grading=t["grading"], probes=tuple(zip(t["probes_x"], t["probes_z"])))
 
 
 def shipped_scenes() -> list[str]:

@@ -79,6 +79,7 @@ class ThermalMacroResult:
     series: dict[str, np.ndarray] = field(default_factory=dict)
     profiles: dict[str, np.ndarray] = field(default_factory=dict)
     stats: dict[str, float] = field(default_factory=dict)
+    heat: TwoBodyHeat | None = None  # the heat problem at the end (fields for output)
 
     @property
     def ok(self) -> bool:
@@ -184,6 +185,7 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSetti
     arr = np.array(coupler.rows, float).reshape(-1, len(cols))
     out.series = {c: arr[:, i] for i, c in enumerate(cols)}
     out.profiles = getattr(coupler, "_last", {})
+    out.heat = coupler.heat
     out.stats.update({"max_step_dT": coupler.max_step_dT, "heat_dofs": float(len(coupler.heat.X)),
                       "heat_description": coupler.heat.describe()})
     return out

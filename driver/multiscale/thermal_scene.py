@@ -1,0 +1,218 @@
+"""A thermal scene (``[physics].thermal = true``) whose friction is given (``[thermal].mu`` or a
+mu(T_s) curve): one thermomechanical macro run (``driver.thermal.macro``) per compound, pressure
+and velocity, with no lower scales.
+
+Outputs under ``<output>/thermal/``:
+
+* ``thermal_results.csv`` -- one row per run: status, mu (force, window average), end values of
+  the contact temperature T_C, the hottest rubber surface node, the road behind the block T_R,
+  the largest temperature change per step (the staggered scheme's lag), wall time;
+* ``<run>/series.csv`` -- per sliding step: t, s, mu, T_contact, T_max, T_road_behind, heat in
+  block and road, frictional energy, probes;
+* ``<run>/interface.csv`` -- the final profile along the block: x, T_block, pressure, frictional
+  power density, mu;
+* ``<run>/temperature.xdmf`` -- the final temperature field of both bodies (ParaView);
+* ``<run>/thermal.png`` -- mu(s), temperatures(s), heat balance and the final interface profile.
+
+The runs go one after another on rank 0 (each is seconds to minutes); the road is flat (its
+roughness acts through mu).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from rubberfriction.driver.fe.friction_law import fit_mu_pvT
+from rubberfriction.driver.multiscale.scene import Scene, SceneError
+from rubberfriction.driver.sliding.spec import SlidingSpec
+from rubberfriction.driver.thermal.macro import ThermalMacroResult, ThermalSettings, run_thermal_macro
+from rubberfriction.forms.material_files import load_compound, load_road
+
+
+@dataclass
+class ThermalRunSummary:
+    compound: str
+    pressure: float
+    velocity: float
+    status: str
+    reason: str
+    mu_force: float
+    T_contact: float
+    T_max: float
+    T_road_behind: float
+    max_step_dT: float
+    wall: float
+    folder: Path
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+
+def friction_of(scene: Scene):
+    """The macro friction: a float, or a mu(p, v, T) spline linear in T through mu_curve (constant
+    in p and v, clamped beyond the curve's ends)."""
+    t = scene.thermal
+    if t.mu is not None:
+        return float(t.mu)
+    T = np.array([a for a, _ in t.mu_curve])
+    mu = np.array([b for _, b in t.mu_curve])
+    grid = np.broadcast_to(mu, (2, 2, T.size)).copy()
+    return fit_mu_pvT([0.0, 1.0e3], [1.0e-9, 1.0e7], T, grid, degree=1)
+
+
+def _materials(scene: Scene):
+    compounds = []
+    for name, path in zip(scene.conditions.compounds, scene.conditions.compound_paths):
+        c = load_compound(path)
+        if c.thermal is None:
+            raise SceneError(f"{scene.source}: [conditions].compounds: compound {name!r} has no [thermal] "
+                             "data (rho, c, k), which a thermal scene needs")
+        compounds.append((name, c))
+    road = load_road(scene.thermal.road)
+    if road.thermal is None:
+        raise SceneError(f"{scene.source}: [thermal].road = {scene.thermal.road!r} has no [thermal] data")
+    return compounds, road.thermal
+
+
+def _T0(scene: Scene, compound) -> float:
+    if scene.conditions.T0 is not None:
+        return scene.conditions.T0
+    return compound.wlf.T_ref if compound.wlf is not None else 293.15
+
+
+def run_thermal_scene(scene: Scene, *, quiet: bool = False) -> list[ThermalRunSummary]:
+    """Run every (compound, p, v) of a thermal scene; a failed run is reported, never raised."""
+    t = scene.thermal
+    if t is None:
+        raise SceneError(f"{scene.source}: not a thermal scene ([physics].thermal = false)")
+    compounds, road = _materials(scene)
+    friction = friction_of(scene)
+    out = Path(scene.output) / "thermal"
+    out.mkdir(parents=True, exist_ok=True)
+    num = scene.numerics
+    span = t.slide_distance + t.block_length + t.road_ahead + t.road_behind
+    todo = [(n, c, p, v) for n, c in compounds for p in scene.conditions.pressures for v in scene.conditions.velocities]
+    summaries = []
+    for i, (name, comp, p, v) in enumerate(todo, 1):
+        T0 = _T0(scene, comp)
+        spec = SlidingSpec(surface_x=np.array([-span, 2.0 * span]), surface_h=np.zeros(2), period=0.0,
+                           pressure=p, velocity=v, compound=comp, block_length=t.block_length,
+                           block_height=t.block_height, temperature=T0, friction=friction,
+                           element=num.element, contact=num.contact, h_contact=t.h_contact,
+                           grading=num.grading, slide_distance=t.slide_distance,
+                           step_length=t.step_per_element * t.h_contact,
+                           compression_steps=num.compression_steps, max_cutbacks=num.max_cutbacks,
+                           penalty_alpha=num.penalty_alpha)
+        settings = ThermalSettings(road=road, T0=T0, kappa=t.kappa, h_c=t.h_c, road_depth=t.road_depth,
+                                   road_ahead=t.road_ahead, road_behind=t.road_behind,
+                                   first_layer=t.first_layer, grading=t.grading, probes=t.probes)
+        label = f"{name}_p{p:g}_v{v:g}"
+        if not quiet:
+            print(f"[thermal] run {i}/{len(todo)}: {label} (block {t.block_length} x {t.block_height} mm, "
+                  f"slide {t.slide_distance} mm)", flush=True)
+        wall = time.perf_counter()
+        try:
+            res = run_thermal_macro(spec, comp.thermal, settings, wall_limit=num.run_timeout)
+        except Exception as err:  # noqa: BLE001 -- a campaign never dies of one run
+            res = None
+            reason = f"{type(err).__name__}: {err}"
+        wall = time.perf_counter() - wall
+        folder = out / label
+        folder.mkdir(exist_ok=True)
+        if res is not None:
+            summary = _summarise(name, p, v, res, wall, folder)
+            write_run(res, folder, T0)
+        else:
+            summary = ThermalRunSummary(name, p, v, "failed", reason, *[math.nan] * 5, wall, folder)
+        summaries.append(summary)
+        if not quiet:
+            print(f"[thermal]   {summary.status} {summary.reason}  mu {summary.mu_force:.4g}  T_C "
+                  f"{summary.T_contact - T0:+.3g} K  T_R {summary.T_road_behind - T0:+.3g} K  ({wall:.1f} s)",
+                  flush=True)
+    write_summary(out / "thermal_results.csv", summaries)
+    if not quiet:
+        print(f"[thermal] results: {out / 'thermal_results.csv'}")
+    return summaries
+
+
+def _summarise(name, p, v, res: ThermalMacroResult, wall: float, folder: Path) -> ThermalRunSummary:
+    s = res.series
+    end = (lambda k: float(s[k][-1])) if s and len(s["t"]) else (lambda k: math.nan)
+    status = "ok" if res.ok else "failed"
+    reason = res.stats.get("thermal_error", "") or res.sliding.reason
+    return ThermalRunSummary(name, p, v, status, reason, float(res.sliding.mu_force), end("T_contact"),
+                             end("T_max"), end("T_road_behind"), float(res.stats.get("max_step_dT", math.nan)),
+                             wall, folder)
+
+
+def write_summary(path: Path, rows: list[ThermalRunSummary]) -> None:
+    cols = ["compound", "pressure", "velocity", "status", "mu_force", "T_contact", "T_max", "T_road_behind",
+            "max_step_dT", "wall", "reason"]
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(cols)
+        for r in rows:
+            w.writerow([getattr(r, c) for c in cols])
+
+
+def write_run(res: ThermalMacroResult, folder: Path, T0: float) -> None:
+    """series.csv, interface.csv, temperature.xdmf and thermal.png of one run."""
+    if res.series:
+        _csv(folder / "series.csv", res.series)
+    if res.profiles:
+        _csv(folder / "interface.csv", {k: np.asarray(v) for k, v in res.profiles.items()})
+    heat = res.heat
+    if heat is not None:
+        from dolfinx.io import XDMFFile
+
+        heat.T.name = "temperature"
+        with XDMFFile(heat.mesh.comm, str(folder / "temperature.xdmf"), "w") as x:
+            x.write_mesh(heat.mesh)
+            x.write_function(heat.T, heat.time)
+    if res.series and len(res.series["t"]):
+        plot_run(res, folder / "thermal.png", T0)
+
+
+def _csv(path: Path, cols: dict) -> None:
+    names = list(cols)
+    arr = np.column_stack([np.asarray(cols[n], float) for n in names])
+    np.savetxt(path, arr, delimiter=",", header=",".join(names), comments="", fmt="%.10g")
+
+
+def plot_run(res: ThermalMacroResult, path: Path, T0: float) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    s, p = res.series, res.profiles
+    fig, ax = plt.subplots(2, 2, figsize=(10, 7))
+    ax[0, 0].plot(s["s"], s["mu"])
+    ax[0, 0].set(xlabel="sliding distance s (mm)", ylabel="mu = -F_x / F_z (contact)", title="friction")
+    for k, lab in (("T_contact", "contact (pressure-weighted)"), ("T_max", "hottest rubber node"),
+                   ("T_road_behind", "road behind the block")):
+        ax[0, 1].plot(s["s"], s[k] - T0, label=lab)
+    ax[0, 1].set(xlabel="s (mm)", ylabel="T - T0 (K)", title="temperatures")
+    ax[0, 1].legend(fontsize=8)
+    ax[1, 0].plot(s["s"], s["friction_energy"], label="frictional heat in")
+    ax[1, 0].plot(s["s"], s["heat_block"] + s["heat_road"], label="stored (block + road)")
+    ax[1, 0].plot(s["s"], s["heat_block"], "--", label="stored in the block")
+    ax[1, 0].set(xlabel="s (mm)", ylabel="mJ per mm depth", title="heat balance (rest left through T0 faces)")
+    ax[1, 0].legend(fontsize=8)
+    if p:
+        ax[1, 1].plot(p["x"], p["T_block"] - T0, label="T_block - T0 (K)")
+        a2 = ax[1, 1].twinx()
+        a2.plot(p["x"], p["pressure"], "k:", label="pressure")
+        a2.set_ylabel("contact pressure (MPa)")
+        ax[1, 1].set(xlabel="x along the block (mm, trailing edge 0)", ylabel="T - T0 (K)",
+                     title="interface at the end")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

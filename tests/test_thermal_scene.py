@@ -1,0 +1,113 @@
+"""Thermal scenes (``[physics].thermal = true`` with a ``[thermal]`` table): validation with errors
+that name the field, and one small scene end to end through ``rubberfriction run``."""
+
+from __future__ import annotations
+
+import csv
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rubberfriction.driver.multiscale.scene import SceneError, load_scene, parse_scene
+from rubberfriction.driver.multiscale.thermal_scene import friction_of
+
+BASE = """
+name = "hot"
+[conditions]
+compounds = ["tread_default"]
+pressures = [0.3]
+velocities = [1000.0]
+[physics]
+thermal = true
+[thermal]
+"""
+SMALL = ("mu = 0.5\nblock_length = 4.0\nblock_height = 2.0\nslide_distance = 4.0\nroad_depth = 3.0\n"
+         "road_ahead = 1.0\nroad_behind = 3.0\nprobes_x = [2.0]\nprobes_z = [-0.05]\n")
+
+
+def _parse(extra: str, base: Path = Path(".")):
+    return parse_scene(BASE + extra, "t.toml", base)
+
+
+@pytest.mark.parametrize("extra, field", [
+    ("mu = 0.5\nkappa = 1.5\n", r"\[thermal\]\.kappa"),
+    ("mu = 0.5\nh_c = -1.0\n", r"\[thermal\]\.h_c"),
+    ("mu = 0.5\npauses = [10.0]\n", r"\[thermal\]\.pauses"),
+    ("mu = 0.5\nedge_radius = 1.0\n", r"\[thermal\]\.edge_radius"),
+    ("mu = 0.5\nmu_curve_T = [300.0, 400.0]\nmu_curve_mu = [0.5, 0.4]\n", r"exactly one of mu"),
+    ("", r"exactly one of mu"),
+    ("mu_curve_T = [300.0, 400.0]\nmu_curve_mu = [0.5]\n", r"mu_curve_T has 2 values"),
+    ("mu_curve_T = [400.0, 300.0]\nmu_curve_mu = [0.5, 0.4]\n", r"increasing"),
+    ("mu = 0.5\nblock_length = 20.1\n", r"\[thermal\]\.block_length"),
+    ("mu = 0.5\nprobes_x = [1.0]\n", r"probes_x"),
+    ("mu = 0.5\nkapa = 1.0\n", r"unknown key \[thermal\]\.kapa"),
+])
+def test_bad_thermal_tables_name_the_field(extra, field):
+    with pytest.raises(SceneError, match=field):
+        _parse(extra)
+
+
+def test_thermal_true_needs_a_thermal_table():
+    text = BASE.replace("[thermal]\n", "")
+    with pytest.raises(SceneError, match=r"expected a \[thermal\] table"):
+        parse_scene(text, "t.toml", Path("."))
+
+
+def test_mu_curve_becomes_a_law_linear_in_temperature():
+    """mu_curve (T, mu) pairs -> a spline linear between them, constant beyond (clamped)."""
+    scene = _parse("mu_curve_T = [300.0, 400.0, 500.0]\nmu_curve_mu = [0.9, 0.5, 0.4]\n")
+    law = friction_of(scene)
+    T = np.array([250.0, 300.0, 350.0, 450.0, 600.0])
+    np.testing.assert_allclose(law(np.full(5, 0.3), np.full(5, 100.0), T), [0.9, 0.9, 0.7, 0.45, 0.4],
+                               atol=1e-12)
+
+
+def test_shipped_thermal_scene_loads():
+    scene = load_scene("thermal_macro")
+    assert scene.physics.thermal and scene.thermal.mu_curve and scene.thermal.kappa == 1.0
+
+
+def test_missing_thermal_data_of_the_compound_or_road(tmp_path):
+    from rubberfriction.driver.multiscale.thermal_scene import run_thermal_scene
+
+    scene = _parse(SMALL).with_output(tmp_path)
+    no_thermal = parse_scene((BASE + SMALL).replace('"tread_default"', '"c1"'), "t.toml", Path("."))
+    with pytest.raises(SceneError, match=r"compound 'c1' has no \[thermal\]"):
+        run_thermal_scene(no_thermal.with_output(tmp_path), quiet=True)
+    road = tmp_path / "bare_road.toml"
+    road.write_text('kind = "road"\nname = "bare"\nsource = "test"\n[units]\nlength = "mm"\ntime = "s"\n'
+                    'mass = "t"\nforce = "N"\nstress = "MPa"\nenergy = "mJ"\ntemperature = "degC"\n'
+                    '[elastic]\nE = 1000.0\nnu = 0.2\n')
+    bare = _parse(SMALL + f'road = "{road}"\n').with_output(tmp_path)
+    with pytest.raises(SceneError, match=r"\[thermal\]\.road"):
+        run_thermal_scene(bare, quiet=True)
+    assert scene.thermal.probes == ((2.0, -0.05),)
+
+
+def test_small_thermal_scene_end_to_end(tmp_path):
+    """``rubberfriction run`` on a thermal scene with constant mu = 0.5 (4 x 2 mm block, 1 m/s,
+    0.3 MPa): exit 0, one ok row; the contact heats (T_C > T0); the series stores the heat put in
+    (stored = frictional energy within 1e-5 while no heat can have left); the probe in the road
+    under the block warms; the field is written for ParaView and the plot exists."""
+    scene = tmp_path / "hot.toml"
+    scene.write_text(BASE + SMALL)
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-m", "rubberfriction", "run", str(scene), "--out", str(out)],
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "[thermal] run 1/1" in proc.stdout
+    rows = list(csv.DictReader(open(out / "thermal" / "thermal_results.csv")))
+    assert len(rows) == 1 and rows[0]["status"] == "ok"
+    T0 = 293.15
+    assert float(rows[0]["T_contact"]) > T0 + 1.0
+    run = out / "thermal" / "tread_default_p0.3_v1000"
+    series = np.genfromtxt(run / "series.csv", delimiter=",", names=True)
+    early = (series["s"] < 1.5) & (series["friction_energy"] > 0)
+    np.testing.assert_allclose(series["heat_block"][early] + series["heat_road"][early],
+                               series["friction_energy"][early], rtol=1e-5)
+    assert series["probe_0"][-1] > T0 + 0.1
+    for name in ("interface.csv", "temperature.xdmf", "temperature.h5", "thermal.png"):
+        assert (run / name).is_file(), name
