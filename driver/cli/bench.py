@@ -13,6 +13,7 @@ BENCHMARKS = {
     "sliding": ("rubberfriction.driver.bench.sliding", "micro-cell speed-accuracy and stability sweep"),
     "multiscale": ("rubberfriction.driver.bench.multiscale", "default scene and four-scale point, serial vs ranks"),
     "trade": ("rubberfriction.driver.bench.trade", "speed-accuracy trade of one mu point: mesh, penalty, samples"),
+    "thermal": ("rubberfriction.driver.bench.thermal", "thermal macro scale: z-resolution study, T_R and T_C over v"),
 }
 
 

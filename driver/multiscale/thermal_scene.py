@@ -49,6 +49,11 @@ class ThermalRunSummary:
     max_step_dT: float
     wall: float
     folder: Path
+    steps: float = math.nan
+    cutbacks: float = math.nan
+    newton_iterations: float = math.nan
+    cpu_heat: float = math.nan
+    cpu_contact: float = math.nan
 
     @property
     def ok(self) -> bool:
@@ -134,8 +139,9 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False) -> list[ThermalRunSu
         summaries.append(summary)
         if not quiet:
             print(f"[thermal]   {summary.status} {summary.reason}  mu {summary.mu_force:.4g}  T_C "
-                  f"{summary.T_contact - T0:+.3g} K  T_R {summary.T_road_behind - T0:+.3g} K  ({wall:.1f} s)",
-                  flush=True)
+                  f"{summary.T_contact - T0:+.3g} K  T_R {summary.T_road_behind - T0:+.3g} K  ({wall:.1f} s, "
+                  f"{summary.steps:.0f} steps, {summary.cutbacks:.0f} cut-backs, {summary.newton_iterations:.0f} "
+                  f"Newton iterations, heat {summary.cpu_heat:.1f} s CPU)", flush=True)
     write_summary(out / "thermal_results.csv", summaries)
     if not quiet:
         print(f"[thermal] results: {out / 'thermal_results.csv'}")
@@ -147,14 +153,17 @@ def _summarise(name, p, v, res: ThermalMacroResult, wall: float, folder: Path) -
     end = (lambda k: float(s[k][-1])) if s and len(s["t"]) else (lambda k: math.nan)
     status = "ok" if res.ok else "failed"
     reason = res.stats.get("thermal_error", "") or res.sliding.reason
+    st = res.sliding.stats
     return ThermalRunSummary(name, p, v, status, reason, float(res.sliding.mu_force), end("T_contact"),
                              end("T_max"), end("T_road_behind"), float(res.stats.get("max_step_dT", math.nan)),
-                             wall, folder)
+                             wall, folder, float(st.get("steps", math.nan)), float(st.get("cutbacks", math.nan)),
+                             float(st.get("newton_iterations", math.nan)), float(res.stats.get("cpu_heat", math.nan)),
+                             float(st.get("cpu_contact", math.nan)))
 
 
 def write_summary(path: Path, rows: list[ThermalRunSummary]) -> None:
     cols = ["compound", "pressure", "velocity", "status", "mu_force", "T_contact", "T_max", "T_road_behind",
-            "max_step_dT", "wall", "reason"]
+            "max_step_dT", "wall", "steps", "cutbacks", "newton_iterations", "cpu_heat", "cpu_contact", "reason"]
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(cols)

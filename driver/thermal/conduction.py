@@ -280,6 +280,20 @@ class TwoBodyHeat:
         itf = self.interface
         return self.T.x.array[itf.block_dofs].copy(), self.T.x.array[itf.road_dofs].copy()
 
+    def interface_gradients(self) -> tuple[np.ndarray, np.ndarray]:
+        """dT/dz at each interface node, one-sided over the first element: block side (z > 0) and
+        road side (z < 0), K/mm."""
+        itf, X, T = self.interface, self.X, self.T.x.array
+        tol = 1e-9 * max(1.0, self.geometry.block_length)
+        out = []
+        for dofs, body, z1 in ((itf.block_dofs, self.block_dofs, self._zb[1]),
+                               (itf.road_dofs, self.road_dofs, -self._zd[1])):
+            layer = body[np.abs(X[body, 1] - z1) < tol]
+            layer = layer[np.argsort(X[layer, 0])]
+            j = np.searchsorted(X[layer, 0], X[dofs, 0] - tol)
+            out.append((T[layer[j]] - T[dofs]) / z1)
+        return out[0], out[1]
+
     def road_surface(self) -> tuple[np.ndarray, np.ndarray]:
         """x and temperature of the road top, from behind the block to ahead of it."""
         d = self.road_surface_dofs

@@ -22,6 +22,7 @@ thermo-viscoelastic bulk with WLF-shifted relaxation per cell, XDMF fields and t
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -119,6 +120,7 @@ class ThermalCoupler:
                            for px, pz in s.probes]
         self.rows: list[tuple] = []
         self.energy = self.dissipation = 0.0
+        self.cpu_heat = 0.0
         self.max_step_dT = 0.0
         self._T_prev = np.full(len(x), s.T0)
         run.contact.set_slave_temperatures(np.full(len(x), s.T0))
@@ -137,7 +139,9 @@ class ThermalCoupler:
         power = (st["friction_power_density"] * st["weight"])[o]
         active = st["active"][o]
         dt = float(run.dt_slide)
+        t_heat = time.process_time()
         self.heat.step(dt, power, active)
+        self.cpu_heat += time.process_time() - t_heat
         self.energy += float(power.sum()) * dt
         self.dissipation += float(st["dissipation"])
         Tb, _ = self.heat.interface_temperatures()
@@ -187,6 +191,7 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSetti
     out.profiles = getattr(coupler, "_last", {})
     out.heat = coupler.heat
     out.stats.update({"max_step_dT": coupler.max_step_dT, "heat_dofs": float(len(coupler.heat.X)),
+                      "cpu_heat": coupler.cpu_heat,
                       "heat_description": coupler.heat.describe()})
     return out
 

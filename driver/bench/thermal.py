@@ -1,0 +1,129 @@
+"""Benchmark: the thermal macro scale (thesis 8.4.1, 8.5.1).
+
+    rubberfriction bench thermal [--part mesh|velocities|all] [--out DIR]
+
+``mesh``: the macro mesh study of thesis 8.4.1 on the shipped scene ``thermal_macro`` (20 x 8 mm
+block, p = 0.3 MPa, v = 1 m/s, 10 mm of sliding, mu(T_s) of the scene, kappa = 1, h_c = 1e6) with
+three z-resolutions at the interface (first element 0.04, 0.02, 0.01 mm): the temperature gradient
+dT/dz in the road at the interface (pressure-weighted over the contact), the contact temperature,
+mu after 10 mm, wall time, peak memory of the process and the time split into mechanics, heat and
+contact.
+
+``velocities``: the set-up of thesis 8.5.1 (hyperelastic m3, l = 20, h = 7 mm, p = 0.3 MPa,
+T0 = 20 degC, kappa = 1, h_c = 1e6, road r1) for v = 0.01, 0.1, 1 m/s with a constant mu per
+velocity of the magnitude of thesis fig. 8.11 a (``MU_OF_V``, stated values, not the measurement):
+the road temperature behind the block T_R and the contact temperature T_C over v.
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import time
+
+import numpy as np
+
+from rubberfriction.driver.multiscale.scene import load_scene
+from rubberfriction.driver.multiscale.thermal_scene import friction_of
+from rubberfriction.driver.sliding.spec import SlidingSpec
+from rubberfriction.driver.thermal.macro import ThermalSettings, run_thermal_macro
+from rubberfriction.forms.material_files import load_compound, load_road
+
+#: mu per velocity (mm/s) for the 8.5.1 set-up: the magnitude of thesis fig. 8.11 a (stated values)
+MU_OF_V = {10.0: 0.9, 100.0: 0.95, 1000.0: 1.0}
+FIRST_LAYERS = (0.04, 0.02, 0.01)
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--part", choices=("mesh", "velocities", "all"), default="all")
+    p.add_argument("--velocity", type=float, default=1000.0, help="mm/s, mesh study")
+    p.add_argument("--slide", type=float, default=10.0, help="sliding distance, mm")
+
+
+def _macro(compound, road, *, length, height, pressure, velocity, friction, slide, first_layer, T0,
+           h_contact=0.25):
+    spec = SlidingSpec(surface_x=np.array([-200.0, 400.0]), surface_h=np.zeros(2), period=0.0,
+                       pressure=pressure, velocity=velocity, compound=compound, block_length=length,
+                       block_height=height, temperature=T0, friction=friction, h_contact=h_contact,
+                       slide_distance=slide, step_length=0.5 * h_contact)
+    settings = ThermalSettings(road=road, T0=T0, kappa=1.0, h_c=1.0e6, road_depth=10.0, road_ahead=2.0,
+                               road_behind=20.0, first_layer=first_layer)
+    wall = time.perf_counter()
+    res = run_thermal_macro(spec, compound.thermal, settings)
+    wall = time.perf_counter() - wall
+    return res, wall
+
+
+def _row(res, wall: float, T0: float) -> dict:
+    s, st = res.series, res.sliding.stats
+    out = {"status": res.sliding.status if res.ok else "failed", "wall": wall,
+           "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0}
+    if not len(s.get("t", [])):
+        return out
+    _, g_road = res.heat.interface_gradients()
+    p = res.profiles["pressure"]
+    cpu_heat, cpu_contact = res.stats["cpu_heat"], st.get("cpu_contact", 0.0)
+    out.update({"mu": float(np.mean(s["mu"][-max(1, len(s["mu"]) // 5):])), "T_C": s["T_contact"][-1] - T0,
+                "T_max": s["T_max"][-1] - T0, "T_R": s["T_road_behind"][-1] - T0,
+                "grad_road": float(p @ g_road / p.sum()) if p.sum() > 0 else float("nan"),
+                "heat_dofs": res.stats["heat_dofs"], "cpu_heat": cpu_heat, "cpu_contact": cpu_contact,
+                "cpu_mech": st.get("cpu_attempt", float("nan")) - cpu_heat - cpu_contact,
+                "steps": st.get("steps"), "per_step_ms": 1e3 * wall / max(1, st.get("steps", 1))})
+    return out
+
+
+def run(args: argparse.Namespace) -> int:
+    parts = ("mesh", "velocities") if args.part == "all" else (args.part,)
+    ok = True
+    if "mesh" in parts:
+        scene = load_scene("thermal_macro")
+        comp = load_compound(scene.conditions.compound_paths[0])
+        road = load_road(scene.thermal.road).thermal
+        T0 = scene.conditions.T0
+        law = friction_of(scene)
+        print(f"thermal macro mesh study (thesis 8.4.1): block {scene.thermal.block_length} x "
+              f"{scene.thermal.block_height} mm, p 0.3 MPa, v {args.velocity:g} mm/s, slide {args.slide} mm, "
+              f"mu(T_s) of the scene thermal_macro")
+        print(f"{'first layer':>11} {'heat dofs':>9} {'dT/dz road':>11} {'T_C-T0':>7} {'T_max-T0':>8} "
+              f"{'mu':>6} {'wall s':>7} {'ms/step':>7} {'mech/heat/contact CPU s':>24} {'RSS MB':>7}")
+        for first in FIRST_LAYERS:
+            res, wall = _macro(comp, road, length=scene.thermal.block_length, height=scene.thermal.block_height,
+                               pressure=0.3, velocity=args.velocity, friction=law, slide=args.slide,
+                               first_layer=first, T0=T0)
+            r = _row(res, wall, T0)
+            ok &= r["status"] == "ok"
+            if "mu" not in r:
+                print(f"{first:>11g}  failed: {res.sliding.reason} {res.stats.get('thermal_error', '')}")
+                continue
+            print(f"{first:>11g} {r['heat_dofs']:>9.0f} {r['grad_road']:>11.4g} {r['T_C']:>7.3f} {r['T_max']:>8.3f} "
+                  f"{r['mu']:>6.4f} {r['wall']:>7.1f} {r['per_step_ms']:>7.0f} "
+                  f"{r['cpu_mech']:>8.1f}/{r['cpu_heat']:>5.1f}/{r['cpu_contact']:>5.1f}      {r['rss_mb']:>7.0f}",
+                  flush=True)
+    if "velocities" in parts:
+        comp = load_compound("m3")
+        road = load_road("r1").thermal
+        T0 = 293.15
+        print(f"thesis 8.5.1 set-up: m3 (hyperelastic), 20 x 7 mm, p 0.3 MPa, T0 20 degC, kappa 1, h_c 1e6, "
+              f"slide {args.slide} mm; mu(v) stated: {MU_OF_V}")
+        print(f"{'v m/s':>6} {'mu':>5} {'T_C-T0':>7} {'T_R-T0':>7} {'T_max-T0':>8} {'wall s':>7}")
+        for v, mu in MU_OF_V.items():
+            res, wall = _macro(comp, road, length=20.0, height=7.0, pressure=0.3, velocity=v, friction=mu,
+                               slide=args.slide, first_layer=0.01, T0=T0)
+            r = _row(res, wall, T0)
+            ok &= r["status"] == "ok"
+            if "mu" not in r:
+                print(f"{v / 1e3:>6g}  failed: {res.sliding.reason} {res.stats.get('thermal_error', '')}")
+                continue
+            print(f"{v / 1e3:>6g} {mu:>5.2f} {r['T_C']:>7.3f} {r['T_R']:>7.3f} {r['T_max']:>8.3f} {r['wall']:>7.1f}",
+                  flush=True)
+    return 0 if ok else 1
+
+
+
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="rubberfriction bench thermal", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_arguments(ap)
+    return run(ap.parse_args(argv))
