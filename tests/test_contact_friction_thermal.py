@@ -176,3 +176,27 @@ def test_rigid_master_temperature_conduction():
     u[2::nd] = 300.0
     R = residual(c, u)
     np.testing.assert_allclose(-R[2::nd], 1.5 * 50.0 * weights(XS), rtol=1e-12)
+
+
+def test_slave_node_temperatures_select_mu_per_node_and_power_density_sums_to_the_total():
+    """Staggered coupling: with per-node temperatures T_A and a law linear in T, every slipping node
+    gets mu(T_A) exactly (1e-12); the nodal power density times the weight sums to the interface's
+    friction power (1e-12), and with no temperatures set the law without T input is refused."""
+    T = np.linspace(273.0, 473.0, 5)
+    law = fl.fit_mu_pvT([0.0, 10.0], [1e-6, 1e5], T,
+                        np.broadcast_to(0.8 - 0.002 * (T - 273.0), (2, 2, T.size)).copy(), degree=1)
+    c, u, nd = build_interface(law)
+    dt, du = 0.02, 0.03
+    u[0::nd] = du
+    with pytest.raises(ValueError, match="depends on temperature"):
+        c.evaluate(u, dt=dt)
+    TA = 300.0 + 20.0 * np.arange(XS.size)
+    c.set_slave_temperatures(TA)
+    s = c.evaluate(u, dt=dt)
+    assert np.all(s["status"] == 2)
+    np.testing.assert_allclose(s["mu"], 0.8 - 0.002 * (TA - 273.0), rtol=1e-12)
+    np.testing.assert_allclose(np.sum(s["friction_power_density"] * s["weight"]), s["friction_power"], rtol=1e-12)
+    with pytest.raises(ValueError, match="slave temperatures"):
+        c.set_slave_temperatures(TA[:-1])
+    with pytest.raises(ValueError, match="slave temperatures"):
+        c.set_slave_temperatures(np.full(XS.size, -1.0))
