@@ -103,3 +103,31 @@ def test_bad_thermal_input_names_the_field():
         run_thermal_macro(replace(_spec(1.0), period=4.0), COMPOUND.thermal, SETTINGS)
     with pytest.raises(ValueError, match="thermal.road"):
         ThermalSettings(road=None)
+
+
+def test_repeated_slides_carry_the_block_temperature_through_pauses():
+    """Thesis 8.5.2: slides with pauses, the block lifted (conduction only, top at T0) and the road
+    fresh each slide.  A short pause (1 ms) carries the heat: the second slide ends hotter than the
+    first; the surface cools monotonically during a pause; after a pause much longer than the
+    block's diffusion time h^2/chi = 32 s (2000 s) the block is back at T0 (0.01 K) and the second
+    slide repeats the first (end contact rise within 1 %, mu within 1e-3)."""
+    from rubberfriction.driver.thermal.macro import run_thermal_slides
+
+    spec = replace(_spec(1000.0), slide_distance=4.0)
+    short = run_thermal_slides(spec, COMPOUND.thermal, SETTINGS, (1e-3,))
+    assert short.ok and len(short.slides) == 2
+    first, second = (r.series["T_contact"][-1] - T0 for r in short.slides)
+    assert second > first + 0.1
+    long = run_thermal_slides(spec, COMPOUND.thermal, SETTINGS, (2000.0,))
+    assert long.ok
+    h = long.history
+    pause = h["slide"] == 0
+    assert np.all(np.diff(h["T_surface"][pause]) <= 1e-9)  # K, round-off near T0
+    assert h["T_surface"][pause][-1] - T0 < 0.01
+    a, b = long.slides
+    assert abs((b.series["T_contact"][-1] - T0) - (a.series["T_contact"][-1] - T0)) < 0.01 * (
+        a.series["T_contact"][-1] - T0)
+    assert abs(b.series["mu"][-1] - a.series["mu"][-1]) < 1e-3
+    assert np.all(np.diff(h["t"]) > 0)
+    with pytest.raises(InputError, match="pause"):
+        run_thermal_slides(spec, COMPOUND.thermal, SETTINGS, (-1.0,))

@@ -35,7 +35,9 @@ def _parse(extra: str, base: Path = Path(".")):
 @pytest.mark.parametrize("extra, field", [
     ("mu = 0.5\nkappa = 1.5\n", r"\[thermal\]\.kappa"),
     ("mu = 0.5\nh_c = -1.0\n", r"\[thermal\]\.h_c"),
-    ("mu = 0.5\npauses = [10.0]\n", r"\[thermal\]\.pauses"),
+    ("mu = 0.5\npauses = [10.0]\n", r"\[thermal\]\.pauses.*a pause without a slide"),
+    ("mu = 0.5\nslides = 3\npauses = [10.0]\n", r"slides without pauses"),
+    ("mu = 0.5\nslides = 2\npauses = [-1.0]\n", r"\[thermal\]\.pauses"),
     ("mu = 0.5\nedge_radius = 1.0\n", r"\[thermal\]\.edge_radius"),
     ("mu = 0.5\nmu_curve_T = [300.0, 400.0]\nmu_curve_mu = [0.5, 0.4]\n", r"exactly one of mu"),
     ("", r"exactly one of mu"),
@@ -48,6 +50,21 @@ def _parse(extra: str, base: Path = Path(".")):
 def test_bad_thermal_tables_name_the_field(extra, field):
     with pytest.raises(SceneError, match=field):
         _parse(extra)
+
+
+def test_repeated_slides_scene_writes_each_slide_and_the_history(tmp_path):
+    """slides = 2 with one pause: a folder per slide, history.csv with the pause rows (slide 0)."""
+    from rubberfriction.driver.multiscale.thermal_scene import run_thermal_scene
+
+    small = SMALL.replace("slide_distance = 4.0", "slide_distance = 2.0")
+    scene = _parse(small + "slides = 2\npauses = [0.5]\n").with_output(tmp_path)
+    (row,) = run_thermal_scene(scene, quiet=True)
+    assert row.ok
+    run = tmp_path / "thermal" / "tread_default_p0.3_v1000"
+    h = np.genfromtxt(run / "history.csv", delimiter=",", names=True)
+    assert set(np.unique(h["slide"])) == {0.0, 1.0, 2.0} and np.all(np.diff(h["t"]) > 0)
+    for k in (1, 2):
+        assert (run / f"slide_{k}" / "series.csv").is_file()
 
 
 def test_thermal_true_needs_a_thermal_table():

@@ -242,8 +242,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "probes_x": Key("floats", [], "thermocouple positions x in mm (block frame, 0 = trailing "
                                       "edge)"),
         "probes_z": Key("floats", [], "thermocouple positions z in mm (> 0 rubber, < 0 road)"),
-        "pauses": Key("floats", [], "repeated slides with pauses (thesis 8.5.2; not built yet: empty)",
-                      minimum=0.0),
+        "slides": Key("int", 1, "repeated slides of slide_distance (thesis 8.5.2: the block keeps "
+                                "its temperature field, the road is fresh each slide)", minimum=1),
+        "pauses": Key("floats", [], "pause in s after each slide but the last (block lifted, "
+                                    "conduction only): slides - 1 values", minimum=0.0),
         "coupling": Key("str", "staggered", "heat step after each converged sliding step (see "
                                             "driver/thermal/macro.py)", choices=("staggered",)),
     },
@@ -393,6 +395,8 @@ class ThermalSceneConfig:
     first_layer: float
     grading: float
     probes: tuple[tuple[float, float], ...]
+    slides: int = 1
+    pauses: tuple[float, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -761,9 +765,10 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
     if t["edge_radius"] > 0:
         raise SceneError(f"{where}.edge_radius = {t['edge_radius']}: a rounded leading edge is not "
                          "built yet; expected 0")
-    if t["pauses"]:
-        raise SceneError(f"{where}.pauses = {list(t['pauses'])}: repeated slides with pauses "
-                         "(thesis 8.5.2) are not built yet; expected an empty list")
+    if len(t["pauses"]) != t["slides"] - 1:
+        what = "a pause without a slide after it" if len(t["pauses"]) >= t["slides"] else "slides without pauses"
+        raise SceneError(f"{where}.pauses = {list(t['pauses'])} with slides = {t['slides']}: {what}; "
+                         "expected slides - 1 pauses (s)")
     if len(t["probes_x"]) != len(t["probes_z"]):
         raise SceneError(f"{where}.probes_x has {len(t['probes_x'])} values and probes_z "
                          f"{len(t['probes_z'])}: expected one z per x")
@@ -781,7 +786,8 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
         slide_distance=t["slide_distance"], h_contact=t["h_contact"],
         step_per_element=t["step_per_element"], road_depth=t["road_depth"],
         road_ahead=t["road_ahead"], road_behind=t["road_behind"], first_layer=t["first_layer"],
-        grading=t["grading"], probes=tuple(zip(t["probes_x"], t["probes_z"])))
+        grading=t["grading"], probes=tuple(zip(t["probes_x"], t["probes_z"])), slides=t["slides"],
+        pauses=tuple(t["pauses"]))
 
 
 def shipped_scenes() -> list[str]:

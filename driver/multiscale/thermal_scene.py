@@ -12,7 +12,10 @@ Outputs under ``<output>/thermal/``:
 * ``<run>/interface.csv`` -- the final profile along the block: x, T_block, pressure, frictional
   power density, mu;
 * ``<run>/temperature.xdmf`` -- the final temperature field of both bodies (ParaView);
-* ``<run>/thermal.png`` -- mu(s), temperatures(s), heat balance and the final interface profile.
+* ``<run>/thermal.png`` -- mu(s), temperatures(s), heat balance and the final interface profile;
+* with ``slides`` > 1: ``<run>/slide_<k>/`` holds the files above per slide and
+  ``<run>/history.csv`` the whole sequence (global time, slide number or 0 in a pause, mean rubber
+  surface temperature, probes); the summary row is the last slide's.
 
 The runs go one after another on rank 0 (each is seconds to minutes); the road is flat (its
 roughness acts through mu).
@@ -31,7 +34,12 @@ import numpy as np
 from rubberfriction.driver.fe.friction_law import fit_mu_pvT
 from rubberfriction.driver.multiscale.scene import Scene, SceneError
 from rubberfriction.driver.sliding.spec import SlidingSpec
-from rubberfriction.driver.thermal.macro import ThermalMacroResult, ThermalSettings, run_thermal_macro
+from rubberfriction.driver.thermal.macro import (
+    ThermalMacroResult,
+    ThermalSettings,
+    run_thermal_macro,
+    run_thermal_slides,
+)
 from rubberfriction.forms.material_files import load_compound, load_road
 
 
@@ -123,17 +131,26 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False) -> list[ThermalRunSu
             print(f"[thermal] run {i}/{len(todo)}: {label} (block {t.block_length} x {t.block_height} mm, "
                   f"slide {t.slide_distance} mm)", flush=True)
         wall = time.perf_counter()
+        folder = out / label
+        folder.mkdir(exist_ok=True)
         try:
-            res = run_thermal_macro(spec, comp.thermal, settings, wall_limit=num.run_timeout)
+            if t.slides > 1:
+                seq = run_thermal_slides(spec, comp.thermal, settings, t.pauses, wall_limit=num.run_timeout)
+                for k, r in enumerate(seq.slides, 1):
+                    (folder / f"slide_{k}").mkdir(exist_ok=True)
+                    write_run(r, folder / f"slide_{k}", T0)
+                _csv(folder / "history.csv", seq.history)
+                res = seq.slides[-1]
+            else:
+                res = run_thermal_macro(spec, comp.thermal, settings, wall_limit=num.run_timeout)
         except Exception as err:  # noqa: BLE001 -- a campaign never dies of one run
             res = None
             reason = f"{type(err).__name__}: {err}"
         wall = time.perf_counter() - wall
-        folder = out / label
-        folder.mkdir(exist_ok=True)
         if res is not None:
             summary = _summarise(name, p, v, res, wall, folder)
-            write_run(res, folder, T0)
+            if t.slides == 1:
+                write_run(res, folder, T0)
         else:
             summary = ThermalRunSummary(name, p, v, "failed", reason, *[math.nan] * 5, wall, folder)
         summaries.append(summary)

@@ -15,8 +15,9 @@ coupling is one-way within a step (mu depends on T, T on the frictional power). 
 step is the scheme's error; its measure is the largest change of the contact temperature per
 step (stats ``max_step_dT``), and halving the sliding step shows it (``tests/test_thermal_macro.py``).
 
-Not yet here (issue 15 stays open): rounded leading edge, repeated slides with pauses, a
-thermo-viscoelastic bulk with WLF-shifted relaxation per cell, XDMF fields and the scene table.
+Repeated slides with pauses (thesis 8.5.2): ``run_thermal_slides``.  Not yet here (issue 15
+stays open): rounded leading edge, a thermo-viscoelastic bulk with WLF-shifted relaxation per
+cell, a deformable road, a rough macro road.
 """
 
 from __future__ import annotations
@@ -90,8 +91,9 @@ class ThermalMacroResult:
 class ThermalCoupler:
     """Observer of a SlidingRun that carries the heat problem along (see the module doc)."""
 
-    def __init__(self, rubber: Thermal, settings: ThermalSettings) -> None:
+    def __init__(self, rubber: Thermal, settings: ThermalSettings, initial_block: np.ndarray | None = None) -> None:
         self.rubber, self.settings = rubber, settings
+        self.initial_block = initial_block  # block temperatures carried from an earlier slide (or None: T0)
         self.error: str | None = None
         self.heat: TwoBodyHeat | None = None
 
@@ -116,14 +118,21 @@ class ThermalCoupler:
         if np.abs(itf.x + self.x0 - x).max() > 1e-9 * max(1.0, geo.block_length):
             raise RuntimeError("thermal macro run: slave nodes and heat interface nodes do not match")
         self.order = order  # interface node i is slave node order[i]
+        if self.initial_block is not None:
+            if len(self.initial_block) != len(self.heat.block_dofs):
+                raise RuntimeError("thermal macro run: the carried block temperature field does not fit the mesh")
+            self.heat.T.x.array[self.heat.block_dofs] = self.initial_block
         self.probe_dofs = [int(np.argmin(np.hypot(self.heat.X[:, 0] - (px - self.x0), self.heat.X[:, 1] - pz)))
                            for px, pz in s.probes]
         self.rows: list[tuple] = []
         self.energy = self.dissipation = 0.0
         self.cpu_heat = 0.0
         self.max_step_dT = 0.0
-        self._T_prev = np.full(len(x), s.T0)
-        run.contact.set_slave_temperatures(np.full(len(x), s.T0))
+        Tb, _ = self.heat.interface_temperatures()
+        self._T_prev = Tb
+        slave_T = np.empty_like(Tb)
+        slave_T[order] = Tb
+        run.contact.set_slave_temperatures(slave_T)
 
     def on_step(self, run, k: int, t: float) -> None:
         if self.error is not None:
@@ -164,7 +173,8 @@ class ThermalCoupler:
 
 
 def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSettings, *,
-                      observers=(), wall_limit: float = 0.0) -> ThermalMacroResult:
+                      observers=(), wall_limit: float = 0.0,
+                      initial_block: np.ndarray | None = None) -> ThermalMacroResult:
     """One thermomechanical macro run (see the module doc).  The spec must be non-periodic
     (period = 0: a finite block over a road longer than the slide).  The bulk is evaluated at
     ``settings.T0`` (its WLF shift; a temperature-dependent bulk is not built yet)."""
@@ -174,7 +184,7 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSetti
     if spec.temperature is None or spec.temperature != settings.T0:
         # bulk (WLF shift) and contact start at T0; the heat solver then owns the contact temperature
         spec = replace(spec, temperature=float(settings.T0))
-    coupler = ThermalCoupler(rubber, settings)
+    coupler = ThermalCoupler(rubber, settings, initial_block)
     run = SlidingRun(spec, block_mesh, sliding_contact, observers=(coupler, *observers), wall_limit=wall_limit)
     res = run.run()
     out = ThermalMacroResult(res)
@@ -194,6 +204,65 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSetti
                       "cpu_heat": coupler.cpu_heat,
                       "heat_description": coupler.heat.describe()})
     return out
+
+
+@dataclass
+class ThermalSlidesResult:
+    """Repeated slides (thesis 8.5.2): one result per slide, and the history of the whole sequence
+    (global time, slide number (0 in a pause), mean rubber surface temperature, probes)."""
+
+    slides: list[ThermalMacroResult]
+    history: dict[str, np.ndarray] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return len(self.slides) > 0 and all(r.ok for r in self.slides)
+
+
+def run_thermal_slides(spec: SlidingSpec, rubber: Thermal, settings: ThermalSettings,
+                       pauses: tuple[float, ...] = (), *, pause_steps: int = 40,
+                       wall_limit: float = 0.0) -> ThermalSlidesResult:
+    """Slides of ``spec`` one after another with a pause (s) between two (len(pauses) + 1 slides),
+    as the bulk study of thesis 8.5.2: the block is lifted during a pause (no contact, conduction
+    only, top at T0) and keeps its temperature field into the next slide; the road under it is
+    fresh at T0 each slide (as the thesis resets the road).  Pause steps grow geometrically (the
+    surface cools fastest first).  Stops at the first failed slide."""
+    pauses = tuple(V.nonnegative("pause", p, "s") for p in pauses)
+    slides, rows, carried, t_global = [], [], None, 0.0
+    for i in range(len(pauses) + 1):
+        res = run_thermal_macro(spec, rubber, settings, wall_limit=wall_limit, initial_block=carried)
+        slides.append(res)
+        if not res.ok or res.heat is None:
+            break
+        s = res.series
+        t_start = float(s["t"][0]) - (float(s["t"][1]) - float(s["t"][0]) if len(s["t"]) > 1 else 0.0)
+        probe_cols = [k for k in s if k.startswith("probe_")]
+        for k in range(len(s["t"])):
+            rows.append((t_global + s["t"][k] - t_start, i + 1, s["T_contact"][k], *[s[c][k] for c in probe_cols]))
+        t_global += float(s["t"][-1]) - t_start
+        heat = res.heat
+        if i < len(pauses) and pauses[i] > 0:
+            dts = _graded(pauses[i], pause_steps)
+            for dt in dts:
+                heat.step(float(dt), 0.0, False)
+                t_global += float(dt)
+                Tb, _ = heat.interface_temperatures()
+                rows.append((t_global, 0, float(Tb.mean()), *_probe_values(heat, settings, res)))
+        carried = heat.T.x.array[heat.block_dofs].copy()
+    cols = ["t", "slide", "T_surface"] + [f"probe_{j}" for j in range(len(settings.probes))]
+    arr = np.array(rows, float).reshape(-1, len(cols))
+    return ThermalSlidesResult(slides, {c: arr[:, j] for j, c in enumerate(cols)})
+
+
+def _graded(total: float, n: int, ratio: float = 1.15) -> np.ndarray:
+    w = ratio ** np.arange(n)
+    return total * w / w.sum()
+
+
+def _probe_values(heat: TwoBodyHeat, settings: ThermalSettings, res: ThermalMacroResult) -> list[float]:
+    x0 = float(res.profiles["x"][0]) if res.profiles else 0.0
+    return [float(heat.T.x.array[int(np.argmin(np.hypot(heat.X[:, 0] - (px - x0), heat.X[:, 1] - pz)))])
+            for px, pz in settings.probes]
 
 
 def with_friction(spec: SlidingSpec, friction) -> SlidingSpec:
