@@ -56,8 +56,8 @@ DX& find_or_add(std::vector<std::pair<int, DX>>& list, int entity, Eigen::Index 
 void NodeOutput::resize(std::size_t n) {
   status.assign(n, 0);
   paired.assign(n, 0);
-  for (auto* v :
-       {&gap, &pressure, &t_T, &dgamma, &dg_T, &velocity, &mu, &area, &q_slave, &q_master, &nx, &ny, &elastic_gap, &power})
+  for (auto* v : {&gap, &pressure, &t_T, &dgamma, &dg_T, &velocity, &mu, &area, &q_slave, &q_master, &nx, &ny,
+                  &elastic_gap, &power})
     v->assign(n, 0.0);
 }
 

@@ -45,7 +45,7 @@ struct NodeOutput {
   std::vector<int> status;  ///< 0 open (or unpaired), 1 stick, 2 slip
   std::vector<char> paired;
   std::vector<double> gap, pressure, t_T, dgamma, dg_T, velocity, mu, area, q_slave, q_master, nx, ny;
-  std::vector<double> power;  ///< frictional power density |t_T| dgamma/dt [mW/mm^2] (zero in stick)
+  std::vector<double> power;        ///< frictional power density |t_T| dgamma/dt [mW/mm^2] (zero in stick)
   std::vector<double> elastic_gap;  ///< trial tangential elastic gap (committed by commit())
   void resize(std::size_t n);
 };

@@ -63,6 +63,8 @@ def test_heat_input_is_the_contact_dissipation_and_is_stored(fast):
     heated road reaches the outflow face (road moved < 4 mm) it is all stored (1e-6 relative:
     the block top at T0 is reached by diffusion only after ~h^2/chi = 30 s, the run lasts 10 ms)."""
     s = fast.series
+    assert fast.sliding.stats["cutbacks"] == 0
+    assert fast.stats["max_power_rescale"] < 1e-10
     np.testing.assert_allclose(s["friction_energy"], s["contact_dissipation"], rtol=1e-10)
     early = (s["s"] < 2.0) & (s["friction_energy"] > 0)
     stored = s["heat_block"][early] + s["heat_road"][early]

@@ -3,8 +3,8 @@
 
 Each converged sliding step of the mechanical run (``driver.sliding.run.SlidingRun``, non-periodic
 block, rigid road) is followed by one heat step of block and road (``conduction.TwoBodyHeat``)
-with the nodal frictional power of that step, P_i = |t_T| dgamma/dt A_i (zero in stick; the
-contact's own dissipation, so sum_i P_i dt is the step's frictional dissipation exactly); the new
+with the nodal frictional power of that step, P_i = |t_T| dgamma/dt A_i (zero in stick; scaled
+so that sum_i P_i dt is the step's frictional dissipation, also over cut-back sub-steps); the new
 block surface temperature enters mu(p, v, T) of the next step per slave node
 (``Contact.set_slave_temperatures``).  The road is rigid for the mechanics (E_road / E_rubber
 ~ 1e4, thesis 8.4.1) and Eulerian for the heat (road moving at -v under the block).
@@ -98,7 +98,8 @@ class ThermalCoupler:
         self.heat: TwoBodyHeat | None = None
 
     def on_start(self, run) -> None:
-        """A new attempt starts sliding (the run's fallbacks restart it): fresh heat problem at T0."""
+        """A new attempt starts sliding (the run's fallbacks restart it): a fresh heat problem at T0,
+        with the carried block field of an earlier slide where there is one."""
         self.error = None
         s = self.settings
         slave = run.contact.slave
@@ -127,6 +128,7 @@ class ThermalCoupler:
         self.rows: list[tuple] = []
         self.energy = self.dissipation = 0.0
         self.cpu_heat = 0.0
+        self.max_rescale = 0.0  # largest |scale - 1| of the nodal power (0 without cut-backs)
         self.max_step_dT = 0.0
         Tb, _ = self.heat.interface_temperatures()
         self._T_prev = Tb
@@ -148,11 +150,18 @@ class ThermalCoupler:
         power = (st["friction_power_density"] * st["weight"])[o]
         active = st["active"][o]
         dt = float(run.dt_slide)
+        # a step cut back into sub-steps: the state is the last sub-step's; scale its power so the
+        # heat of the step is the frictional dissipation of all its sub-steps (run.step_friction_energy)
+        step_energy = float(run.step_friction_energy)
+        if power.sum() > 0.0 and step_energy > 0.0:
+            scale = step_energy / (float(power.sum()) * dt)
+            self.max_rescale = max(self.max_rescale, abs(scale - 1.0))
+            power = power * scale
         t_heat = time.process_time()
         self.heat.step(dt, power, active)
         self.cpu_heat += time.process_time() - t_heat
         self.energy += float(power.sum()) * dt
-        self.dissipation += float(st["dissipation"])
+        self.dissipation += step_energy
         Tb, _ = self.heat.interface_temperatures()
         slave_T = np.empty_like(Tb)
         slave_T[o] = Tb
@@ -201,7 +210,7 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSetti
     out.profiles = getattr(coupler, "_last", {})
     out.heat = coupler.heat
     out.stats.update({"max_step_dT": coupler.max_step_dT, "heat_dofs": float(len(coupler.heat.X)),
-                      "cpu_heat": coupler.cpu_heat,
+                      "cpu_heat": coupler.cpu_heat, "max_power_rescale": coupler.max_rescale,
                       "heat_description": coupler.heat.describe()})
     return out
 
