@@ -25,8 +25,7 @@ import numpy as np
 
 from rubberfriction.driver.multiscale.scene import load_scene
 from rubberfriction.driver.multiscale.thermal_scene import friction_of
-from rubberfriction.driver.sliding.spec import SlidingSpec
-from rubberfriction.driver.thermal.macro import ThermalSettings, run_thermal_macro
+from rubberfriction.driver.thermal.macro import ThermalSettings, flat_road_spec, run_thermal_macro
 from rubberfriction.forms.material_files import load_compound, load_road
 
 #: mu per velocity (mm/s) for the 8.5.1 set-up: the magnitude of thesis fig. 8.11 a (stated values)
@@ -42,10 +41,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def _macro(compound, road, *, length, height, pressure, velocity, friction, slide, first_layer, T0,
            h_contact=0.25):
-    spec = SlidingSpec(surface_x=np.array([-200.0, 400.0]), surface_h=np.zeros(2), period=0.0,
-                       pressure=pressure, velocity=velocity, compound=compound, block_length=length,
-                       block_height=height, temperature=T0, friction=friction, h_contact=h_contact,
-                       slide_distance=slide, step_length=0.5 * h_contact)
+    spec = flat_road_spec(compound, pressure=pressure, velocity=velocity, friction=friction, block_length=length,
+                          block_height=height, slide_distance=slide, h_contact=h_contact, T0=T0)
     settings = ThermalSettings(road=road, T0=T0, kappa=1.0, h_c=1.0e6, road_depth=10.0, road_ahead=2.0,
                                road_behind=20.0, first_layer=first_layer)
     wall = time.perf_counter()

@@ -33,10 +33,10 @@ import numpy as np
 
 from rubberfriction.driver.fe.friction_law import fit_mu_pvT
 from rubberfriction.driver.multiscale.scene import Scene, SceneError
-from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.thermal.macro import (
     ThermalMacroResult,
     ThermalSettings,
+    flat_road_spec,
     run_thermal_macro,
     run_thermal_slides,
 )
@@ -110,19 +110,16 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False) -> list[ThermalRunSu
     out = Path(scene.output) / "thermal"
     out.mkdir(parents=True, exist_ok=True)
     num = scene.numerics
-    span = t.slide_distance + t.block_length + t.road_ahead + t.road_behind
     todo = [(n, c, p, v) for n, c in compounds for p in scene.conditions.pressures for v in scene.conditions.velocities]
     summaries = []
     for i, (name, comp, p, v) in enumerate(todo, 1):
         T0 = _T0(scene, comp)
-        spec = SlidingSpec(surface_x=np.array([-span, 2.0 * span]), surface_h=np.zeros(2), period=0.0,
-                           pressure=p, velocity=v, compound=comp, block_length=t.block_length,
-                           block_height=t.block_height, temperature=T0, friction=friction,
-                           element=num.element, contact=num.contact, h_contact=t.h_contact,
-                           grading=num.grading, slide_distance=t.slide_distance,
-                           step_length=t.step_per_element * t.h_contact,
-                           compression_steps=num.compression_steps, max_cutbacks=num.max_cutbacks,
-                           penalty_alpha=num.penalty_alpha)
+        spec = flat_road_spec(comp, pressure=p, velocity=v, friction=friction, block_length=t.block_length,
+                              block_height=t.block_height, slide_distance=t.slide_distance,
+                              h_contact=t.h_contact, T0=T0, step_per_element=t.step_per_element,
+                              element=num.element, contact=num.contact, grading=num.grading,
+                              compression_steps=num.compression_steps, max_cutbacks=num.max_cutbacks,
+                              penalty_alpha=num.penalty_alpha)
         settings = ThermalSettings(road=road, T0=T0, kappa=t.kappa, h_c=t.h_c, road_depth=t.road_depth,
                                    road_ahead=t.road_ahead, road_behind=t.road_behind,
                                    first_layer=t.first_layer, grading=t.grading, probes=t.probes)

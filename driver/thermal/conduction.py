@@ -49,6 +49,20 @@ from rubberfriction.meshes.grading import graded_nodes
 FIRST_LAYER = 0.01
 
 
+def geometric_steps(total: float, n: int, first_fraction: float = 1e-3) -> np.ndarray:
+    """n time steps adding up to `total`, from total * first_fraction / n growing geometrically:
+    a sqrt(t) rise (a switched-on flux) or a cooling surface changes fastest at first, where
+    implicit Euler with equal steps would lag."""
+    dt0 = total * first_fraction / n
+    lo, hi = 1e-12, 2.0  # log of the ratio r with dt0 (r^n - 1) / (r - 1) = total, by bisection
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        r = math.exp(mid)
+        lo, hi = (mid, hi) if dt0 * (r ** n - 1.0) / (r - 1.0) < total else (lo, mid)
+    steps = dt0 * math.exp(0.5 * (lo + hi)) ** np.arange(n)
+    return steps * (total / steps.sum())
+
+
 @dataclass(frozen=True)
 class HeatGeometry:
     """Sizes in mm: block l x h, road depth d, road length ahead of / behind the block, element
@@ -111,16 +125,16 @@ class TwoBodyHeat:
         self.V = fem.FunctionSpace(self.mesh, ("Lagrange", 1))
         self.T = fem.Function(self.V)
         self.T.x.array[:] = T0
-        self._T_old = fem.Function(self.V)
         self._cell_data(supg)
         self._locate()
         self._dt = fem.Constant(self.mesh, 1.0)
         T, s = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
-        a, L = convected_heat_forms(T, s, self._T_old, rho_c=self.rho_c, k=self.k, dt=self._dt,
+        # theta_n = the trial function: L becomes the matrix B of rhs = B T_n, assembled once per dt
+        a, B = convected_heat_forms(T, s, T, rho_c=self.rho_c, k=self.k, dt=self._dt,
                                     velocity=self._velocity, tau=self._tau)
-        a_steady, _ = convected_heat_forms(T, s, self._T_old, rho_c=self.rho_c, k=self.k, dt=None,
+        a_steady, _ = convected_heat_forms(T, s, T, rho_c=self.rho_c, k=self.k, dt=None,
                                            velocity=self._velocity, tau=self._tau)
-        self._forms = {"transient": (fem.form(a), fem.form(L)), "steady": (fem.form(a_steady), None)}
+        self._forms = {"transient": (fem.form(a), fem.form(B)), "steady": (fem.form(a_steady), None)}
         self._cache: dict = {}
         self.time = 0.0
 
@@ -139,10 +153,7 @@ class TwoBodyHeat:
         cells = np.vstack([cb, cr + len(pb)])
         domain = ufl.Mesh(ufl.VectorElement("Lagrange", ufl.Cell("quadrilateral", geometric_dimension=2), 1))
         self.mesh = dolfinx.mesh.create_mesh(MPI.COMM_SELF, cells.astype(np.int64), points, domain)
-        self._n_block_cells = len(cb)
-        self._xb, self._xr, self._zb, self._zd = xb, xr, zb, zd
-        # create_mesh may reorder cells: keep the input index of each cell
-        self._input_cell = np.asarray(self.mesh.geometry.input_global_indices, dtype=np.int64)
+        self._zb, self._zd = zb, zd
 
     def _cell_data(self, supg: bool) -> None:
         mesh = self.mesh
@@ -219,14 +230,11 @@ class TwoBodyHeat:
             return self._cache[key]
         if len(self._cache) > 8:
             self._cache.clear()
-        a, L = self._forms["steady" if dt is None else "transient"]
+        a, b = self._forms["steady" if dt is None else "transient"]
         if dt is not None:
             self._dt.value = dt
-        A = assemble_matrix(a)
-        A.assemble()
-        ai, aj, av = A.getValuesCSR()
         n = len(self.X)
-        K = sps.csr_matrix((av, aj, ai), shape=(n, n))
+        K = _csr(a, n)
         itf = self.interface
         H = self.h_c * itf.weights * contact
         b_, r_ = itf.block_dofs, itf.road_dofs
@@ -236,7 +244,7 @@ class TwoBodyHeat:
         K = (K + sps.csr_matrix((vals, (rows, cols)), shape=(n, n))).tocsr()
         Kff = K[self._free][:, self._free].tocsc()
         Kfd = K[self._free][:, self._fixed]
-        entry = (spla.splu(Kff), Kfd, L, dt)
+        entry = (spla.splu(Kff), Kfd, None if b is None else _csr(b, n))
         self._cache[key] = entry
         return entry
 
@@ -246,17 +254,18 @@ class TwoBodyHeat:
         contact = np.broadcast_to(np.asarray(contact, bool), (n_itf,)).copy()
         if not np.all(np.isfinite(power)) or power.min() < 0.0:
             raise V.InputError("frictional power must be finite and >= 0 at every interface node")
-        lu, Kfd, L, dt_ = self._matrices(dt, contact)
-        self._T_old.x.array[:] = self.T.x.array
-        if dt is not None:
-            self._dt.value = dt_
-        rhs = assemble_vector(L).array.copy() if dt is not None else np.zeros(len(self.X))
+        lu, Kfd, B = self._matrices(dt, contact)
+        rhs = B @ self.T.x.array if B is not None else np.zeros(len(self.X))
         rhs[self.interface.block_dofs] += self.kappa * power
         rhs[self.interface.road_dofs] += (1.0 - self.kappa) * power
         rhs_f = rhs[self._free] - Kfd @ self._fixed_values
         T = self.T.x.array
         T[self._fixed] = self._fixed_values
         T[self._free] = lu.solve(rhs_f)
+
+    def nearest_dof(self, x: float, z: float) -> int:
+        """The dof nearest to (x, z) in the heat frame (x from the block's trailing edge)."""
+        return int(np.argmin(np.hypot(self.X[:, 0] - x, self.X[:, 1] - z)))
 
     def step(self, dt: float, power, contact=True) -> None:
         """Advance by dt (s) with nodal frictional power (mW/mm) and contact mask."""
@@ -305,3 +314,11 @@ class TwoBodyHeat:
                 f"[{-g.road_behind}, {g.block_length + g.road_ahead}] x {g.road_depth} mm, h_x = {g.h_x} mm, "
                 f"first layer {g.first_layer} mm, {len(self.X)} dofs, kappa = {self.kappa}, h_c = {self.h_c:g}, "
                 f"road velocity {self.road_velocity:g} mm/s (element Peclet {self.supg_peclet:.3g})")
+
+
+def _csr(form, n: int) -> sps.csr_matrix:
+    """An assembled bilinear form as a scipy CSR matrix (serial)."""
+    A = assemble_matrix(form)
+    A.assemble()
+    ai, aj, av = A.getValuesCSR()
+    return sps.csr_matrix((av, aj, ai), shape=(n, n))

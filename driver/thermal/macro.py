@@ -32,7 +32,7 @@ from rubberfriction import validation as V
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
 from rubberfriction.driver.sliding.run import SlidingRun
 from rubberfriction.driver.sliding.spec import SlidingResult, SlidingSpec
-from rubberfriction.driver.thermal.conduction import FIRST_LAYER, HeatGeometry, TwoBodyHeat
+from rubberfriction.driver.thermal.conduction import FIRST_LAYER, HeatGeometry, TwoBodyHeat, geometric_steps
 from rubberfriction.forms.compound import Thermal
 
 
@@ -71,7 +71,8 @@ class ThermalSettings:
 @dataclass
 class ThermalMacroResult:
     """The mechanical result plus the thermal series (one row per sliding step): t, s, mu,
-    T_contact (pressure-weighted mean block surface temperature over contact nodes), T_max
+    T_contact (pressure-weighted mean block surface temperature over contact nodes), T_surface
+    (mean over the whole block surface), T_max
     (hottest block surface node), T_road_behind (road surface one element behind the block),
     heat_block, heat_road (stored, mJ/mm), friction_energy (cumulative heat input, mJ/mm),
     contact_dissipation (the contact's cumulative frictional dissipation, mJ/mm), probes (K);
@@ -82,6 +83,7 @@ class ThermalMacroResult:
     profiles: dict[str, np.ndarray] = field(default_factory=dict)
     stats: dict[str, float] = field(default_factory=dict)
     heat: TwoBodyHeat | None = None  # the heat problem at the end (fields for output)
+    probe_dofs: list[int] = field(default_factory=list)  # heat dofs of settings.probes
 
     @property
     def ok(self) -> bool:
@@ -123,8 +125,9 @@ class ThermalCoupler:
             if len(self.initial_block) != len(self.heat.block_dofs):
                 raise RuntimeError("thermal macro run: the carried block temperature field does not fit the mesh")
             self.heat.T.x.array[self.heat.block_dofs] = self.initial_block
-        self.probe_dofs = [int(np.argmin(np.hypot(self.heat.X[:, 0] - (px - self.x0), self.heat.X[:, 1] - pz)))
-                           for px, pz in s.probes]
+        self.probe_dofs = [self.heat.nearest_dof(px - self.x0, pz) for px, pz in s.probes]
+        xr, _ = self.heat.road_surface()
+        self.behind = int(np.argmin(np.abs(xr + h_x)))  # road surface node one element behind the block
         self.rows: list[tuple] = []
         self.energy = self.dissipation = 0.0
         self.cpu_heat = 0.0
@@ -170,12 +173,11 @@ class ThermalCoupler:
         T_contact = float(p @ Tb / p.sum()) if p.sum() > 0 else float("nan")
         self.max_step_dT = max(self.max_step_dT, float(np.max(np.abs(Tb - self._T_prev))))
         self._T_prev = Tb
-        xr, Tr = self.heat.road_surface()
-        behind = int(np.argmin(np.abs(xr + self.heat.geometry.h_x)))
+        _, Tr = self.heat.road_surface()
         eb, er = self.heat.heat_content()
         mu = -st["Fx"] / st["Fz"] if st["Fz"] else float("nan")
-        self.rows.append((t, float(run.spec.velocity) * (t - run.t_start), mu, T_contact, float(Tb.max()),
-                          float(Tr[behind]), eb, er, self.energy, self.dissipation,
+        self.rows.append((t, float(run.spec.velocity) * (t - run.t_start), mu, T_contact, float(Tb.mean()),
+                          float(Tb.max()), float(Tr[self.behind]), eb, er, self.energy, self.dissipation,
                           *[float(self.heat.T.x.array[d]) for d in self.probe_dofs]))
         self._last = {"x": self.heat.interface.x + self.x0, "T_block": Tb, "pressure": st["pressure"][o],
                       "power": power / self.heat.interface.weights, "mu": st["mu"][o]}
@@ -190,7 +192,7 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSetti
     V.instance("rubber thermal data", rubber, Thermal)
     if spec.period > 0:
         raise V.InputError("thermal macro run: the block must be finite (period = 0)")
-    if spec.temperature is None or spec.temperature != settings.T0:
+    if spec.temperature != settings.T0:
         # bulk (WLF shift) and contact start at T0; the heat solver then owns the contact temperature
         spec = replace(spec, temperature=float(settings.T0))
     coupler = ThermalCoupler(rubber, settings, initial_block)
@@ -202,13 +204,14 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSetti
         return out
     if coupler.heat is None:
         return out
-    cols = ["t", "s", "mu", "T_contact", "T_max", "T_road_behind", "heat_block", "heat_road", "friction_energy",
-            "contact_dissipation"]
+    cols = ["t", "s", "mu", "T_contact", "T_surface", "T_max", "T_road_behind", "heat_block", "heat_road",
+            "friction_energy", "contact_dissipation"]
     cols += [f"probe_{i}" for i in range(len(settings.probes))]
     arr = np.array(coupler.rows, float).reshape(-1, len(cols))
     out.series = {c: arr[:, i] for i, c in enumerate(cols)}
     out.profiles = getattr(coupler, "_last", {})
     out.heat = coupler.heat
+    out.probe_dofs = coupler.probe_dofs
     out.stats.update({"max_step_dT": coupler.max_step_dT, "heat_dofs": float(len(coupler.heat.X)),
                       "cpu_heat": coupler.cpu_heat, "max_power_rescale": coupler.max_rescale,
                       "heat_description": coupler.heat.describe()})
@@ -235,7 +238,8 @@ def run_thermal_slides(spec: SlidingSpec, rubber: Thermal, settings: ThermalSett
     as the bulk study of thesis 8.5.2: the block is lifted during a pause (no contact, conduction
     only, top at T0) and keeps its temperature field into the next slide; the road under it is
     fresh at T0 each slide (as the thesis resets the road).  Pause steps grow geometrically (the
-    surface cools fastest first).  Stops at the first failed slide."""
+    surface cools fastest first).  History times count sliding and pauses (the compression before
+    each slide is not counted).  Stops at the first failed slide."""
     pauses = tuple(V.nonnegative("pause", p, "s") for p in pauses)
     slides, rows, carried, t_global = [], [], None, 0.0
     for i in range(len(pauses) + 1):
@@ -244,36 +248,31 @@ def run_thermal_slides(spec: SlidingSpec, rubber: Thermal, settings: ThermalSett
         if not res.ok or res.heat is None:
             break
         s = res.series
-        t_start = float(s["t"][0]) - (float(s["t"][1]) - float(s["t"][0]) if len(s["t"]) > 1 else 0.0)
+        t_slide = s["s"] / spec.velocity  # time since this slide's sliding started
         probe_cols = [k for k in s if k.startswith("probe_")]
-        for k in range(len(s["t"])):
-            rows.append((t_global + s["t"][k] - t_start, i + 1, s["T_contact"][k], *[s[c][k] for c in probe_cols]))
-        t_global += float(s["t"][-1]) - t_start
+        for k in range(len(t_slide)):
+            rows.append((t_global + t_slide[k], i + 1, s["T_surface"][k], *[s[c][k] for c in probe_cols]))
+        t_global += float(t_slide[-1])
         heat = res.heat
         if i < len(pauses) and pauses[i] > 0:
-            dts = _graded(pauses[i], pause_steps)
-            for dt in dts:
+            for dt in geometric_steps(pauses[i], pause_steps):
                 heat.step(float(dt), 0.0, False)
                 t_global += float(dt)
                 Tb, _ = heat.interface_temperatures()
-                rows.append((t_global, 0, float(Tb.mean()), *_probe_values(heat, settings, res)))
+                rows.append((t_global, 0, float(Tb.mean()), *[float(heat.T.x.array[d]) for d in res.probe_dofs]))
         carried = heat.T.x.array[heat.block_dofs].copy()
     cols = ["t", "slide", "T_surface"] + [f"probe_{j}" for j in range(len(settings.probes))]
     arr = np.array(rows, float).reshape(-1, len(cols))
     return ThermalSlidesResult(slides, {c: arr[:, j] for j, c in enumerate(cols)})
 
 
-def _graded(total: float, n: int, ratio: float = 1.15) -> np.ndarray:
-    w = ratio ** np.arange(n)
-    return total * w / w.sum()
-
-
-def _probe_values(heat: TwoBodyHeat, settings: ThermalSettings, res: ThermalMacroResult) -> list[float]:
-    x0 = float(res.profiles["x"][0]) if res.profiles else 0.0
-    return [float(heat.T.x.array[int(np.argmin(np.hypot(heat.X[:, 0] - (px - x0), heat.X[:, 1] - pz)))])
-            for px, pz in settings.probes]
-
-
-def with_friction(spec: SlidingSpec, friction) -> SlidingSpec:
-    """The spec with another friction law (e.g. a mu(T) law for the thermal run)."""
-    return replace(spec, friction=friction)
+def flat_road_spec(compound, *, pressure: float, velocity: float, friction, block_length: float,
+                   block_height: float, slide_distance: float, h_contact: float, T0: float,
+                   step_per_element: float = 0.5, **numerics) -> SlidingSpec:
+    """The mechanical spec of a macro block sliding over a flat rigid road long enough for the
+    slide (non-periodic); ``numerics``: further SlidingSpec fields (element, contact, ...)."""
+    span = slide_distance + block_length
+    return SlidingSpec(surface_x=np.array([-span, 2.0 * span]), surface_h=np.zeros(2), period=0.0,
+                       pressure=pressure, velocity=velocity, compound=compound, block_length=block_length,
+                       block_height=block_height, temperature=T0, friction=friction, h_contact=h_contact,
+                       slide_distance=slide_distance, step_length=step_per_element * h_contact, **numerics)

@@ -33,22 +33,9 @@ from rubberfriction.driver.theory.heat_sources import (
     moving_band_rise,
     two_body_rise,
 )
-from rubberfriction.driver.thermal.conduction import HeatGeometry, TwoBodyHeat
+from rubberfriction.driver.thermal.conduction import HeatGeometry, TwoBodyHeat, geometric_steps
 from rubberfriction.driver.verification import add_keyword_arguments, call_with_arguments, case_function, check
 from rubberfriction.forms.material_files import load_compound, load_road
-
-
-def graded_times(t_end: float, n_steps: int, first_fraction: float = 1e-3) -> np.ndarray:
-    """n_steps time steps from t_end * first_fraction / n_steps growing geometrically to t_end."""
-    dt0 = t_end * first_fraction / n_steps
-    # ratio r with dt0 (r^n - 1) / (r - 1) = t_end (bisection on log r)
-    lo, hi = 1e-12, 2.0
-    for _ in range(200):
-        r = math.exp(0.5 * (lo + hi))
-        total = dt0 * (r ** n_steps - 1.0) / (r - 1.0)
-        lo, hi = (0.5 * (lo + hi), hi) if total < t_end else (lo, 0.5 * (lo + hi))
-    steps = dt0 * r ** np.arange(n_steps)
-    return steps * (t_end / steps.sum())
 
 
 def _materials(compound: str, road: str):
@@ -65,7 +52,7 @@ def _transient(heat: TwoBodyHeat, q: float, t_end: float, n_steps: int, probe_ti
     power = q * heat.interface.weights
     t, out, energy_in = 0.0, [], 0.0
     probes = sorted(probe_times)
-    for dt in graded_times(t_end, n_steps):
+    for dt in geometric_steps(t_end, n_steps):
         heat.step(float(dt), power, True)
         t += dt
         energy_in += float(power.sum()) * dt
