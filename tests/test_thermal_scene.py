@@ -118,6 +118,7 @@ def test_small_thermal_scene_end_to_end(tmp_path):
     assert "[thermal] run 1/1" in proc.stdout
     rows = list(csv.DictReader(open(out / "thermal" / "thermal_results.csv")))
     assert len(rows) == 1 and rows[0]["status"] == "ok"
+    assert 0.0 <= float(rows[0]["mu_error"]) < 0.05  # the window average states how steady it is
     T0 = 293.15
     assert float(rows[0]["T_contact"]) > T0 + 1.0
     run = out / "thermal" / "tread_default_p0.3_v1000"

@@ -4,7 +4,9 @@ and velocity, with no lower scales.
 
 Outputs under ``<output>/thermal/``:
 
-* ``thermal_results.csv`` -- one row per run: status, mu (force, window average), end values of
+* ``thermal_results.csv`` -- one row per run: status, mu (force, window average) with its error
+  estimate mu_error (half the relative drift of mu over the window, the fixed-window rule of the
+  isothermal runs; the contact temperature keeps rising in a finite slide), end values of
   the contact temperature T_C, the hottest rubber surface node, the road behind the block T_R,
   the largest temperature change per step (the staggered scheme's lag), wall time;
 * ``<run>/series.csv`` -- per sliding step: t, s, mu, T_contact, T_max, T_road_behind, heat in
@@ -62,6 +64,7 @@ class ThermalRunSummary:
     newton_iterations: float = math.nan
     cpu_heat: float = math.nan
     cpu_contact: float = math.nan
+    mu_error: float = math.nan  # half the window drift of mu: how far from steady the average may be
 
     @property
     def ok(self) -> bool:
@@ -152,7 +155,8 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False) -> list[ThermalRunSu
             summary = ThermalRunSummary(name, p, v, "failed", reason, *[math.nan] * 5, wall, folder)
         summaries.append(summary)
         if not quiet:
-            print(f"[thermal]   {summary.status} {summary.reason}  mu {summary.mu_force:.4g}  T_C "
+            print(f"[thermal]   {summary.status} {summary.reason}  mu {summary.mu_force:.4g} "
+                  f"(+- {100 * summary.mu_error:.2g} % from the window drift)  T_C "
                   f"{summary.T_contact - T0:+.3g} K  T_R {summary.T_road_behind - T0:+.3g} K  ({wall:.1f} s, "
                   f"{summary.steps:.0f} steps, {summary.cutbacks:.0f} cut-backs, {summary.newton_iterations:.0f} "
                   f"Newton iterations, heat {summary.cpu_heat:.1f} s CPU)", flush=True)
@@ -172,11 +176,11 @@ def _summarise(name, p, v, res: ThermalMacroResult, wall: float, folder: Path) -
                              end("T_max"), end("T_road_behind"), float(res.stats.get("max_step_dT", math.nan)),
                              wall, folder, float(st.get("steps", math.nan)), float(st.get("cutbacks", math.nan)),
                              float(st.get("newton_iterations", math.nan)), float(res.stats.get("cpu_heat", math.nan)),
-                             float(st.get("cpu_contact", math.nan)))
+                             float(st.get("cpu_contact", math.nan)), float(res.sliding.mu_error))
 
 
 def write_summary(path: Path, rows: list[ThermalRunSummary]) -> None:
-    cols = ["compound", "pressure", "velocity", "status", "mu_force", "T_contact", "T_max", "T_road_behind",
+    cols = ["compound", "pressure", "velocity", "status", "mu_force", "mu_error", "T_contact", "T_max", "T_road_behind",
             "max_step_dT", "wall", "steps", "cutbacks", "newton_iterations", "cpu_heat", "cpu_contact", "reason"]
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
