@@ -133,3 +133,21 @@ def test_repeated_slides_carry_the_block_temperature_through_pauses():
     assert np.all(np.diff(h["t"]) > 0)
     with pytest.raises(InputError, match="pause"):
         run_thermal_slides(spec, COMPOUND.thermal, SETTINGS, (-1.0,))
+
+
+def test_bulk_relaxation_follows_the_heat_field(fast):
+    """Thermo-viscoelastic bulk: the cell temperatures come from the heat field (bilinear at the
+    centroids, so bounded by the nodal values: above T0 and below the hottest surface node; the
+    first cell row's centroids lie 0.125 mm deep, below most of the 10 ms heat penetration depth
+    sqrt(chi t) ~ 0.03 mm, so the rise there is small: measured 0.011 K) and the map reproduces a
+    bilinear field exactly (1e-12)."""
+    from rubberfriction.driver.thermal.macro import _bilinear_map
+
+    assert fast.stats["bulk_wlf"] == 1.0
+    assert T0 + 1e-3 < fast.stats["bulk_T_max"] < fast.series["T_max"].max()
+    xs, zs = np.linspace(0.0, 4.0, 17), np.array([0.0, 0.01, 0.03, 0.1, 0.5, 2.0])
+    rng = np.random.default_rng(1)
+    x, z = rng.uniform(0, 4, 50), rng.uniform(0, 2, 50)
+    f = lambda a, b: 300.0 + 2.0 * a - 7.0 * b + 0.5 * a * b  # noqa: E731
+    W = _bilinear_map(xs, zs, x, z)
+    np.testing.assert_allclose(W @ f(xs[:, None], zs[None, :]).ravel(), f(x, z), atol=1e-12)

@@ -246,9 +246,16 @@ class SolidProblem:
                              inv.reshape(-1, 2).astype(np.int32), uniq.astype(np.int32))
 
     def _cell_centroids(self, cells: np.ndarray) -> np.ndarray:
+        return self.cell_centroids()[np.asarray(cells, dtype=np.int64)]
+
+    def cell_centroids(self) -> np.ndarray:
+        """(n_cells, 2) vertex means of the local cells in the reference configuration, in the
+        cell order of the history arrays and of ``set_temperature``."""
         x = self.mesh.geometry.x[:, :2]
-        gdofs = self.mesh.geometry.dofmap
-        return np.array([x[gdofs.links(c)].mean(axis=0) for c in cells])
+        n = self.mesh.topology.index_map(self.mesh.topology.dim).size_local
+        gd = self.mesh.geometry.dofmap  # one cell type: equal links per cell
+        gdofs = gd.array.reshape(-1, int(gd.offsets[1] - gd.offsets[0]))
+        return x[gdofs[:n]].mean(axis=1)
 
     def nodal_displacement(self) -> np.ndarray:
         """(n_nodes, 2) current displacement."""

@@ -6,12 +6,17 @@ import numpy as np
 
 from rubberfriction.driver.fe.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
 from rubberfriction.driver.sliding.spec import PENALTY_ALPHA, penalty_modulus
+from rubberfriction.driver.sliding.temperature import surface_temperature
 from rubberfriction.meshes.block import rubber_block
 
 
-def block_mesh(L: float, H: float, hc: float, grading: float, z0: float):
-    """Graded rubber block with its contact face at z = z0 (``meshes.block.rubber_block``)."""
-    body = rubber_block(L, H, h_contact=hc, grading=grading)
+def block_mesh(L: float, H: float, hc: float, grading: float, z0: float, levels=()):
+    """Graded rubber block with its contact face at z = z0 (``meshes.block.rubber_block``);
+    ``levels``: heights above the face that must be mesh lines (temperature layer bounds); a
+    level below the contact spacing makes the first element row that thin."""
+    levels = list(levels)
+    first = min(hc, levels[0]) if levels else None
+    body = rubber_block(L, H, h_contact=hc, grading=grading, first_layer=first, partitions=levels or None)
     body.mesh.geometry.x[:, 1] += z0
     return body
 
@@ -33,7 +38,8 @@ def sliding_contact(sp, spec, formulation: str) -> Contact:
         pen, E_eff = PenaltySettings(alpha=alpha), penalty_modulus(spec)
     contact = Contact(slave, master, method=formulation, friction=spec.friction, E_eff=E_eff, penalty=pen,
                       comm=sp.mesh.comm)
-    if getattr(spec, "temperature", None) is not None:
-        contact.set_temperature(float(spec.temperature))
+    T_face = surface_temperature(getattr(spec, "temperature_layers", ()), getattr(spec, "temperature", None))
+    if T_face is not None:  # a mu(p, v, T) law sees the contact face's temperature
+        contact.set_temperature(float(T_face))
     contact.reset_history(sp.w.x.array)
     return contact

@@ -50,6 +50,7 @@ from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.sliding import shortcut
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
 from rubberfriction.driver.sliding.progress import StepReporter
+from rubberfriction.driver.sliding.temperature import check_layers, layer_levels, layer_temperatures
 from rubberfriction.driver.sliding.spec import (
     MESH_REFINEMENT,
     SlidingResult,
@@ -106,6 +107,7 @@ class SlidingRun:
 
     def __init__(self, spec: SlidingSpec, mesh_factory=None, contact_factory=None, progress=None,
                  observers=(), wall_limit: float = 0.0):
+        check_layers(spec.temperature_layers, spec.compound)  # bad input raises here
         self.base_spec = spec
         self.spec = spec  # the current attempt's spec (base_spec, or a refined copy)
         # wall_limit > 0: seconds after which the run stops with a structured failure (failure
@@ -142,10 +144,17 @@ class SlidingRun:
         L, H, hc = self._geometry()
         self.L, self.H, self.hc = L, H, hc
         z0 = float(np.max(s.surface_h))  # block bottom rests on the highest asperity
-        body = self._mesh_factory(L, H, hc, s.grading, z0)
+        if s.temperature_layers:  # layer bounds become mesh lines: cells lie in one layer
+            body = self._mesh_factory(L, H, hc, s.grading, z0, levels=layer_levels(s.temperature_layers, H))
+        else:
+            body = self._mesh_factory(L, H, hc, s.grading, z0)
         self.mesh, self.facet_tags = body.mesh, body.facet_tags
         self.sp = SolidProblem(self.mesh, self.facet_tags, s.compound, SolidSettings(element=s.element))
-        if s.temperature is not None:
+        if s.temperature_layers:  # partitions over the height (thesis 8.3.3)
+            background = s.temperature if s.temperature is not None else s.compound.wlf.T_ref
+            depth = self.sp.cell_centroids()[:, 1] - z0
+            self.sp.set_temperature(layer_temperatures(s.temperature_layers, background, depth))
+        elif s.temperature is not None:
             self.sp.set_temperature(s.temperature)
         nfull = self.sp.W.dofmap.index_map.size_local * self.sp.W.dofmap.index_map_bs
         X, d = self.sp.node_X, self.sp.displacement_dofs()

@@ -71,8 +71,8 @@ def check(spec: SlidingSpec) -> ShortcutCheck:
         return ShortcutCheck(False, "not a periodic cell")
     if (spec.block_height or spec.block_length or spec.period) < spec.period:
         return ShortcutCheck(False, "block lower than its period")
-    if np.ndim(spec.temperature) > 0:
-        return ShortcutCheck(False, "temperature partitions")
+    if spec.temperature_layers:
+        return ShortcutCheck(False, "temperature layers (the closed form is for one temperature)")
     harmonics = _harmonics(spec)
     if harmonics is None:
         return ShortcutCheck(False, "surface not uniformly sampled")

@@ -23,17 +23,22 @@ import numpy as np
 from rubberfriction.forms.compound import Compound
 
 
+def shear_modulus(compound: Compound, omega: float, temperature: float | None = None) -> complex:
+    """G*(omega) = G_inf (1 + sum_k g_k i omega tau_k / (1 + i omega tau_k)), tau_k WLF-shifted."""
+    hyp, prony = compound.hyperelastic, compound.prony
+    if prony is None:
+        return complex(hyp.mu)
+    tau = np.asarray(prony.tau, float)
+    if temperature is not None and compound.wlf is not None:
+        tau = tau * compound.wlf.aT(temperature)
+    g = np.asarray(prony.gamma, float) / prony.gamma_inf
+    return complex(hyp.mu * (1.0 + np.sum(g * 1j * omega * tau / (1.0 + 1j * omega * tau))))
+
+
 def effective_modulus(compound: Compound, omega: float, temperature: float | None = None) -> complex:
     """E*_eff(omega) = 4 G*(3K + G*)/(3K + 4G*) of the FE material model (elastic volume)."""
-    hyp, prony = compound.hyperelastic, compound.prony
-    G = complex(hyp.mu)
-    if prony is not None:
-        tau = np.asarray(prony.tau, float)
-        if temperature is not None and compound.wlf is not None:
-            tau = tau * compound.wlf.aT(temperature)
-        g = np.asarray(prony.gamma, float) / prony.gamma_inf
-        G = hyp.mu * (1.0 + np.sum(g * 1j * omega * tau / (1.0 + 1j * omega * tau)))
-    K = hyp.K
+    G = shear_modulus(compound, omega, temperature)
+    K = compound.hyperelastic.K
     return 4.0 * G * (3.0 * K + G) / (3.0 * K + 4.0 * G)
 
 
@@ -48,3 +53,63 @@ def full_contact_pressure(compound: Compound, wavelength: float, amplitude: floa
     """Smallest mean pressure that keeps full contact: |E*_eff| k h0 / 2 (Westergaard p*)."""
     k = 2.0 * np.pi / wavelength
     return float(abs(effective_modulus(compound, k * velocity)) * k * amplitude / 2.0)
+
+
+def layered_strip_pressure(compound: Compound, wavelength: float, velocity: float, height: float,
+                           layers: tuple[tuple[float, float], ...] = (),
+                           background: float | None = None) -> complex:
+    """Complex pressure amplitude P per unit amplitude of a layered strip (frictionless, full
+    contact): the linear viscoelastic solution behind ``layered_strip_mu``.
+
+    The strip 0 <= z <= height (z from the contact face up) is pushed by u_z = e^{i(kx + wt)}
+    at z = 0 with zero shear there and held (u = 0) at z = height, as the FE block's top (held
+    in x, u_z tied: no harmonic part).  For fields ~ e^{ikx}, plane strain, the state
+    y = (u_x, u_z, s_xz, s_zz) solves y' = M y with, per layer (G* at omega = k v and the layer's
+    temperature, lambda = K - 2 G*/3),
+        u_x'  = -ik u_z + s_xz / G
+        u_z'  = (-ik lambda u_x + s_zz) / (lambda + 2G)
+        s_xz' = 4 k^2 G (lambda + G) / (lambda + 2G) u_x - ik lambda / (lambda + 2G) s_zz
+        s_zz' = -ik s_xz
+    (Hooke's law and equilibrium), so y(height) = prod_i expm(M_i d_i) y(0).  The two
+    conditions u_x = u_z = 0 at the top fix the unknown u_x(0), s_zz(0); P = -s_zz(0).
+    """
+    from scipy.linalg import expm
+
+    k = 2.0 * np.pi / wavelength
+    omega = k * velocity
+    K = compound.hyperelastic.K
+    bounds, z = [], 0.0
+    for d, T in layers:
+        d = min(float(d), height - z)
+        if d > 0.0:
+            bounds.append((d, T))
+            z += d
+    if height - z > 0.0:
+        bounds.append((height - z, background))
+    Phi = np.eye(4, dtype=complex)
+    for d, T in bounds:
+        G = shear_modulus(compound, omega, T)
+        lam = K - 2.0 * G / 3.0
+        c = lam + 2.0 * G
+        M = np.array([[0.0, -1j * k, 1.0 / G, 0.0],
+                      [-1j * k * lam / c, 0.0, 0.0, 1.0 / c],
+                      [4.0 * k * k * G * (lam + G) / c, 0.0, 0.0, -1j * k * lam / c],
+                      [0.0, 0.0, -1j * k, 0.0]], dtype=complex)
+        Phi = expm(M * d) @ Phi
+    # y(0) = (a, 1, 0, s): rows u_x, u_z of Phi y(0) vanish
+    A = Phi[:2][:, [0, 3]]
+    rhs = -Phi[:2, 1]
+    _, s_zz = np.linalg.solve(A, rhs)
+    return complex(-s_zz)
+
+
+def layered_strip_mu(compound: Compound, wavelength: float, amplitude: float, pressure: float,
+                     velocity: float, height: float, layers: tuple[tuple[float, float], ...] = (),
+                     background: float | None = None) -> float:
+    """mu = <p h'> / p0 = k h0^2 Im P / (2 p0) of a block of finite height with stepwise constant
+    temperature layers (``driver.sliding.temperature``) over a sinusoid h0 cos(kx), in full
+    frictionless contact; P from ``layered_strip_pressure``.  One layer over a deep block gives
+    ``closed_form_mu``: P -> E*_eff k / 2."""
+    k = 2.0 * np.pi / wavelength
+    P = layered_strip_pressure(compound, wavelength, velocity, height, layers, background)
+    return float(k * amplitude**2 * P.imag / (2.0 * pressure))

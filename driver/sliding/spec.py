@@ -13,6 +13,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from rubberfriction.driver.sliding.sinusoid import effective_modulus
+from rubberfriction.driver.sliding.temperature import surface_temperature
 from rubberfriction.meshes.common import contact_divisions
 from rubberfriction.meshes.grading import geometric_sizes
 
@@ -33,6 +34,9 @@ class SlidingSpec:
     block_length: float = 0.0  # 0: = period (micro cell)
     block_height: float = 0.0  # 0: = block_length (thesis 6.2.2)
     temperature: float | None = None  # K; None: the WLF reference temperature
+    # stepwise constant temperature over the block height (thesis 8.3.3, driver.sliding.temperature):
+    # (thickness mm, T K) layers from the contact face upwards, `temperature` above the last
+    temperature_layers: tuple[tuple[float, float], ...] = ()
     friction: object = None  # None (frictionless), a float mu, or a friction law object
     element: str = "Q1P0"
     contact: str = "mortar"  # or "nts"
@@ -164,4 +168,5 @@ def penalty_modulus(spec: SlidingSpec) -> float:
     """
     hc = spec.h_contact or default_h_contact(spec)
     omega = 2.0 * np.pi * spec.velocity / (spec.elements_per_wavelength * hc)
-    return float(abs(effective_modulus(spec.compound, omega, spec.temperature)))
+    T = surface_temperature(spec.temperature_layers, spec.temperature)  # the contact face's
+    return float(abs(effective_modulus(spec.compound, omega, T)))

@@ -154,6 +154,7 @@ class TwoBodyHeat:
         domain = ufl.Mesh(ufl.VectorElement("Lagrange", ufl.Cell("quadrilateral", geometric_dimension=2), 1))
         self.mesh = dolfinx.mesh.create_mesh(MPI.COMM_SELF, cells.astype(np.int64), points, domain)
         self._zb, self._zd = zb, zd
+        self._block_grid: np.ndarray | None = None  # block dofs as (n_x, n_z), see block_grid
 
     def _cell_data(self, supg: bool) -> None:
         mesh = self.mesh
@@ -302,6 +303,22 @@ class TwoBodyHeat:
             j = np.searchsorted(X[layer, 0], X[dofs, 0] - tol)
             out.append((T[layer[j]] - T[dofs]) / z1)
         return out[0], out[1]
+
+    def block_grid(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The block's temperature on its tensor grid: x (n_x,) of the interface nodes, height
+        z (n_z,) above the interface and T (n_x, n_z) in K (for the profile of eq. 8.1)."""
+        if self._block_grid is None:
+            X, d, xs, zs = self.X, self.block_dofs, self.interface.x, self._zb
+            i = np.searchsorted(0.5 * (xs[1:] + xs[:-1]), X[d, 0])  # nearest grid line
+            j = np.searchsorted(0.5 * (zs[1:] + zs[:-1]), X[d, 1])
+            tol = 1e-9 * max(1.0, self.geometry.block_length)
+            if (len(d) != len(xs) * len(zs) or np.abs(xs[i] - X[d, 0]).max() > tol
+                    or np.abs(zs[j] - X[d, 1]).max() > tol):
+                raise RuntimeError("internal error: the block's heat dofs are not a tensor grid")
+            grid = np.empty((len(xs), len(zs)), dtype=np.int64)
+            grid[i, j] = d
+            self._block_grid = grid
+        return self.interface.x.copy(), self._zb.copy(), self.T.x.array[self._block_grid]
 
     def road_surface(self) -> tuple[np.ndarray, np.ndarray]:
         """x and temperature of the road top, from behind the block to ahead of it."""

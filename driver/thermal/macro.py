@@ -15,9 +15,14 @@ coupling is one-way within a step (mu depends on T, T on the frictional power). 
 step is the scheme's error; its measure is the largest change of the contact temperature per
 step (stats ``max_step_dT``), and halving the sliding step shows it (``tests/test_thermal_macro.py``).
 
+Thermo-viscoelastic bulk: after each heat step the temperature of every cell of the mechanical
+block (bilinear from the heat block's grid at the cell centroid) shifts its relaxation times by
+WLF (``SolidProblem.set_temperature``, ``ThermalSettings.bulk_wlf``), for the next step: the same
+one-step lag.  The bulk's own viscous dissipation is not a heat source (thesis 8.3.2: negligible
+on the macro scale against the frictional heat).
+
 Repeated slides with pauses (thesis 8.5.2): ``run_thermal_slides``.  Not yet here (issue 15
-stays open): rounded leading edge, a thermo-viscoelastic bulk with WLF-shifted relaxation per
-cell, a deformable road, a rough macro road.
+stays open): rounded leading edge, a deformable road, a rough macro road.
 """
 
 from __future__ import annotations
@@ -27,6 +32,7 @@ import time
 from dataclasses import dataclass, field, replace
 
 import numpy as np
+import scipy.sparse as sps
 
 from rubberfriction import validation as V
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
@@ -42,6 +48,8 @@ class ThermalSettings:
     (mW/(mm^2 K)) where in contact, initial and block-top temperature T0 (K), the road's thermal
     data, road extents in the block frame (mm: depth, ahead of and behind the block), first
     element height and growth ratio, and probe points (x, z) in the block frame (mm).
+    bulk_wlf: the rubber's relaxation times follow the current temperature cell by cell (WLF,
+    eqs. 3.33, 3.37) where the compound is viscoelastic with WLF data; False keeps the bulk at T0.
     Defaults: thesis 8.3.1 (kappa = 1, h_c = 1e6)."""
 
     road: Thermal
@@ -54,6 +62,7 @@ class ThermalSettings:
     first_layer: float = FIRST_LAYER
     grading: float = 1.2
     probes: tuple[tuple[float, float], ...] = ()
+    bulk_wlf: bool = True
 
     def __post_init__(self) -> None:
         V.instance("thermal.road", self.road, Thermal)
@@ -98,6 +107,7 @@ class ThermalCoupler:
         self.initial_block = initial_block  # block temperatures carried from an earlier slide (or None: T0)
         self.error: str | None = None
         self.heat: TwoBodyHeat | None = None
+        self._bulk: sps.csr_matrix | None = None
 
     def on_start(self, run) -> None:
         """A new attempt starts sliding (the run's fallbacks restart it): a fresh heat problem at T0,
@@ -138,6 +148,13 @@ class ThermalCoupler:
         slave_T = np.empty_like(Tb)
         slave_T[order] = Tb
         run.contact.set_slave_temperatures(slave_T)
+        history = getattr(run.sp, "history", None)
+        self._bulk = None  # heat block grid -> mechanical cell centroids (bilinear), if the bulk follows T
+        if s.bulk_wlf and history is not None and getattr(run.spec.compound, "wlf", None) is not None:
+            c = run.sp.cell_centroids()
+            self._bulk = _bilinear_map(*self.heat.block_grid()[:2], c[:, 0] - self.x0,
+                                       c[:, 1] - float(slave.X[:, 1].min()))
+            self._update_bulk(run)
 
     def on_step(self, run, k: int, t: float) -> None:
         if self.error is not None:
@@ -169,6 +186,8 @@ class ThermalCoupler:
         slave_T = np.empty_like(Tb)
         slave_T[o] = Tb
         run.contact.set_slave_temperatures(slave_T)
+        if self._bulk is not None:
+            self._update_bulk(run)
         p = st["pressure"][o] * st["weight"][o] * active
         T_contact = float(p @ Tb / p.sum()) if p.sum() > 0 else float("nan")
         self.max_step_dT = max(self.max_step_dT, float(np.max(np.abs(Tb - self._T_prev))))
@@ -183,12 +202,36 @@ class ThermalCoupler:
                       "power": power / self.heat.interface.weights, "mu": st["mu"][o]}
 
 
+    def _update_bulk(self, run) -> None:
+        """Cell temperatures of the mechanical block from the heat field (WLF shift per cell)."""
+        T_cell = self._bulk @ self.heat.block_grid()[2].ravel()
+        run.sp.set_temperature(T_cell)
+        self.bulk_T_max = float(T_cell.max())
+
+
+def _bilinear_map(xs: np.ndarray, zs: np.ndarray, x: np.ndarray, z: np.ndarray) -> sps.csr_matrix:
+    """Sparse (n_points, n_x n_z) bilinear interpolation on the tensor grid xs x zs (flat index
+    i n_z + j) at the points (x, z), clipped into the grid; exact for bilinear fields."""
+    def cell(grid, v):
+        i = np.clip(np.searchsorted(grid, v, side="right") - 1, 0, len(grid) - 2)
+        t = np.clip((v - grid[i]) / (grid[i + 1] - grid[i]), 0.0, 1.0)
+        return i, t
+    i, tx = cell(xs, x)
+    j, tz = cell(zs, z)
+    nz, n = len(zs), len(x)
+    rows = np.repeat(np.arange(n), 4)
+    cols = np.column_stack([i * nz + j, (i + 1) * nz + j, i * nz + j + 1, (i + 1) * nz + j + 1]).ravel()
+    w = np.column_stack([(1 - tx) * (1 - tz), tx * (1 - tz), (1 - tx) * tz, tx * tz]).ravel()
+    return sps.csr_matrix((w, (rows, cols)), shape=(n, len(xs) * nz))
+
+
 def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSettings, *,
                       observers=(), wall_limit: float = 0.0,
                       initial_block: np.ndarray | None = None) -> ThermalMacroResult:
     """One thermomechanical macro run (see the module doc).  The spec must be non-periodic
-    (period = 0: a finite block over a road longer than the slide).  The bulk is evaluated at
-    ``settings.T0`` (its WLF shift; a temperature-dependent bulk is not built yet)."""
+    (period = 0: a finite block over a road longer than the slide).  Bulk and contact start at
+    ``settings.T0``; then the heat field sets the contact temperature and, with
+    ``settings.bulk_wlf``, the WLF shift of every cell (stats ``bulk_wlf``, ``bulk_T_max``)."""
     V.instance("rubber thermal data", rubber, Thermal)
     if spec.period > 0:
         raise V.InputError("thermal macro run: the block must be finite (period = 0)")
@@ -214,7 +257,9 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSetti
     out.probe_dofs = coupler.probe_dofs
     out.stats.update({"max_step_dT": coupler.max_step_dT, "heat_dofs": float(len(coupler.heat.X)),
                       "cpu_heat": coupler.cpu_heat, "max_power_rescale": coupler.max_rescale,
-                      "heat_description": coupler.heat.describe()})
+                      "heat_description": coupler.heat.describe(),
+                      "bulk_wlf": float(coupler._bulk is not None),
+                      "bulk_T_max": getattr(coupler, "bulk_T_max", float("nan"))})
     return out
 
 
