@@ -37,12 +37,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--part", choices=("mesh", "velocities", "all"), default="all")
     p.add_argument("--velocity", type=float, default=1000.0, help="mm/s, mesh study")
     p.add_argument("--slide", type=float, default=10.0, help="sliding distance, mm")
+    p.add_argument("--edge-radius", type=float, default=0.0,
+                   help="rounded leading edge of the block, mm (a multiple of the 0.25 mm contact "
+                        "elements, >= 0.75 mm; 0: square)")
 
 
 def _macro(compound, road, *, length, height, pressure, velocity, friction, slide, first_layer, T0,
-           h_contact=0.25):
+           h_contact=0.25, edge_radius=0.0):
     spec = flat_road_spec(compound, pressure=pressure, velocity=velocity, friction=friction, block_length=length,
-                          block_height=height, slide_distance=slide, h_contact=h_contact, T0=T0)
+                          block_height=height, slide_distance=slide, h_contact=h_contact, T0=T0,
+                          edge_radius=edge_radius)
     settings = ThermalSettings(road=road, T0=T0, kappa=1.0, h_c=1.0e6, road_depth=10.0, road_ahead=2.0,
                                road_behind=20.0, first_layer=first_layer)
     wall = time.perf_counter()
@@ -79,14 +83,14 @@ def run(args: argparse.Namespace) -> int:
         T0 = scene.conditions.T0
         law = friction_of(scene)
         print(f"thermal macro mesh study (thesis 8.4.1): block {scene.thermal.block_length} x "
-              f"{scene.thermal.block_height} mm, p 0.3 MPa, v {args.velocity:g} mm/s, slide {args.slide} mm, "
-              f"mu(T_s) of the scene thermal_macro")
+              f"{scene.thermal.block_height} mm, edge radius {args.edge_radius:g} mm, p 0.3 MPa, "
+              f"v {args.velocity:g} mm/s, slide {args.slide} mm, mu(T_s) of the scene thermal_macro")
         print(f"{'first layer':>11} {'heat dofs':>9} {'dT/dz road':>11} {'T_C-T0':>7} {'T_max-T0':>8} "
               f"{'mu':>6} {'wall s':>7} {'ms/step':>7} {'mech/heat/contact CPU s':>24} {'RSS MB':>7}")
         for first in FIRST_LAYERS:
             res, wall = _macro(comp, road, length=scene.thermal.block_length, height=scene.thermal.block_height,
                                pressure=0.3, velocity=args.velocity, friction=law, slide=args.slide,
-                               first_layer=first, T0=T0)
+                               first_layer=first, T0=T0, edge_radius=args.edge_radius)
             r = _row(res, wall, T0)
             ok &= r["status"] == "ok"
             if "mu" not in r:
@@ -105,7 +109,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"{'v m/s':>6} {'mu':>5} {'T_C-T0':>7} {'T_R-T0':>7} {'T_max-T0':>8} {'wall s':>7}")
         for v, mu in MU_OF_V.items():
             res, wall = _macro(comp, road, length=20.0, height=7.0, pressure=0.3, velocity=v, friction=mu,
-                               slide=args.slide, first_layer=0.01, T0=T0)
+                               slide=args.slide, first_layer=0.01, T0=T0, edge_radius=args.edge_radius)
             r = _row(res, wall, T0)
             ok &= r["status"] == "ok"
             if "mu" not in r:

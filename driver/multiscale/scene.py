@@ -225,7 +225,8 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "road": Key("str", "r1", "road material with [thermal] data (forms/data or a TOML file)"),
         "block_length": Key("float", 20.0, "rubber block length in mm (thesis 8.5.1: 20)", above=0.0),
         "block_height": Key("float", 8.0, "rubber block height in mm", above=0.0),
-        "edge_radius": Key("float", 0.0, "rounded leading edge in mm (not built yet: 0)", minimum=0.0),
+        "edge_radius": Key("float", 0.0, "rounded leading (front) edge in mm: 0 square, else a "
+                                              "multiple of h_contact, at least 3 h_contact", minimum=0.0),
         "slide_distance": Key("float", 10.0, "sliding distance in mm", above=0.0),
         "h_contact": Key("float", 0.25, "contact element length of block and road along x, mm",
                          above=0.0),
@@ -397,6 +398,7 @@ class ThermalSceneConfig:
     probes: tuple[tuple[float, float], ...]
     slides: int = 1
     pauses: tuple[float, ...] = ()
+    edge_radius: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -762,9 +764,12 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
     if T and (len(T) < 2 or any(b <= a for a, b in zip(T[:-1], T[1:]))):
         raise SceneError(f"{where}.mu_curve_T = {list(T)}: expected at least two increasing "
                          "temperatures in K")
-    if t["edge_radius"] > 0:
-        raise SceneError(f"{where}.edge_radius = {t['edge_radius']}: a rounded leading edge is not "
-                         "built yet; expected 0")
+    r, hc = t["edge_radius"], t["h_contact"]
+    if r > 0 and (abs(r / hc - round(r / hc)) > 1e-9 * max(1.0, r / hc) or r < 3.0 * hc - 1e-12
+                  or r >= min(t["block_length"], t["block_height"])):
+        raise SceneError(f"{where}.edge_radius = {r} mm: expected 0 (square) or a whole number of contact "
+                         f"elements h_contact = {hc} mm, at least 3 of them (the mesh grades into the arc) "
+                         "and below the block's length and height")
     if len(t["pauses"]) != t["slides"] - 1:
         what = "a pause without a slide after it" if len(t["pauses"]) >= t["slides"] else "slides without pauses"
         raise SceneError(f"{where}.pauses = {list(t['pauses'])} with slides = {t['slides']}: {what}; "
@@ -782,7 +787,7 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
                          "height and the road depth")
     return ThermalSceneConfig(
         mu=t["mu"], mu_curve=tuple(zip(T, m)), kappa=t["kappa"], h_c=t["h_c"], road=t["road"],
-        block_length=t["block_length"], block_height=t["block_height"],
+        block_length=t["block_length"], block_height=t["block_height"], edge_radius=r,
         slide_distance=t["slide_distance"], h_contact=t["h_contact"],
         step_per_element=t["step_per_element"], road_depth=t["road_depth"],
         road_ahead=t["road_ahead"], road_behind=t["road_behind"], first_layer=t["first_layer"],

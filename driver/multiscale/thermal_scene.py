@@ -122,7 +122,7 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False) -> list[ThermalRunSu
                               h_contact=t.h_contact, T0=T0, step_per_element=t.step_per_element,
                               element=num.element, contact=num.contact, grading=num.grading,
                               compression_steps=num.compression_steps, max_cutbacks=num.max_cutbacks,
-                              penalty_alpha=num.penalty_alpha)
+                              penalty_alpha=num.penalty_alpha, edge_radius=t.edge_radius)
         settings = ThermalSettings(road=road, T0=T0, kappa=t.kappa, h_c=t.h_c, road_depth=t.road_depth,
                                    road_ahead=t.road_ahead, road_behind=t.road_behind,
                                    first_layer=t.first_layer, grading=t.grading, probes=t.probes)

@@ -10,13 +10,15 @@ from rubberfriction.driver.sliding.temperature import surface_temperature
 from rubberfriction.meshes.block import rubber_block
 
 
-def block_mesh(L: float, H: float, hc: float, grading: float, z0: float, levels=()):
+def block_mesh(L: float, H: float, hc: float, grading: float, z0: float, levels=(), edge_radius: float = 0.0):
     """Graded rubber block with its contact face at z = z0 (``meshes.block.rubber_block``);
     ``levels``: heights above the face that must be mesh lines (temperature layer bounds); a
-    level below the contact spacing makes the first element row that thin."""
+    level below the contact spacing makes the first element row that thin.  ``edge_radius``:
+    the leading edge (+x: the front, the road moves by -v t) rounded with this radius."""
     levels = list(levels)
     first = min(hc, levels[0]) if levels else None
-    body = rubber_block(L, H, h_contact=hc, grading=grading, first_layer=first, partitions=levels or None)
+    body = rubber_block(L, H, h_contact=hc, grading=grading, first_layer=first, partitions=levels or None,
+                        leading_edge_radius=edge_radius, leading_edge="right")
     body.mesh.geometry.x[:, 1] += z0
     return body
 

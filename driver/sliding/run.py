@@ -108,6 +108,10 @@ class SlidingRun:
     def __init__(self, spec: SlidingSpec, mesh_factory=None, contact_factory=None, progress=None,
                  observers=(), wall_limit: float = 0.0):
         check_layers(spec.temperature_layers, spec.compound)  # bad input raises here
+        if not (np.isfinite(spec.edge_radius) and spec.edge_radius >= 0.0):
+            raise ValueError(f"edge_radius = {spec.edge_radius!r} mm: expected >= 0")
+        if spec.edge_radius > 0.0 and spec.period > 0:
+            raise ValueError("edge_radius: a periodic cell has no edges; round only a finite block (period = 0)")
         self.base_spec = spec
         self.spec = spec  # the current attempt's spec (base_spec, or a refined copy)
         # wall_limit > 0: seconds after which the run stops with a structured failure (failure
@@ -144,10 +148,12 @@ class SlidingRun:
         L, H, hc = self._geometry()
         self.L, self.H, self.hc = L, H, hc
         z0 = float(np.max(s.surface_h))  # block bottom rests on the highest asperity
+        options = {}  # only what the spec uses: custom factories need not know the rest
         if s.temperature_layers:  # layer bounds become mesh lines: cells lie in one layer
-            body = self._mesh_factory(L, H, hc, s.grading, z0, levels=layer_levels(s.temperature_layers, H))
-        else:
-            body = self._mesh_factory(L, H, hc, s.grading, z0)
+            options["levels"] = layer_levels(s.temperature_layers, H)
+        if s.edge_radius > 0.0:
+            options["edge_radius"] = s.edge_radius
+        body = self._mesh_factory(L, H, hc, s.grading, z0, **options)
         self.mesh, self.facet_tags = body.mesh, body.facet_tags
         self.sp = SolidProblem(self.mesh, self.facet_tags, s.compound, SolidSettings(element=s.element))
         if s.temperature_layers:  # partitions over the height (thesis 8.3.3)

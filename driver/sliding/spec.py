@@ -33,6 +33,7 @@ class SlidingSpec:
     compound: object  # rubberfriction.forms.compound.Compound
     block_length: float = 0.0  # 0: = period (micro cell)
     block_height: float = 0.0  # 0: = block_length (thesis 6.2.2)
+    edge_radius: float = 0.0  # rounded leading (+x, front when sliding) edge of a finite block, mm
     temperature: float | None = None  # K; None: the WLF reference temperature
     # stepwise constant temperature over the block height (thesis 8.3.3, driver.sliding.temperature):
     # (thickness mm, T K) layers from the contact face upwards, `temperature` above the last

@@ -115,22 +115,36 @@ class ThermalCoupler:
         self.error = None
         s = self.settings
         slave = run.contact.slave
-        order = np.argsort(slave.X[:, 0])
-        x = slave.X[order, 0]
-        h_x = float(np.diff(x).mean())
-        if np.ptp(np.diff(x)) > 1e-9 * h_x:
-            raise RuntimeError("thermal macro run: the block's contact face must have equal elements")
+        X = slave.X
+        z_face = float(X[:, 1].min())
+        tol = 1e-9 * max(1.0, float(np.ptp(X[:, 0])))
+        flat = np.sort(X[np.abs(X[:, 1] - z_face) < tol, 0])  # the flat face (an arc rises above it)
+        h_x = float(np.diff(flat).mean())
+        if np.ptp(np.diff(flat)) > 1e-9 * h_x:
+            raise RuntimeError("thermal macro run: the block's flat contact face must have equal elements")
+        self.x0 = float(X[:, 0].min())
+        length = float(X[:, 0].max()) - self.x0
+        if abs(length / h_x - round(length / h_x)) > 1e-6:
+            raise V.InputError(f"thermal macro run: block length {length:g} mm is not a whole number of contact "
+                               f"elements {h_x:g} mm (with a rounded edge: make edge_radius a multiple of "
+                               "h_contact)")
         whole = lambda d: h_x * math.ceil(d / h_x - 1e-9)  # noqa: E731
-        geo = HeatGeometry(block_length=float(x[-1] - x[0]), block_height=float(run.H), road_depth=s.road_depth,
-                           road_ahead=whole(s.road_ahead), road_behind=whole(s.road_behind), h_x=h_x,
-                           first_layer=s.first_layer, grading=s.grading)
-        self.x0 = float(x[0])
+        geo = HeatGeometry(block_length=h_x * round(length / h_x), block_height=float(run.H),
+                           road_depth=s.road_depth, road_ahead=whole(s.road_ahead),
+                           road_behind=whole(s.road_behind), h_x=h_x, first_layer=s.first_layer,
+                           grading=s.grading)
         self.heat = TwoBodyHeat(geo, self.rubber, s.road, T0=s.T0, kappa=s.kappa, h_c=s.h_c,
                                 road_velocity=-float(run.spec.velocity), top_temperature=s.T0)
         itf = self.heat.interface
-        if np.abs(itf.x + self.x0 - x).max() > 1e-9 * max(1.0, geo.block_length):
+        # slave node a -> interface node node_of[a] (nearest in x): one to one on a square block;
+        # nodes of a rounded edge share the interface node below them (the heat block is square)
+        self.slave_x = X[:, 0] - self.x0
+        self.node_of = np.clip(np.searchsorted(0.5 * (itf.x[1:] + itf.x[:-1]), self.slave_x), 0, len(itf.x) - 1)
+        self.lump = sps.csr_matrix((np.ones(len(X)), (self.node_of, np.arange(len(X)))), shape=(len(itf.x), len(X)))
+        self.count = np.asarray(self.lump.sum(axis=1)).ravel()
+        on_face = np.abs(X[:, 1] - z_face) < tol
+        if np.abs(itf.x[self.node_of[on_face]] - self.slave_x[on_face]).max() > tol:
             raise RuntimeError("thermal macro run: slave nodes and heat interface nodes do not match")
-        self.order = order  # interface node i is slave node order[i]
         if self.initial_block is not None:
             if len(self.initial_block) != len(self.heat.block_dofs):
                 raise RuntimeError("thermal macro run: the carried block temperature field does not fit the mesh")
@@ -145,9 +159,7 @@ class ThermalCoupler:
         self.max_step_dT = 0.0
         Tb, _ = self.heat.interface_temperatures()
         self._T_prev = Tb
-        slave_T = np.empty_like(Tb)
-        slave_T[order] = Tb
-        run.contact.set_slave_temperatures(slave_T)
+        run.contact.set_slave_temperatures(self._slave_temperatures(Tb))
         history = getattr(run.sp, "history", None)
         self._bulk = None  # heat block grid -> mechanical cell centroids (bilinear), if the bulk follows T
         if s.bulk_wlf and history is not None and getattr(run.spec.compound, "wlf", None) is not None:
@@ -164,11 +176,15 @@ class ThermalCoupler:
         except Exception as err:  # noqa: BLE001 -- reported as a failed thermal run
             self.error = f"{type(err).__name__}: {err}"
 
+    def _slave_temperatures(self, Tb: np.ndarray) -> np.ndarray:
+        """Interface temperatures at the slave nodes (linear in x; exact on the flat face)."""
+        return np.interp(self.slave_x, self.heat.interface.x, Tb)
+
     def _step(self, run, t: float) -> None:
         st = run.contact.state()
-        o = self.order
-        power = (st["friction_power_density"] * st["weight"])[o]
-        active = st["active"][o]
+        L = self.lump
+        power = L @ (st["friction_power_density"] * st["weight"])  # mW/mm per interface node
+        active = (L @ st["active"].astype(float)) > 0.0
         dt = float(run.dt_slide)
         # a step cut back into sub-steps: the state is the last sub-step's; scale its power so the
         # heat of the step is the frictional dissipation of all its sub-steps (run.step_friction_energy)
@@ -183,13 +199,12 @@ class ThermalCoupler:
         self.energy += float(power.sum()) * dt
         self.dissipation += step_energy
         Tb, _ = self.heat.interface_temperatures()
-        slave_T = np.empty_like(Tb)
-        slave_T[o] = Tb
+        slave_T = self._slave_temperatures(Tb)
         run.contact.set_slave_temperatures(slave_T)
         if self._bulk is not None:
             self._update_bulk(run)
-        p = st["pressure"][o] * st["weight"][o] * active
-        T_contact = float(p @ Tb / p.sum()) if p.sum() > 0 else float("nan")
+        p = st["pressure"] * st["weight"] * st["active"]
+        T_contact = float(p @ slave_T / p.sum()) if p.sum() > 0 else float("nan")
         self.max_step_dT = max(self.max_step_dT, float(np.max(np.abs(Tb - self._T_prev))))
         self._T_prev = Tb
         _, Tr = self.heat.road_surface()
@@ -198,9 +213,9 @@ class ThermalCoupler:
         self.rows.append((t, float(run.spec.velocity) * (t - run.t_start), mu, T_contact, float(Tb.mean()),
                           float(Tb.max()), float(Tr[self.behind]), eb, er, self.energy, self.dissipation,
                           *[float(self.heat.T.x.array[d]) for d in self.probe_dofs]))
-        self._last = {"x": self.heat.interface.x + self.x0, "T_block": Tb, "pressure": st["pressure"][o],
-                      "power": power / self.heat.interface.weights, "mu": st["mu"][o]}
-
+        mean = lambda v: (L @ v) / np.maximum(self.count, 1.0)  # noqa: E731 -- per interface node
+        self._last = {"x": self.heat.interface.x + self.x0, "T_block": Tb, "pressure": mean(st["pressure"]),
+                      "power": power / self.heat.interface.weights, "mu": mean(st["mu"])}
 
     def _update_bulk(self, run) -> None:
         """Cell temperatures of the mechanical block from the heat field (WLF shift per cell)."""
