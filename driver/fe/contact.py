@@ -226,6 +226,12 @@ class Contact:
     def set_time_step(self, dt: float) -> None:
         self.dt = float(dt)
 
+    def set_friction(self, friction) -> None:
+        """A new friction law (None, a float mu or a law object) from the next evaluation on; the
+        slip history stays (the thermal loop hands a new mu to a running macro scale)."""
+        self.friction = friction
+        self._c.set_friction(as_cpp_law(friction))
+
     def set_temperature(self, T: float) -> None:
         """Contact temperature [K] for mu(p, v, T) when the slave has no temperature dofs."""
         self.temperature = float(T)

@@ -63,6 +63,12 @@ def geometric_steps(total: float, n: int, first_fraction: float = 1e-3) -> np.nd
     return steps * (total / steps.sum())
 
 
+def block_levels(height: float, first_layer: float, grading: float) -> np.ndarray:
+    """z of the heat block's node rows above the interface (graded from ``first_layer``)."""
+    zb, _ = graded_nodes(height, first_layer, grading, name="block_height")
+    return zb
+
+
 @dataclass(frozen=True)
 class HeatGeometry:
     """Sizes in mm: block l x h, road depth d, road length ahead of / behind the block, element
@@ -145,7 +151,7 @@ class TwoBodyHeat:
         n_ahead, n_behind = round(g.road_ahead / g.h_x), round(g.road_behind / g.h_x)
         xb = np.linspace(0.0, g.block_length, nb + 1)
         xr = np.linspace(-g.road_behind, g.block_length + g.road_ahead, n_behind + nb + n_ahead + 1)
-        zb, _ = graded_nodes(g.block_height, g.first_layer, g.grading, name="block_height")
+        zb = block_levels(g.block_height, g.first_layer, g.grading)
         zd, _ = graded_nodes(g.road_depth, g.first_layer, g.grading, name="road_depth")
         pb, cb = tensor_grid(xb, zb)
         pr, cr = tensor_grid(xr, -zd[::-1])

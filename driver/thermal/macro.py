@@ -242,18 +242,22 @@ def _bilinear_map(xs: np.ndarray, zs: np.ndarray, x: np.ndarray, z: np.ndarray) 
 
 def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSettings, *,
                       observers=(), wall_limit: float = 0.0,
-                      initial_block: np.ndarray | None = None) -> ThermalMacroResult:
+                      initial_block: np.ndarray | None = None,
+                      coupler: ThermalCoupler | None = None) -> ThermalMacroResult:
     """One thermomechanical macro run (see the module doc).  The spec must be non-periodic
     (period = 0: a finite block over a road longer than the slide).  Bulk and contact start at
     ``settings.T0``; then the heat field sets the contact temperature and, with
-    ``settings.bulk_wlf``, the WLF shift of every cell (stats ``bulk_wlf``, ``bulk_T_max``)."""
+    ``settings.bulk_wlf``, the WLF shift of every cell (stats ``bulk_wlf``, ``bulk_T_max``).
+    ``coupler``: a ThermalCoupler of these settings made by the caller (observers after it may
+    read its heat problem, as the thermal loop does); default: a new one."""
     V.instance("rubber thermal data", rubber, Thermal)
     if spec.period > 0:
         raise V.InputError("thermal macro run: the block must be finite (period = 0)")
     if spec.temperature != settings.T0:
         # bulk (WLF shift) and contact start at T0; the heat solver then owns the contact temperature
         spec = replace(spec, temperature=float(settings.T0))
-    coupler = ThermalCoupler(rubber, settings, initial_block)
+    if coupler is None:
+        coupler = ThermalCoupler(rubber, settings, initial_block)
     run = SlidingRun(spec, block_mesh, sliding_contact, observers=(coupler, *observers), wall_limit=wall_limit)
     res = run.run()
     out = ThermalMacroResult(res)

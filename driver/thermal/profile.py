@@ -58,6 +58,24 @@ def average_profile(z: np.ndarray, T: np.ndarray, active: np.ndarray) -> Tempera
     return TemperatureProfile(z.copy(), cols.mean(axis=0), cols.std(axis=0), int(active.sum()))
 
 
+def partition_indices(z: np.ndarray, n_p: int, depth: float) -> np.ndarray:
+    """Indices into the macro levels z of the n_p + 1 partition bounds (see partition_profile)."""
+    n_p = V.integer("n_p", n_p, minimum=1)
+    depth = V.positive("depth", depth, "mm")
+    m = int(np.searchsorted(z, depth * (1.0 + 1e-12), side="right")) - 1
+    if n_p > m:
+        raise ValueError(f"n_p = {n_p}: the macro mesh has only {m} element rows above depth {depth:g} mm; "
+                         "use fewer partitions, a larger depth or a finer macro mesh (first_layer)")
+    return np.rint(np.arange(n_p + 1) * m / n_p).astype(int)
+
+
+def uniform_partitions(z: np.ndarray, n_p: int, depth: float, T: float) -> Partitions:
+    """The partitions of a uniform temperature T on the same bounds as ``partition_profile``
+    (the isothermal reference of the thermal loop: same lower-scale meshes, T0 everywhere)."""
+    flat = TemperatureProfile(np.asarray(z, float), np.full(len(z), float(T)), np.zeros(len(z)), 0)
+    return partition_profile(flat, n_p, depth)
+
+
 def partition_profile(profile: TemperatureProfile, n_p: int, depth: float,
                       background: float | None = None) -> Partitions:
     """n_p partitions over [0, depth] on the macro mesh levels (8.3.3).
@@ -68,14 +86,8 @@ def partition_profile(profile: TemperatureProfile, n_p: int, depth: float,
     bounds.  ValueError when n_p exceeds the m macro intervals available (the macro mesh cannot
     resolve finer partitions).
     """
-    n_p = V.integer("n_p", n_p, minimum=1)
-    depth = V.positive("depth", depth, "mm")
     z, T = profile.z, profile.mean
-    m = int(np.searchsorted(z, depth * (1.0 + 1e-12), side="right")) - 1
-    if n_p > m:
-        raise ValueError(f"n_p = {n_p}: the macro mesh has only {m} element rows above depth {depth:g} mm; "
-                         "use fewer partitions, a larger depth or a finer macro mesh (first_layer)")
-    idx = np.rint(np.arange(n_p + 1) * m / n_p).astype(int)
+    idx = partition_indices(z, n_p, depth)
     bounds = z[idx]
     values = 0.5 * (T[idx[:-1]] + T[idx[1:]])
     layers = tuple((float(b - a), float(t)) for a, b, t in zip(bounds[:-1], bounds[1:], values))

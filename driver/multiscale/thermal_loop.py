@@ -1,0 +1,278 @@
+"""Flash temperature end to end: the thermal multiscale loop (thesis 8.3.2-8.3.4, fig. 8.1).
+
+The procedure of fig. 8.4 b (lower right) that the thesis proposed and ran by hand, automated:
+
+A. the isothermal cascade (chapter 6, ``cascade.RoughCascade``) gives mu(T0); the thermomechanical
+   macro run (``thermal.macro``: block on the flat road, frictional heating) starts with
+   mu_const + mu(T0) in its contact (mu_const: a constant part the lower scales do not give, the
+   thesis' adhesive part, 8.3.2, or the 0.6 of 8.4.3);
+B. at each homogenisation point s_i (sliding distance) the rubber temperature below the active
+   contact nodes is averaged over x, eq. (8.1) (``thermal.profile.average_profile``);
+C. the profile becomes n_p partitions over ``partition_depth`` (8.3.3), the temperature layers of
+   every lower-scale run (``SlidingSpec.temperature_layers``: WLF-shifted relaxation per cell);
+D. the whole cascade runs again with those layers (pressure branch down, friction branch up, all
+   scales and samples), through the campaign store: its keys contain the layer temperatures;
+E. the homogenised mu(s_i) goes back into the running macro contact (``Contact.set_friction``),
+   which continues from its state at s_i (no recomputation from t = 0).
+
+The last point is the end of the slide; its mu is the result, mu_const + mu(s_end).  Points:
+``divisions`` equal parts of the slide (n_d, thesis 8.4.3) or an explicit list.
+
+Resume and MPI: the macro run is deterministic and runs on rank 0; every lower-scale run goes
+through the store, so a rerun of a killed loop recomputes the macro run (seconds) and only the
+lower-scale runs that are missing.  Each cascade is farmed over all ranks of ``comm``: the workers
+wait between homogenisation points (rank 0 tells them "cascade" or "done").
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable, Sequence
+
+import numpy as np
+
+from rubberfriction.driver.multiscale.cascade import RoughCascade
+from rubberfriction.driver.multiscale.results import Point, PointResult, ScaleSet
+from rubberfriction.driver.runtime.farm import run_farm
+from rubberfriction.driver.sliding.spec import SlidingSpec
+from rubberfriction.driver.thermal.conduction import block_levels
+from rubberfriction.driver.thermal.macro import ThermalMacroResult, ThermalSettings, run_thermal_macro
+from rubberfriction.driver.thermal.profile import (
+    Partitions,
+    TemperatureProfile,
+    average_profile,
+    partition_profile,
+    uniform_partitions,
+)
+from rubberfriction.forms.compound import Thermal
+
+
+@dataclass(frozen=True)
+class LoopSettings:
+    """Homogenisation points: ``points`` (sliding distances in mm, increasing, the last at most the
+    slide) or else ``divisions`` equal parts of the slide; n_p partitions over
+    ``partition_depth`` mm (thesis 8.4.2: 0.09); ``mu_const`` added to the lower scales' mu on the
+    macro scale."""
+
+    divisions: int = 4
+    points: tuple[float, ...] = ()
+    n_partitions: int = 4
+    partition_depth: float = 0.09
+    mu_const: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.divisions, int) and self.divisions >= 1):
+            raise ValueError(f"divisions = {self.divisions!r}: expected an integer >= 1")
+        if not (isinstance(self.n_partitions, int) and self.n_partitions >= 1):
+            raise ValueError(f"n_partitions = {self.n_partitions!r}: expected an integer >= 1")
+        if not (np.isfinite(self.partition_depth) and self.partition_depth > 0):
+            raise ValueError(f"partition_depth = {self.partition_depth!r} mm: expected > 0")
+        if not (np.isfinite(self.mu_const) and self.mu_const >= 0):
+            raise ValueError(f"mu_const = {self.mu_const!r}: expected >= 0")
+        p = np.asarray(self.points, float)
+        if p.size and (not np.all(np.isfinite(p)) or p[0] <= 0 or np.any(np.diff(p) <= 0)):
+            raise ValueError(f"points = {list(self.points)!r} mm: expected increasing sliding distances > 0")
+
+    def distances(self, slide: float) -> np.ndarray:
+        """The homogenisation points s_1 < ... < s_m = slide (mm)."""
+        if self.points:
+            p = np.asarray(self.points, float)
+            if p[-1] > slide * (1 + 1e-12):
+                raise ValueError(f"points: {p[-1]:g} mm lies beyond the slide of {slide:g} mm")
+            return p if abs(p[-1] - slide) <= 1e-9 * slide else np.append(p, slide)
+        return slide * np.arange(1, self.divisions + 1) / self.divisions
+
+
+@dataclass
+class Interval:
+    """One homogenisation point: the macro state at s_end and what the lower scales made of it."""
+
+    index: int
+    s_end: float
+    t_end: float
+    mu_in: float  # lower-scale mu used on the macro scale up to s_end (without mu_const)
+    profile: TemperatureProfile
+    partitions: Partitions
+    cascade: PointResult
+    mu_out: float  # the cascade's mu at s_end (nan if it failed: mu_in is kept)
+    wall: float  # s spent in the cascade
+
+
+@dataclass
+class ThermalLoopResult:
+    point: Point
+    isothermal: PointResult
+    macro: ThermalMacroResult | None
+    intervals: list[Interval] = field(default_factory=list)
+    settings: LoopSettings = field(default_factory=LoopSettings)
+    wall: float = math.nan
+    notes: list[str] = field(default_factory=list)
+    error: str = ""  # the loop stopped (an exception in a homogenisation step)
+    n_points: int = 0  # homogenisation points planned
+
+    @property
+    def mu_isothermal(self) -> float:
+        return self.settings.mu_const + _mu(self.isothermal)
+
+    @property
+    def mu(self) -> float:
+        """mu_const + the lower scales' mu at the end of the slide; nan unless the macro run finished,
+        every homogenisation point was reached and the last cascade succeeded."""
+        if (self.macro is None or not self.macro.ok or self.error or not self.intervals
+                or len(self.intervals) < self.n_points):
+            return math.nan
+        return self.settings.mu_const + self.intervals[-1].mu_out
+
+    @property
+    def ok(self) -> bool:
+        return np.isfinite(self.mu)
+
+
+def _mu(result: PointResult) -> float:
+    return float(result.mu.mean) if result.ok and result.mu is not None else math.nan
+
+
+class LayeredSpecs:
+    """The cascade's spec factory with temperature layers on every run (step C)."""
+
+    def __init__(self, make_spec: Callable[..., SlidingSpec], partitions: Partitions | None):
+        self.make_spec, self.partitions = make_spec, partitions
+
+    def __call__(self, *args: Any) -> SlidingSpec:
+        spec = self.make_spec(*args)
+        if self.partitions is None:
+            return spec
+        return dataclasses.replace(spec, temperature_layers=self.partitions.layers,
+                                   temperature=self.partitions.background)
+
+
+class CascadeRunner:
+    """Runs one cascade of a point over all ranks (step D); rank 0 calls it, the workers wait in
+    :meth:`serve` until rank 0 says "done"."""
+
+    def __init__(self, campaign: str, point: Point, scales: Sequence[ScaleSet], make_spec, k: int, j: int,
+                 execute, comm=None, progress=None, max_failed_fraction: float = 0.25):
+        self.campaign, self.point, self.scales = campaign, point, list(scales)
+        self.make_spec, self.k, self.j = make_spec, k, j
+        self.execute, self.comm, self.progress = execute, comm, progress
+        self.max_failed = max_failed_fraction
+        self.count = 0
+
+    def __call__(self, partitions: Partitions | None) -> PointResult:
+        planner = RoughCascade(self.campaign, self.point, self.scales, LayeredSpecs(self.make_spec, partitions),
+                               self.k, self.j, max_failed_fraction=self.max_failed)
+        if self.comm is not None and self.comm.Get_size() > 1:
+            self.comm.bcast("cascade", root=0)
+        run_farm(lambda: planner, self.execute, self.progress, self.comm)
+        self.count += 1
+        return planner.result
+
+    def serve(self) -> None:
+        """Worker ranks: take part in every cascade rank 0 starts, until it says done."""
+        while self.comm.bcast(None, root=0) == "cascade":
+            run_farm(lambda: None, self.execute, None, self.comm)
+
+    def done(self) -> None:
+        if self.comm is not None and self.comm.Get_size() > 1:
+            self.comm.bcast("done", root=0)
+
+
+class LoopObserver:
+    """SlidingRun observer after the ThermalCoupler: stops at each homogenisation point, runs the
+    cascade with the current profile and hands its mu to the macro contact (steps B-E)."""
+
+    def __init__(self, coupler, distances: np.ndarray, settings: LoopSettings, cascade: CascadeRunner,
+                 mu_start: float, log: Callable[[str], None] | None = None):
+        self.coupler, self.distances, self.settings = coupler, distances, settings
+        self.cascade, self.mu_start, self.log = cascade, mu_start, log
+        self.intervals: list[Interval] = []
+        self.error: str | None = None
+
+    def on_start(self, run) -> None:  # a fallback attempt starts the slide again
+        self.intervals = []
+        self.error = None
+        self.mu_now = self.mu_start
+        run.contact.set_friction(self.settings.mu_const + self.mu_start)
+
+    def on_step(self, run, k: int, t: float) -> None:
+        if self.error is not None:
+            return
+        try:
+            self._step(run, t)
+        except Exception as err:  # noqa: BLE001 -- reported: the loop's mu is then nan, never silent
+            self.error = f"{type(err).__name__}: {err}"
+
+    def _step(self, run, t: float) -> None:
+        i = len(self.intervals)
+        if i >= len(self.distances) or self.coupler.heat is None or self.coupler.error is not None:
+            return
+        s = float(run.spec.velocity) * (t - run.t_start)
+        if s < self.distances[i] - 1e-6 * max(1.0, self.distances[i]):
+            return
+        heat = self.coupler.heat
+        st = run.contact.state()
+        active = (self.coupler.lump @ st["active"].astype(float)) > 0.0
+        _, z, T = heat.block_grid()
+        if not active.any():
+            if self.log:
+                self.log(f"  point {i + 1}: no contact node active at s = {s:.4g} mm; mu kept")
+            return
+        profile = average_profile(z, T, active)
+        parts = partition_profile(profile, self.settings.n_partitions, self.settings.partition_depth)
+        wall = time.perf_counter()
+        result = self.cascade(parts)
+        wall = time.perf_counter() - wall
+        mu_out = _mu(result)
+        iv = Interval(i + 1, s, t, self.mu_now, profile, parts, result, mu_out, wall)
+        self.intervals.append(iv)
+        if self.log:
+            temps = ", ".join(f"{T_:.1f}" for _, T_ in parts.layers)
+            state = f"mu {mu_out:.4g}" if np.isfinite(mu_out) else f"cascade failed ({result.reason}); mu kept"
+            self.log(f"  point {i + 1}/{len(self.distances)} at s = {s:.4g} mm: surface {profile.mean[0]:.2f} K "
+                     f"(std {profile.std[0]:.2f}, {profile.n_active} nodes), partitions [{temps}] K -> {state} "
+                     f"({wall:.1f} s)")
+        if np.isfinite(mu_out):
+            self.mu_now = mu_out
+            run.contact.set_friction(self.settings.mu_const + mu_out)
+
+
+def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings, loop: LoopSettings,
+                     cascade: CascadeRunner, *, wall_limit: float = 0.0,
+                     log: Callable[[str], None] | None = None) -> ThermalLoopResult:
+    """The loop of the module docstring for one point on rank 0 (``spec``: the macro run; its
+    friction is replaced).  The workers of ``cascade.comm`` must be in ``cascade.serve()``;
+    :meth:`CascadeRunner.done` releases them (the caller's job, after its last point)."""
+    from rubberfriction.driver.thermal.macro import ThermalCoupler
+
+    wall = time.perf_counter()
+    # A: isothermal mu(T0), on the partition bounds of the later cascades (layer bounds are mesh
+    # lines of the lower-scale blocks: the same meshes in every cascade, only temperatures differ)
+    levels = block_levels(spec.block_height, thermal.first_layer, thermal.grading)
+    iso = cascade(uniform_partitions(levels, loop.n_partitions, loop.partition_depth, thermal.T0))
+    out = ThermalLoopResult(cascade.point, iso, None, settings=loop)
+    mu0 = _mu(iso)
+    if not np.isfinite(mu0):
+        out.notes.append(f"isothermal cascade failed: {iso.reason}")
+        out.wall = time.perf_counter() - wall
+        return out
+    if log:
+        log(f"  isothermal mu(T0) = {mu0:.4g} (+ mu_const {loop.mu_const:g})")
+    distances = loop.distances(spec.slide_distance)
+    out.n_points = len(distances)
+    spec = dataclasses.replace(spec, friction=loop.mu_const + mu0)
+    coupler = ThermalCoupler(rubber, thermal)
+    observer = LoopObserver(coupler, distances, loop, cascade, mu0, log)
+    out.macro = run_thermal_macro(spec, rubber, thermal, observers=(observer,), wall_limit=wall_limit,
+                                  coupler=coupler)
+    out.intervals = observer.intervals
+    if observer.error is not None:
+        out.error = f"thermal loop stopped at point {len(out.intervals) + 1}: {observer.error}"
+        out.notes.append(out.error)
+    elif len(out.intervals) < len(distances):
+        out.notes.append(f"{len(out.intervals)} of {len(distances)} homogenisation points reached "
+                         f"({out.macro.sliding.reason or 'no active contact at some points'})")
+    out.wall = time.perf_counter() - wall
+    return out
