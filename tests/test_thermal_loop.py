@@ -157,3 +157,46 @@ def test_layered_specs_and_bad_settings(case: Case):
     with pytest.raises(ValueError, match="beyond the slide"):
         LoopSettings(points=(2.0, 9.0)).distances(8.0)
     assert LoopSettings(points=(2.0, 5.0)).distances(8.0).tolist() == [2.0, 5.0, 8.0]
+
+
+def test_coupled_scene_writes_mu_with_and_without_flash_temperature(tmp_path: Path):
+    """`rubberfriction run` of a coupled thermal scene: loop_results.csv has both mu per point
+    (with < without at 1 m/s), intervals.csv one row per homogenisation point with the
+    partition temperatures, profiles.csv and loop.png; a rerun reuses every lower-scale run."""
+    import csv
+
+    from rubberfriction.driver.cli.main import main
+
+    text = SCENE.replace('name = "two_scale_thermal"', 'name = "loop_scene"\noutput = "' + str(tmp_path / "out") + '"')
+    text += textwrap.dedent("""
+        [physics]
+        thermal = true
+        [thermal]
+        mode = "coupled"
+        divisions = 2
+        partitions = 3
+        mu_const = 0.6
+        block_length = 4.0
+        block_height = 2.0
+        slide_distance = 8.0
+        road_depth = 4.0
+        road_ahead = 1.0
+        road_behind = 4.0
+    """)
+    (tmp_path / "scene.toml").write_text(text)
+    assert main(["run", str(tmp_path / "scene.toml"), "--quiet"]) == 0
+    folder = tmp_path / "out" / "thermal"
+    rows = list(csv.DictReader(open(folder / "loop_results.csv")))
+    assert len(rows) == 1 and rows[0]["status"] == "ok"
+    assert float(rows[0]["mu_flash"]) < float(rows[0]["mu_isothermal"])
+    point = folder / "tread_default_p0.3_v1000"
+    intervals = list(csv.DictReader(open(point / "intervals.csv")))
+    assert [float(r["s"]) for r in intervals] == pytest.approx([4.0, 8.0])
+    assert {"T_partition_1", "T_partition_3", "T_below", "mu_macro", "mu_micro"} <= set(intervals[0])
+    assert float(intervals[-1]["mu_out"]) == pytest.approx(float(rows[0]["mu_flash"]) - 0.6, rel=1e-12)
+    for name in ("profiles.csv", "loop.png", "series.csv", "thermal.png"):
+        assert (point / name).is_file(), name
+    n = len(Store(tmp_path / "out" / "store"))
+    assert n == 9  # three cascades of three runs
+    assert main(["run", str(tmp_path / "scene.toml"), "--quiet"]) == 0
+    assert len(Store(tmp_path / "out" / "store")) == n

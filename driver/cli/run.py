@@ -169,14 +169,27 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _run_thermal(scene: Scene, args: argparse.Namespace) -> int:
-    """A thermal scene with given friction: the thermomechanical macro runs (no lower scales)."""
+    """A thermal scene: with given friction the thermomechanical macro runs (no lower scales);
+    in coupled mode the thermal multiscale loop (every rank takes part in the cascades)."""
     from rubberfriction.driver.multiscale.thermal_scene import run_thermal_scene
 
     t = scene.thermal
+    if t.mode == "coupled" and not args.check:
+        from rubberfriction.driver.multiscale.thermal_loop_scene import run_coupled_scene
+
+        try:
+            results = run_coupled_scene(scene, quiet=args.quiet, fresh=args.fresh)
+        except SceneError as err:
+            return _error(str(err))
+        if results is None:  # a worker rank
+            return 0
+        return 0 if all(r.ok for r in results) else 1
     if args.check:
         if _rank() == 0:
             n = len(scene.conditions.compounds) * len(scene.conditions.pressures) * len(scene.conditions.velocities)
-            print(f"thermal scene {scene.name!r} from {scene.source}: {n} macro runs, block "
+            mode = (f"coupled loop ({t.divisions if not t.points else len(t.points)} homogenisation points, "
+                    f"{t.partitions} partitions)" if t.mode == "coupled" else "given friction")
+            print(f"thermal scene {scene.name!r} from {scene.source}: {n} macro runs, {mode}, block "
                   f"{t.block_length} x {t.block_height} mm, slide {t.slide_distance} mm, kappa {t.kappa}, "
                   f"h_c {t.h_c:g}\n  output: {scene.output}")
         return 0

@@ -249,6 +249,25 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                     "conduction only): slides - 1 values", minimum=0.0),
         "coupling": Key("str", "staggered", "heat step after each converged sliding step (see "
                                             "driver/thermal/macro.py)", choices=("staggered",)),
+        "mode": Key("str", "given", "given: mu or mu_curve on the macro run, no lower scales; "
+                                    "coupled: the thermal multiscale loop (mu from the scene's "
+                                    "rough cascade, redone with the flash-temperature profile at "
+                                    "each homogenisation point, driver/multiscale/thermal_loop.py)",
+                    choices=("given", "coupled")),
+        "divisions": Key("int", 4, "coupled: homogenisation points at n_d equal parts of the slide "
+                                   "(thesis 8.4.3)", minimum=1),
+        "points": Key("floats", [], "coupled: homogenisation points as sliding distances in mm "
+                                    "(increasing; the slide's end is added); overrides divisions",
+                      above=0.0),
+        "partitions": Key("int", 4, "coupled: temperature partitions n_p over partition_depth "
+                                    "(thesis 8.3.3, 8.4.2)", minimum=1),
+        "partition_depth": Key("float", 0.09, "coupled: depth below the contact face the "
+                                              "partitions cover, mm (thesis 8.4.2: 0.09)", above=0.0),
+        "mu_const": Key("float", 0.0, "coupled: constant friction added on the macro scale to the "
+                                      "lower scales' mu (thesis 8.3.2 adhesive part, 8.4.3: 0.6)",
+                        minimum=0.0),
+        "bulk_wlf": Key("bool", True, "the macro block's relaxation times follow its temperature "
+                                      "cell by cell (WLF)"),
     },
     "separated": {
         "pressures": Key("floats", [], "micro grid pressures in MPa; empty: pressure_factors x the "
@@ -399,6 +418,13 @@ class ThermalSceneConfig:
     slides: int = 1
     pauses: tuple[float, ...] = ()
     edge_radius: float = 0.0
+    mode: str = "given"  # or "coupled": the thermal multiscale loop
+    divisions: int = 4
+    points: tuple[float, ...] = ()
+    partitions: int = 4
+    partition_depth: float = 0.09
+    mu_const: float = 0.0
+    bulk_wlf: bool = True
 
 
 @dataclass(frozen=True)
@@ -758,9 +784,20 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
     if len(T) != len(m):
         raise SceneError(f"{where}.mu_curve_T has {len(T)} values and mu_curve_mu {len(m)}: expected "
                          "one friction coefficient per temperature")
-    if (t["mu"] is None) == (not T):
+    if t["mode"] == "coupled":
+        if t["mu"] is not None or T:
+            raise SceneError(f"{where}: mode = 'coupled' takes mu from the lower scales (the scene's "
+                             "rough cascade); remove mu / mu_curve_T (a constant part on the macro scale: mu_const)")
+        pts = t["points"]
+        if pts and (any(b <= a for a, b in zip(pts[:-1], pts[1:])) or pts[-1] > t["slide_distance"]):
+            raise SceneError(f"{where}.points = {list(pts)}: expected increasing sliding distances up "
+                             f"to slide_distance = {t['slide_distance']} mm")
+        if t["slides"] > 1:
+            raise SceneError(f"{where}: mode = 'coupled' with slides = {t['slides']}: the loop runs one "
+                             "slide (repeated slides take a given mu)")
+    elif (t["mu"] is None) == (not T):
         raise SceneError(f"{where}: expected exactly one of mu (constant) and mu_curve_T/mu_curve_mu "
-                         "(mu(T_s)); mu from the lower scales (the thermal loop) is not built yet")
+                         "(mu(T_s)), or mode = 'coupled' (mu from the lower scales)")
     if T and (len(T) < 2 or any(b <= a for a, b in zip(T[:-1], T[1:]))):
         raise SceneError(f"{where}.mu_curve_T = {list(T)}: expected at least two increasing "
                          "temperatures in K")
@@ -792,7 +829,9 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
         step_per_element=t["step_per_element"], road_depth=t["road_depth"],
         road_ahead=t["road_ahead"], road_behind=t["road_behind"], first_layer=t["first_layer"],
         grading=t["grading"], probes=tuple(zip(t["probes_x"], t["probes_z"])), slides=t["slides"],
-        pauses=tuple(t["pauses"]))
+        pauses=tuple(t["pauses"]), mode=t["mode"], divisions=t["divisions"], points=tuple(t["points"]),
+        partitions=t["partitions"], partition_depth=t["partition_depth"], mu_const=t["mu_const"],
+        bulk_wlf=t["bulk_wlf"])
 
 
 def shipped_scenes() -> list[str]:

@@ -108,6 +108,9 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False) -> list[ThermalRunSu
     t = scene.thermal
     if t is None:
         raise SceneError(f"{scene.source}: not a thermal scene ([physics].thermal = false)")
+    if t.mode != "given":
+        raise SceneError(f"{scene.source}: [thermal] mode = {t.mode!r}: run it with "
+                         "thermal_loop_scene.run_coupled_scene (rubberfriction run does)")
     compounds, road = _materials(scene)
     friction = friction_of(scene)
     out = Path(scene.output) / "thermal"
@@ -125,7 +128,8 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False) -> list[ThermalRunSu
                               penalty_alpha=num.penalty_alpha, edge_radius=t.edge_radius)
         settings = ThermalSettings(road=road, T0=T0, kappa=t.kappa, h_c=t.h_c, road_depth=t.road_depth,
                                    road_ahead=t.road_ahead, road_behind=t.road_behind,
-                                   first_layer=t.first_layer, grading=t.grading, probes=t.probes)
+                                   first_layer=t.first_layer, grading=t.grading, probes=t.probes,
+                                   bulk_wlf=t.bulk_wlf)
         label = f"{name}_p{p:g}_v{v:g}"
         if not quiet:
             print(f"[thermal] run {i}/{len(todo)}: {label} (block {t.block_length} x {t.block_height} mm, "

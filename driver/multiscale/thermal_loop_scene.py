@@ -1,0 +1,230 @@
+"""A thermal scene in coupled mode (``[thermal] mode = "coupled"``): the thermal multiscale loop
+(``thermal_loop``) for every (compound, p, v), the lower scales from the scene's rough cascade.
+
+Outputs under ``<output>/``: ``store/`` (every lower-scale run, keyed with its partition
+temperatures) and ``thermal/``:
+
+* ``loop_results.csv`` -- one row per point: mu without flash temperature (the isothermal
+  cascade plus mu_const) and with it (mu_const + the lower scales' mu at the end of the slide),
+  their relative difference, the final surface temperature of the profile (eq. 8.1), wall time;
+* ``<point>/intervals.csv`` -- per homogenisation point: s, t, the mu used before it and the mu
+  the cascade returned, the per-scale mu, the profile's surface value and spread, the partition
+  temperatures and the cascade's wall time;
+* ``<point>/profiles.csv`` -- T(z) (eq. 8.1) and its standard deviation at every point;
+* ``<point>/loop.png`` -- macro mu(s) with the homogenisation points, the lower scales' mu per
+  interval, the T(z) profiles with their std bands and the partitions (thesis fig. 8.3 a, 8.4 a);
+* ``<point>/series.csv``, ``interface.csv``, ``temperature.xdmf``, ``thermal.png`` -- the macro run
+  (as in the given mode, ``thermal_scene.write_run``).
+
+MPI: rank 0 runs the macro runs and the loop; every cascade is farmed over all ranks.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from rubberfriction.driver.multiscale.campaign import open_store
+from rubberfriction.driver.multiscale.results import Point
+from rubberfriction.driver.multiscale.scales import build_scales
+from rubberfriction.driver.multiscale.scene import Scene, SceneError
+from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
+from rubberfriction.driver.multiscale.thermal_loop import (
+    CascadeRunner,
+    LoopSettings,
+    ThermalLoopResult,
+    run_thermal_loop,
+)
+from rubberfriction.driver.multiscale.thermal_scene import _materials, _T0, _csv, write_run
+from rubberfriction.driver.runtime.farm import Executor
+from rubberfriction.driver.sliding.run import sliding_runner
+from rubberfriction.driver.thermal.macro import ThermalSettings, flat_road_spec
+
+
+def loop_settings(scene: Scene) -> LoopSettings:
+    t = scene.thermal
+    return LoopSettings(divisions=t.divisions, points=tuple(t.points), n_partitions=t.partitions,
+                        partition_depth=t.partition_depth, mu_const=t.mu_const)
+
+
+def run_coupled_scene(scene: Scene, *, quiet: bool = False, comm: Any = None,
+                      fresh: bool = False) -> list[ThermalLoopResult] | None:
+    """Every rank calls this; rank 0 returns the loop results (the others None)."""
+    from mpi4py import MPI
+
+    comm = MPI.COMM_WORLD if comm is None else comm
+    t = scene.thermal
+    if scene.variant != "rough":
+        raise SceneError(f"{scene.source}: [thermal] mode = 'coupled' needs variant = \"rough\" (the "
+                         "loop redoes the rough cascade at each homogenisation point)")
+    loop = loop_settings(scene)
+    out = Path(scene.output)
+    store = open_store(out, comm, fresh=fresh)
+    try:
+        num = scene.numerics
+        executor = Executor(store, sliding_runner(wall_limit=num.run_timeout), timeout=0.0,
+                            settings={"scene": scene.name, "scene_source": scene.source, "thermal": "coupled"})
+        compounds = load_compounds(scene)
+        n = max(scene.samples.pressure, scene.samples.friction)
+        scales = build_scales(scene, n)
+        make_spec = SpecBuilder(scene, compounds)
+        if comm.Get_rank() != 0:
+            CascadeRunner(scene.name, None, scales.sets, make_spec, scene.samples.pressure,
+                          scene.samples.friction, executor, comm).serve()
+            return None
+        results = []
+        try:
+            results = _points(scene, loop, scales, make_spec, executor, comm, quiet)
+        finally:
+            CascadeRunner(scene.name, None, scales.sets, make_spec, 1, 1, executor, comm).done()
+        return results
+    finally:
+        store.unlock()
+
+
+def _points(scene, loop, scales, make_spec, executor, comm, quiet) -> list[ThermalLoopResult]:
+    t = scene.thermal
+    num = scene.numerics
+    materials, road = _materials(scene)
+    folder = Path(scene.output) / "thermal"
+    folder.mkdir(parents=True, exist_ok=True)
+    log = None if quiet else (lambda msg: print(msg, flush=True))
+    todo = [(name, c, p, v) for name, c in materials for p in scene.conditions.pressures
+            for v in scene.conditions.velocities]
+    results: list[ThermalLoopResult] = []
+    rows = []
+    for i, (name, comp, p, v) in enumerate(todo, 1):
+        T0 = _T0(scene, comp)
+        label = f"{name}_p{p:g}_v{v:g}"
+        if log:
+            log(f"[thermal loop] point {i}/{len(todo)}: {label}, {len(loop.distances(t.slide_distance))} "
+                f"homogenisation points, {loop.n_partitions} partitions over {loop.partition_depth} mm")
+        spec = flat_road_spec(comp, pressure=p, velocity=v, friction=0.0, block_length=t.block_length,
+                              block_height=t.block_height, slide_distance=t.slide_distance,
+                              h_contact=t.h_contact, T0=T0, step_per_element=t.step_per_element,
+                              element=num.element, contact=num.contact, grading=num.grading,
+                              compression_steps=num.compression_steps, max_cutbacks=num.max_cutbacks,
+                              penalty_alpha=num.penalty_alpha, edge_radius=t.edge_radius)
+        settings = ThermalSettings(road=road, T0=T0, kappa=t.kappa, h_c=t.h_c, road_depth=t.road_depth,
+                                   road_ahead=t.road_ahead, road_behind=t.road_behind,
+                                   first_layer=t.first_layer, grading=t.grading, probes=t.probes,
+                                   bulk_wlf=t.bulk_wlf)
+        cascade = CascadeRunner(scene.name, Point(name, p, v), scales.sets, make_spec, scene.samples.pressure,
+                                scene.samples.friction, executor, comm,
+                                max_failed_fraction=scene.samples.max_failed_fraction)
+        wall = time.perf_counter()
+        try:
+            res = run_thermal_loop(spec, comp.thermal, settings, loop, cascade, wall_limit=num.run_timeout, log=log)
+        except Exception as err:  # noqa: BLE001 -- a campaign never dies of one point
+            res = ThermalLoopResult(Point(name, p, v), None, None, settings=loop)
+            res.error = f"{type(err).__name__}: {err}"
+            res.notes.append(res.error)
+        res.wall = time.perf_counter() - wall
+        results.append(res)
+        sub = folder / label
+        sub.mkdir(exist_ok=True)
+        write_loop(res, sub, T0)
+        rows.append(_row(name, p, v, res, T0))
+        if log:
+            r = rows[-1]
+            log(f"[thermal loop]   mu {r['mu_isothermal']:.4g} without, {r['mu_flash']:.4g} with flash "
+                f"temperature ({100 * r['change']:+.2f} %), surface {r['T_surface'] - T0:+.3g} K, "
+                f"{res.wall:.1f} s{'; ' + '; '.join(res.notes) if res.notes else ''}")
+    _write_rows(folder / "loop_results.csv", rows)
+    if log:
+        log(f"[thermal loop] results: {folder / 'loop_results.csv'}")
+    return results
+
+
+def _row(name: str, p: float, v: float, res: ThermalLoopResult, T0: float) -> dict:
+    iso = res.mu_isothermal if res.isothermal is not None else math.nan
+    last = res.intervals[-1] if res.intervals else None
+    return {"compound": name, "pressure": p, "velocity": v, "status": "ok" if res.ok else "failed",
+            "mu_isothermal": iso, "mu_flash": res.mu, "change": res.mu / iso - 1.0 if iso else math.nan,
+            "mu_const": res.settings.mu_const, "points": len(res.intervals),
+            "T_surface": last.profile.mean[0] if last else math.nan,
+            "T_surface_std": last.profile.std[0] if last else math.nan, "wall": res.wall,
+            "notes": " | ".join(res.notes)}
+
+
+def _write_rows(path: Path, rows: list[dict]) -> None:
+    if not rows:
+        return
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+
+
+def write_loop(res: ThermalLoopResult, folder: Path, T0: float) -> None:
+    """intervals.csv, profiles.csv, loop.png and the macro run's files."""
+    if res.macro is not None:
+        write_run(res.macro, folder, T0)
+    if not res.intervals:
+        return
+    n_p = len(res.intervals[0].partitions.layers)
+    names = [sc.name for sc in res.intervals[0].cascade.scales]
+    rows = []
+    for iv in res.intervals:
+        row = {"point": iv.index, "s": iv.s_end, "t": iv.t_end, "mu_in": iv.mu_in, "mu_out": iv.mu_out,
+               "T_surface": iv.profile.mean[0], "T_surface_std": iv.profile.std[0],
+               "active_nodes": iv.profile.n_active}
+        for sc in iv.cascade.scales:
+            row[f"mu_{sc.name}"] = sc.mu.mean if sc.mu is not None else math.nan
+        for k, (d, T) in enumerate(iv.partitions.layers, 1):
+            row[f"T_partition_{k}"] = T
+        row["T_below"] = iv.partitions.background
+        row["cascade_wall"] = iv.wall
+        rows.append(row)
+    _write_rows(folder / "intervals.csv", rows)
+    cols = {"z": res.intervals[0].profile.z}
+    for iv in res.intervals:
+        cols[f"T_mean_{iv.index}"] = iv.profile.mean
+        cols[f"T_std_{iv.index}"] = iv.profile.std
+    _csv(folder / "profiles.csv", cols)
+    plot_loop(res, folder / "loop.png", T0, names, n_p)
+
+
+def plot_loop(res: ThermalLoopResult, path: Path, T0: float, scale_names: list[str], n_p: int) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(1, 3, figsize=(14, 4.2))
+    if res.macro is not None and res.macro.series:
+        s = res.macro.series
+        ax[0].plot(s["s"], s["mu"], label="macro mu = -F_x / F_z")
+    for iv in res.intervals:
+        ax[0].axvline(iv.s_end, color="0.7", lw=0.8)
+    ax[0].axhline(res.mu_isothermal, color="k", ls=":", label="isothermal mu")
+    ax[0].set(xlabel="sliding distance s (mm)", ylabel="mu", title="macro run, homogenisation points")
+    ax[0].legend(fontsize=8)
+    s_edges = [0.0] + [iv.s_end for iv in res.intervals]
+    mus = [iv.mu_in for iv in res.intervals]
+    ax[1].step(s_edges, mus + mus[-1:], where="post", label="lower scales' mu used")
+    ax[1].plot([iv.s_end for iv in res.intervals], [iv.mu_out for iv in res.intervals], "o",
+               label="cascade at the point")
+    ax[1].set(xlabel="s (mm)", ylabel="mu of the lower scales", title="per interval")
+    ax[1].legend(fontsize=8)
+    depth = res.settings.partition_depth
+    for iv in res.intervals:
+        z, m, sd = iv.profile.z, iv.profile.mean - T0, iv.profile.std
+        keep = z <= 3 * depth
+        line, = ax[2].plot(m[keep], z[keep], label=f"s = {iv.s_end:.3g} mm")
+        ax[2].fill_betweenx(z[keep], m[keep] - sd[keep], m[keep] + sd[keep], color=line.get_color(), alpha=0.15)
+        b = iv.partitions.bounds
+        T_p = np.repeat([T - T0 for _, T in iv.partitions.layers], 2)
+        ax[2].plot(T_p, np.repeat(b, 2)[1:-1], color=line.get_color(), ls="--", lw=0.8)
+    ax[2].invert_yaxis()
+    ax[2].set(xlabel="T - T0 (K)", ylabel="depth below the contact face (mm)",
+              title=f"eq. (8.1) profiles +- std, {n_p} partitions (dashed)")
+    ax[2].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
