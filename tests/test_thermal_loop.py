@@ -167,7 +167,51 @@ def test_coupled_scene_writes_mu_with_and_without_flash_temperature(tmp_path: Pa
 
     from rubberfriction.driver.cli.main import main
 
-    text = SCENE.replace('name = "two_scale_thermal"', 'name = "loop_scene"\noutput = "' + str(tmp_path / "out") + '"')
+    path = _coupled_scene(tmp_path)
+    assert main(["run", str(path), "--quiet"]) == 0
+    folder = tmp_path / "out" / "thermal"
+    rows = list(csv.DictReader(open(folder / "loop_results.csv")))
+    assert len(rows) == 1 and rows[0]["status"] == "ok"
+    assert float(rows[0]["mu_flash"]) < float(rows[0]["mu_isothermal"])
+    point = folder / "tread_default_p0.3_v1000"
+    intervals = list(csv.DictReader(open(point / "intervals.csv")))
+    assert [float(r["s"]) for r in intervals] == pytest.approx([4.0, 8.0])
+    assert {"T_partition_1", "T_partition_3", "T_below", "mu_macro", "mu_micro"} <= set(intervals[0])
+    assert float(intervals[-1]["mu_out"]) == pytest.approx(float(rows[0]["mu_flash"]) - 0.6, rel=1e-12)
+    for name in ("profiles.csv", "loop.png", "series.csv", "thermal.png"):
+        assert (point / name).is_file(), name
+    n = len(Store(tmp_path / "out" / "store"))
+    assert n == 9  # three cascades of three runs
+    assert main(["run", str(path), "--quiet"]) == 0
+    assert len(Store(tmp_path / "out" / "store")) == n
+
+
+@pytest.mark.mpi
+def test_coupled_scene_on_two_ranks_gives_the_serial_result(tmp_path: Path):
+    """The cascades farmed over 2 ranks (macro run on rank 0): loop_results.csv identical to the
+    serial run's but for the wall time."""
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1")
+    tables = []
+    for name, prefix in (("serial", []), ("mpi", ["mpirun", "-n", "2"])):
+        path = _coupled_scene(tmp_path / name)
+        done = subprocess.run(prefix + [sys.executable, "-m", "rubberfriction", "run", str(path), "--quiet"],
+                              env=env, capture_output=True, text=True, timeout=900)
+        assert done.returncode == 0, done.stderr[-3000:]
+        lines = (tmp_path / name / "out" / "thermal" / "loop_results.csv").read_text().splitlines()
+        head = lines[0].split(",")
+        tables.append([dict(zip(head, line.split(","))) for line in lines[1:]])
+    for a, b in zip(*tables):
+        a.pop("wall"), b.pop("wall")
+        assert a == b
+
+
+def _coupled_scene(folder: Path) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    text = SCENE.replace('name = "two_scale_thermal"', 'name = "loop_scene"\noutput = "' + str(folder / "out") + '"')
     text += textwrap.dedent("""
         [physics]
         thermal = true
@@ -183,20 +227,5 @@ def test_coupled_scene_writes_mu_with_and_without_flash_temperature(tmp_path: Pa
         road_ahead = 1.0
         road_behind = 4.0
     """)
-    (tmp_path / "scene.toml").write_text(text)
-    assert main(["run", str(tmp_path / "scene.toml"), "--quiet"]) == 0
-    folder = tmp_path / "out" / "thermal"
-    rows = list(csv.DictReader(open(folder / "loop_results.csv")))
-    assert len(rows) == 1 and rows[0]["status"] == "ok"
-    assert float(rows[0]["mu_flash"]) < float(rows[0]["mu_isothermal"])
-    point = folder / "tread_default_p0.3_v1000"
-    intervals = list(csv.DictReader(open(point / "intervals.csv")))
-    assert [float(r["s"]) for r in intervals] == pytest.approx([4.0, 8.0])
-    assert {"T_partition_1", "T_partition_3", "T_below", "mu_macro", "mu_micro"} <= set(intervals[0])
-    assert float(intervals[-1]["mu_out"]) == pytest.approx(float(rows[0]["mu_flash"]) - 0.6, rel=1e-12)
-    for name in ("profiles.csv", "loop.png", "series.csv", "thermal.png"):
-        assert (point / name).is_file(), name
-    n = len(Store(tmp_path / "out" / "store"))
-    assert n == 9  # three cascades of three runs
-    assert main(["run", str(tmp_path / "scene.toml"), "--quiet"]) == 0
-    assert len(Store(tmp_path / "out" / "store")) == n
+    (folder / "scene.toml").write_text(text)
+    return folder / "scene.toml"
