@@ -174,7 +174,7 @@ def _run_thermal(scene: Scene, args: argparse.Namespace) -> int:
     from rubberfriction.driver.multiscale.thermal_scene import run_thermal_scene
 
     t = scene.thermal
-    if t.mode == "coupled" and not args.check:
+    if t.mode in ("coupled", "hot-layer") and not args.check:
         from rubberfriction.driver.multiscale.thermal_loop_scene import run_coupled_scene
 
         try:
@@ -187,8 +187,9 @@ def _run_thermal(scene: Scene, args: argparse.Namespace) -> int:
     if args.check:
         if _rank() == 0:
             n = len(scene.conditions.compounds) * len(scene.conditions.pressures) * len(scene.conditions.velocities)
-            mode = (f"coupled loop ({t.divisions if not t.points else len(t.points)} homogenisation points, "
-                    f"{t.partitions} partitions)" if t.mode == "coupled" else "given friction")
+            mode = {"coupled": f"coupled loop ({t.divisions if not t.points else len(t.points)} homogenisation "
+                               f"points, {t.partitions} partitions)",
+                    "hot-layer": f"hot layer ({len(t.hot_layer_rises)} surface temperatures)"}.get(t.mode, "given friction")
             print(f"thermal scene {scene.name!r} from {scene.source}: {n} macro runs, {mode}, block "
                   f"{t.block_length} x {t.block_height} mm, slide {t.slide_distance} mm, kappa {t.kappa}, "
                   f"h_c {t.h_c:g}\n  output: {scene.output}")

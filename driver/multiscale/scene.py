@@ -253,7 +253,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                     "coupled: the thermal multiscale loop (mu from the scene's "
                                     "rough cascade, redone with the flash-temperature profile at "
                                     "each homogenisation point, driver/multiscale/thermal_loop.py)",
-                    choices=("given", "coupled")),
+                    choices=("given", "coupled", "hot-layer")),
         "divisions": Key("int", 4, "coupled: homogenisation points at n_d equal parts of the slide "
                                    "(thesis 8.4.3)", minimum=1),
         "points": Key("floats", [], "coupled: homogenisation points as sliding distances in mm "
@@ -268,6 +268,13 @@ SCHEMA: dict[str, dict[str, Key]] = {
                         minimum=0.0),
         "bulk_wlf": Key("bool", True, "the macro block's relaxation times follow its temperature "
                                       "cell by cell (WLF)"),
+        "hot_layer_rises": Key("floats", [0.0, 5.0, 10.0, 20.0, 40.0, 80.0],
+                               "hot-layer mode (thesis 8.5.3): surface temperatures T_S - T0 in K of "
+                               "the precomputed lower scales (increasing, from 0)", minimum=0.0),
+        "hot_layer": Key("float", 0.005, "hot-layer mode: thickness of the layer at T_S, mm (thesis: "
+                                         "5 um)", above=0.0),
+        "hot_transition": Key("float", 0.020, "hot-layer mode: depth of the second partition at "
+                                              "(T_S + T0) / 2, mm (thesis: 20 um)", above=0.0),
     },
     "separated": {
         "pressures": Key("floats", [], "micro grid pressures in MPa; empty: pressure_factors x the "
@@ -425,6 +432,9 @@ class ThermalSceneConfig:
     partition_depth: float = 0.09
     mu_const: float = 0.0
     bulk_wlf: bool = True
+    hot_layer_rises: tuple[float, ...] = (0.0, 5.0, 10.0, 20.0, 40.0, 80.0)
+    hot_layer: float = 0.005
+    hot_transition: float = 0.020
 
 
 @dataclass(frozen=True)
@@ -784,16 +794,24 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
     if len(T) != len(m):
         raise SceneError(f"{where}.mu_curve_T has {len(T)} values and mu_curve_mu {len(m)}: expected "
                          "one friction coefficient per temperature")
-    if t["mode"] == "coupled":
+    if t["mode"] == "hot-layer":
+        r = t["hot_layer_rises"]
+        if len(r) < 2 or r[0] != 0.0 or any(b <= a for a, b in zip(r[:-1], r[1:])):
+            raise SceneError(f"{where}.hot_layer_rises = {list(r)}: expected at least two increasing "
+                             "values starting at 0 K")
+        if t["hot_layer"] >= t["hot_transition"]:
+            raise SceneError(f"{where}.hot_layer = {t['hot_layer']} mm: expected below hot_transition = "
+                             f"{t['hot_transition']} mm")
+    if t["mode"] in ("coupled", "hot-layer"):
         if t["mu"] is not None or T:
-            raise SceneError(f"{where}: mode = 'coupled' takes mu from the lower scales (the scene's "
+            raise SceneError(f"{where}: mode = '{t['mode']}' takes mu from the lower scales (the scene's "
                              "rough cascade); remove mu / mu_curve_T (a constant part on the macro scale: mu_const)")
         pts = t["points"]
         if pts and (any(b <= a for a, b in zip(pts[:-1], pts[1:])) or pts[-1] > t["slide_distance"]):
             raise SceneError(f"{where}.points = {list(pts)}: expected increasing sliding distances up "
                              f"to slide_distance = {t['slide_distance']} mm")
         if t["slides"] > 1:
-            raise SceneError(f"{where}: mode = 'coupled' with slides = {t['slides']}: the loop runs one "
+            raise SceneError(f"{where}: mode = '{t['mode']}' with slides = {t['slides']}: the loop runs one "
                              "slide (repeated slides take a given mu)")
     elif (t["mu"] is None) == (not T):
         raise SceneError(f"{where}: expected exactly one of mu (constant) and mu_curve_T/mu_curve_mu "
@@ -831,7 +849,8 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
         grading=t["grading"], probes=tuple(zip(t["probes_x"], t["probes_z"])), slides=t["slides"],
         pauses=tuple(t["pauses"]), mode=t["mode"], divisions=t["divisions"], points=tuple(t["points"]),
         partitions=t["partitions"], partition_depth=t["partition_depth"], mu_const=t["mu_const"],
-        bulk_wlf=t["bulk_wlf"])
+        bulk_wlf=t["bulk_wlf"], hot_layer_rises=tuple(t["hot_layer_rises"]), hot_layer=t["hot_layer"],
+        hot_transition=t["hot_transition"])
 
 
 def shipped_scenes() -> list[str]:

@@ -276,3 +276,98 @@ def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSetting
                          f"({out.macro.sliding.reason or 'no active contact at some points'})")
     out.wall = time.perf_counter() - wall
     return out
+
+
+# ----------------------------------------------------------------------------------------------
+# hot-layer mode (thesis 8.5.3): the lower scales once, for a grid of surface temperatures
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class HotLayerSettings:
+    """Surface temperatures T_S - T0 of the grid (K, increasing, the first 0: the isothermal
+    point), the hot layer's thickness (T_S) and the depth of the second partition (at
+    T_1 = (T_S + T0) / 2), mm; ``mu_const`` as in the coupled loop.  Thesis 8.5.3: 5 and 20 um."""
+
+    rises: tuple[float, ...] = (0.0, 5.0, 10.0, 20.0, 40.0, 80.0)
+    layer: float = 0.005
+    transition: float = 0.020
+    mu_const: float = 0.0
+
+    def __post_init__(self) -> None:
+        r = np.asarray(self.rises, float)
+        if r.size < 2 or r[0] != 0.0 or np.any(np.diff(r) <= 0):
+            raise ValueError(f"rises = {list(self.rises)!r} K: expected at least two increasing values "
+                             "starting at 0 (the isothermal point)")
+        if not (0.0 < self.layer < self.transition):
+            raise ValueError(f"layer = {self.layer!r} mm, transition = {self.transition!r} mm: expected "
+                             "0 < layer < transition")
+        if not (np.isfinite(self.mu_const) and self.mu_const >= 0):
+            raise ValueError(f"mu_const = {self.mu_const!r}: expected >= 0")
+
+
+def hot_layer_partitions(T_S: float, T0: float, settings: HotLayerSettings) -> Partitions:
+    """The hot layer of fig. 8.17 b: T_S over ``layer``, T_1 = (T_S + T0) / 2 down to
+    ``transition``, T0 below."""
+    layers = ((settings.layer, float(T_S)), (settings.transition - settings.layer, 0.5 * (T_S + T0)))
+    return Partitions(layers, float(T0), np.array([0.0, settings.layer, settings.transition]))
+
+
+@dataclass
+class HotLayerResult:
+    point: Point
+    temperatures: np.ndarray  # T_S grid, K
+    mu_lower: np.ndarray  # the lower scales' mu at each T_S (nan where the cascade failed)
+    cascades: list[PointResult]
+    macro: ThermalMacroResult | None
+    settings: HotLayerSettings
+    wall: float = math.nan
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def mu_isothermal(self) -> float:
+        return self.settings.mu_const + float(self.mu_lower[0])
+
+    @property
+    def mu(self) -> float:
+        """The macro contact's mu at the end of the slide (the law at the surface temperature)."""
+        if self.macro is None or not self.macro.ok or not self.macro.series:
+            return math.nan
+        return float(self.macro.series["mu"][-1])
+
+    @property
+    def ok(self) -> bool:
+        return np.isfinite(self.mu)
+
+
+def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings, hot: HotLayerSettings,
+                  cascade: CascadeRunner, *, wall_limit: float = 0.0,
+                  log: Callable[[str], None] | None = None) -> HotLayerResult:
+    """Hot-layer mode: one cascade per surface temperature, a mu(T_S) law (linear in T between the
+    grid points, constant beyond), then the thermomechanical macro run with that law: mu follows
+    the computed surface temperature node by node, with no down-passing."""
+    from rubberfriction.driver.fe.friction_law import fit_mu_pvT
+
+    wall = time.perf_counter()
+    T0 = thermal.T0
+    temps = T0 + np.asarray(hot.rises, float)
+    results, mus = [], []
+    for T_S in temps:
+        r = cascade(hot_layer_partitions(T_S, T0, hot))
+        results.append(r)
+        mus.append(_mu(r))
+        if log:
+            log(f"  hot layer T_S = {T_S:.2f} K: lower scales' mu {mus[-1]:.4g}")
+    out = HotLayerResult(cascade.point, temps, np.array(mus), results, None, hot)
+    good = np.isfinite(out.mu_lower)
+    if not good[0] or good.sum() < 2:
+        out.notes.append("the isothermal or too many hot-layer cascades failed: no mu(T_S) law")
+        out.wall = time.perf_counter() - wall
+        return out
+    if not good.all():
+        out.notes.append(f"{int((~good).sum())} hot-layer cascades failed; the law interpolates over them")
+    T, m = temps[good], hot.mu_const + out.mu_lower[good]
+    law = fit_mu_pvT([0.0, 1.0e3], [1.0e-9, 1.0e7], T, np.broadcast_to(m, (2, 2, T.size)).copy(), degree=1)
+    out.macro = run_thermal_macro(dataclasses.replace(spec, friction=law), rubber, thermal, wall_limit=wall_limit)
+    out.wall = time.perf_counter() - wall
+    return out

@@ -1,5 +1,7 @@
 """A thermal scene in coupled mode (``[thermal] mode = "coupled"``): the thermal multiscale loop
-(``thermal_loop``) for every (compound, p, v), the lower scales from the scene's rough cascade.
+(``thermal_loop``) for every (compound, p, v), the lower scales from the scene's rough cascade;
+or in hot-layer mode (``mode = "hot-layer"``, thesis 8.5.3): the cascade once per surface
+temperature of a grid with a hot layer, then the macro run with that mu(T_S) law.
 
 Outputs under ``<output>/``: ``store/`` (every lower-scale run, keyed with its partition
 temperatures) and ``thermal/``:
@@ -14,7 +16,10 @@ temperatures) and ``thermal/``:
 * ``<point>/loop.png`` -- macro mu(s) with the homogenisation points, the lower scales' mu per
   interval, the T(z) profiles with their std bands and the partitions (thesis fig. 8.3 a, 8.4 a);
 * ``<point>/series.csv``, ``interface.csv``, ``temperature.xdmf``, ``thermal.png`` -- the macro run
-  (as in the given mode, ``thermal_scene.write_run``).
+  (as in the given mode, ``thermal_scene.write_run``);
+* hot-layer mode: ``<point>/hot_layer.csv`` (T_S, the lower scales' mu and the per-scale mu) and
+  ``hot_layer.png`` (mu(T_S) and the macro mu(s)) instead of the interval files; the row's mu with
+  flash temperature is the macro contact's mu at the end of the slide.
 
 MPI: rank 0 runs the macro runs and the loop; every cascade is farmed over all ranks.
 """
@@ -36,8 +41,11 @@ from rubberfriction.driver.multiscale.scene import Scene, SceneError
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
 from rubberfriction.driver.multiscale.thermal_loop import (
     CascadeRunner,
+    HotLayerResult,
+    HotLayerSettings,
     LoopSettings,
     ThermalLoopResult,
+    run_hot_layer,
     run_thermal_loop,
 )
 from rubberfriction.driver.multiscale.thermal_scene import _materials, _T0, _csv, write_run
@@ -52,15 +60,21 @@ def loop_settings(scene: Scene) -> LoopSettings:
                         partition_depth=t.partition_depth, mu_const=t.mu_const)
 
 
+def hot_layer_settings(scene: Scene) -> HotLayerSettings:
+    t = scene.thermal
+    return HotLayerSettings(rises=tuple(t.hot_layer_rises), layer=t.hot_layer, transition=t.hot_transition,
+                            mu_const=t.mu_const)
+
+
 def run_coupled_scene(scene: Scene, *, quiet: bool = False, comm: Any = None,
-                      fresh: bool = False) -> list[ThermalLoopResult] | None:
+                      fresh: bool = False) -> list[ThermalLoopResult | HotLayerResult] | None:
     """Every rank calls this; rank 0 returns the loop results (the others None)."""
     from mpi4py import MPI
 
     comm = MPI.COMM_WORLD if comm is None else comm
     t = scene.thermal
     if scene.variant != "rough":
-        raise SceneError(f"{scene.source}: [thermal] mode = 'coupled' needs variant = \"rough\" (the "
+        raise SceneError(f"{scene.source}: [thermal] mode = '{t.mode}' needs variant = \"rough\" (the "
                          "loop redoes the rough cascade at each homogenisation point)")
     loop = loop_settings(scene)
     out = Path(scene.output)
@@ -68,7 +82,7 @@ def run_coupled_scene(scene: Scene, *, quiet: bool = False, comm: Any = None,
     try:
         num = scene.numerics
         executor = Executor(store, sliding_runner(wall_limit=num.run_timeout), timeout=0.0,
-                            settings={"scene": scene.name, "scene_source": scene.source, "thermal": "coupled"})
+                            settings={"scene": scene.name, "scene_source": scene.source, "thermal": t.mode})
         compounds = load_compounds(scene)
         n = max(scene.samples.pressure, scene.samples.friction)
         scales = build_scales(scene, n)
@@ -101,9 +115,12 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet) -> list[Therm
     for i, (name, comp, p, v) in enumerate(todo, 1):
         T0 = _T0(scene, comp)
         label = f"{name}_p{p:g}_v{v:g}"
-        if log:
+        if log and t.mode == "coupled":
             log(f"[thermal loop] point {i}/{len(todo)}: {label}, {len(loop.distances(t.slide_distance))} "
                 f"homogenisation points, {loop.n_partitions} partitions over {loop.partition_depth} mm")
+        elif log:
+            log(f"[thermal loop] point {i}/{len(todo)}: {label}, hot layer {t.hot_layer} mm at T_S, "
+                f"{len(t.hot_layer_rises)} surface temperatures")
         spec = flat_road_spec(comp, pressure=p, velocity=v, friction=0.0, block_length=t.block_length,
                               block_height=t.block_height, slide_distance=t.slide_distance,
                               h_contact=t.h_contact, T0=T0, step_per_element=t.step_per_element,
@@ -119,7 +136,12 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet) -> list[Therm
                                 max_failed_fraction=scene.samples.max_failed_fraction)
         wall = time.perf_counter()
         try:
-            res = run_thermal_loop(spec, comp.thermal, settings, loop, cascade, wall_limit=num.run_timeout, log=log)
+            if t.mode == "hot-layer":
+                res = run_hot_layer(spec, comp.thermal, settings, hot_layer_settings(scene), cascade,
+                                    wall_limit=num.run_timeout, log=log)
+            else:
+                res = run_thermal_loop(spec, comp.thermal, settings, loop, cascade, wall_limit=num.run_timeout,
+                                       log=log)
         except Exception as err:  # noqa: BLE001 -- a campaign never dies of one point
             res = ThermalLoopResult(Point(name, p, v), None, None, settings=loop)
             res.error = f"{type(err).__name__}: {err}"
@@ -128,7 +150,10 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet) -> list[Therm
         results.append(res)
         sub = folder / label
         sub.mkdir(exist_ok=True)
-        write_loop(res, sub, T0)
+        if isinstance(res, HotLayerResult):
+            write_hot_layer(res, sub, T0)
+        else:
+            write_loop(res, sub, T0)
         rows.append(_row(name, p, v, res, T0))
         if log:
             r = rows[-1]
@@ -141,15 +166,22 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet) -> list[Therm
     return results
 
 
-def _row(name: str, p: float, v: float, res: ThermalLoopResult, T0: float) -> dict:
-    iso = res.mu_isothermal if res.isothermal is not None else math.nan
-    last = res.intervals[-1] if res.intervals else None
-    return {"compound": name, "pressure": p, "velocity": v, "status": "ok" if res.ok else "failed",
+def _row(name: str, p: float, v: float, res, T0: float) -> dict:
+    if isinstance(res, HotLayerResult):
+        iso, mode, points = res.mu_isothermal, "hot-layer", len(res.temperatures)
+        s = res.macro.series if res.macro is not None else {}
+        T_s = float(s["T_contact"][-1]) if s else math.nan
+        T_std = math.nan
+    else:
+        iso = res.mu_isothermal if res.isothermal is not None else math.nan
+        last = res.intervals[-1] if res.intervals else None
+        mode, points = "coupled", len(res.intervals)
+        T_s = last.profile.mean[0] if last else math.nan
+        T_std = last.profile.std[0] if last else math.nan
+    return {"compound": name, "pressure": p, "velocity": v, "mode": mode, "status": "ok" if res.ok else "failed",
             "mu_isothermal": iso, "mu_flash": res.mu, "change": res.mu / iso - 1.0 if iso else math.nan,
-            "mu_const": res.settings.mu_const, "points": len(res.intervals),
-            "T_surface": last.profile.mean[0] if last else math.nan,
-            "T_surface_std": last.profile.std[0] if last else math.nan, "wall": res.wall,
-            "notes": " | ".join(res.notes)}
+            "mu_const": res.settings.mu_const, "points": points, "T_surface": T_s, "T_surface_std": T_std,
+            "wall": res.wall, "notes": " | ".join(res.notes)}
 
 
 def _write_rows(path: Path, rows: list[dict]) -> None:
@@ -227,4 +259,35 @@ def plot_loop(res: ThermalLoopResult, path: Path, T0: float, scale_names: list[s
     ax[2].legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def write_hot_layer(res: HotLayerResult, folder: Path, T0: float) -> None:
+    """hot_layer.csv, hot_layer.png and the macro run's files."""
+    if res.macro is not None:
+        write_run(res.macro, folder, T0)
+    rows = []
+    for T_S, mu, c in zip(res.temperatures, res.mu_lower, res.cascades):
+        row = {"T_S": T_S, "mu_lower": mu, "mu_macro_scale": res.settings.mu_const + mu}
+        for sc in c.scales:
+            row[f"mu_{sc.name}"] = sc.mu.mean if sc.mu is not None else math.nan
+        rows.append(row)
+    _write_rows(folder / "hot_layer.csv", rows)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    ax[0].plot(res.temperatures - T0, res.settings.mu_const + res.mu_lower, "o-")
+    ax[0].set(xlabel="surface temperature T_S - T0 (K)", ylabel="mu_const + lower scales' mu",
+              title=f"hot layer {1e3 * res.settings.layer:g} um at T_S, to {1e3 * res.settings.transition:g} um")
+    if res.macro is not None and res.macro.series:
+        s = res.macro.series
+        ax[1].plot(s["s"], s["mu"], label="macro mu = -F_x / F_z")
+        ax[1].axhline(res.mu_isothermal, color="k", ls=":", label="isothermal")
+        ax[1].legend(fontsize=8)
+    ax[1].set(xlabel="sliding distance s (mm)", ylabel="mu", title="macro run with mu(T_S)")
+    fig.tight_layout()
+    fig.savefig(folder / "hot_layer.png", dpi=110)
     plt.close(fig)
