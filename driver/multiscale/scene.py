@@ -259,6 +259,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "points": Key("floats", [], "coupled: homogenisation points as sliding distances in mm "
                                     "(increasing; the slide's end is added); overrides divisions",
                       above=0.0),
+        "auto_dT": Key("float", 0.0, "coupled: automatic homogenisation points (thesis 8.4.3) whenever "
+                                     "the mean contact surface temperature moved by this many K; 0: "
+                                     "divisions / points", minimum=0.0),
+        "max_points": Key("int", 16, "coupled: at most this many automatic points", minimum=1),
         "partitions": Key("int", 4, "coupled: temperature partitions n_p over partition_depth "
                                     "(thesis 8.3.3, 8.4.2)", minimum=1),
         "partition_depth": Key("float", 0.09, "coupled: depth below the contact face the "
@@ -433,6 +437,8 @@ class ThermalSceneConfig:
     mu_const: float = 0.0
     bulk_wlf: bool = True
     hot_layer_rises: tuple[float, ...] = (0.0, 5.0, 10.0, 20.0, 40.0, 80.0)
+    auto_dT: float = 0.0
+    max_points: int = 16
     hot_layer: float = 0.005
     hot_transition: float = 0.020
 
@@ -850,7 +856,7 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
         pauses=tuple(t["pauses"]), mode=t["mode"], divisions=t["divisions"], points=tuple(t["points"]),
         partitions=t["partitions"], partition_depth=t["partition_depth"], mu_const=t["mu_const"],
         bulk_wlf=t["bulk_wlf"], hot_layer_rises=tuple(t["hot_layer_rises"]), hot_layer=t["hot_layer"],
-        hot_transition=t["hot_transition"])
+        hot_transition=t["hot_transition"], auto_dT=t["auto_dT"], max_points=t["max_points"])
 
 
 def shipped_scenes() -> list[str]:

@@ -55,15 +55,24 @@ class LoopSettings:
     """Homogenisation points: ``points`` (sliding distances in mm, increasing, the last at most the
     slide) or else ``divisions`` equal parts of the slide; n_p partitions over
     ``partition_depth`` mm (thesis 8.4.2: 0.09); ``mu_const`` added to the lower scales' mu on the
-    macro scale."""
+    macro scale.  ``auto_dT`` > 0 K: automatic points instead (thesis 8.4.3: short intervals where
+    the surface temperature changes fast): a point whenever the mean surface temperature of the
+    active contact (eq. 8.1 at z = 0) has moved by auto_dT since the last one, at most
+    ``max_points``, and at the end of the slide."""
 
     divisions: int = 4
     points: tuple[float, ...] = ()
     n_partitions: int = 4
     partition_depth: float = 0.09
     mu_const: float = 0.0
+    auto_dT: float = 0.0
+    max_points: int = 16
 
     def __post_init__(self) -> None:
+        if not (np.isfinite(self.auto_dT) and self.auto_dT >= 0):
+            raise ValueError(f"auto_dT = {self.auto_dT!r} K: expected >= 0 (0: divisions or points)")
+        if not (isinstance(self.max_points, int) and self.max_points >= 1):
+            raise ValueError(f"max_points = {self.max_points!r}: expected an integer >= 1")
         if not (isinstance(self.divisions, int) and self.divisions >= 1):
             raise ValueError(f"divisions = {self.divisions!r}: expected an integer >= 1")
         if not (isinstance(self.n_partitions, int) and self.n_partitions >= 1):
@@ -77,7 +86,10 @@ class LoopSettings:
             raise ValueError(f"points = {list(self.points)!r} mm: expected increasing sliding distances > 0")
 
     def distances(self, slide: float) -> np.ndarray:
-        """The homogenisation points s_1 < ... < s_m = slide (mm)."""
+        """The planned homogenisation points s_1 < ... < s_m = slide (mm); automatic points
+        (auto_dT) come on top of the slide's end."""
+        if self.auto_dT > 0:
+            return np.array([float(slide)])
         if self.points:
             p = np.asarray(self.points, float)
             if p[-1] > slide * (1 + 1e-12):
@@ -111,7 +123,7 @@ class ThermalLoopResult:
     wall: float = math.nan
     notes: list[str] = field(default_factory=list)
     error: str = ""  # the loop stopped (an exception in a homogenisation step)
-    n_points: int = 0  # homogenisation points planned
+    s_final: float = math.inf  # sliding distance of the last homogenisation point (the slide's end)
 
     @property
     def mu_isothermal(self) -> float:
@@ -122,7 +134,7 @@ class ThermalLoopResult:
         """mu_const + the lower scales' mu at the end of the slide; nan unless the macro run finished,
         every homogenisation point was reached and the last cascade succeeded."""
         if (self.macro is None or not self.macro.ok or self.error or not self.intervals
-                or len(self.intervals) < self.n_points):
+                or self.intervals[-1].s_end < self.s_final * (1.0 - 1e-6)):
             return math.nan
         return self.settings.mu_const + self.intervals[-1].mu_out
 
@@ -190,10 +202,13 @@ class LoopObserver:
         self.cascade, self.mu_start, self.log = cascade, mu_start, log
         self.intervals: list[Interval] = []
         self.error: str | None = None
+        self.next = 0  # index of the next planned point
 
     def on_start(self, run) -> None:  # a fallback attempt starts the slide again
         self.intervals = []
         self.error = None
+        self.next = 0
+        self.T_last = self.coupler.settings.T0
         self.mu_now = self.mu_start
         run.contact.set_friction(self.settings.mu_const + self.mu_start)
 
@@ -206,21 +221,27 @@ class LoopObserver:
             self.error = f"{type(err).__name__}: {err}"
 
     def _step(self, run, t: float) -> None:
-        i = len(self.intervals)
-        if i >= len(self.distances) or self.coupler.heat is None or self.coupler.error is not None:
+        i, auto = len(self.intervals), self.settings.auto_dT > 0
+        if self.next >= len(self.distances) or self.coupler.heat is None or self.coupler.error is not None:
             return
         s = float(run.spec.velocity) * (t - run.t_start)
-        if s < self.distances[i] - 1e-6 * max(1.0, self.distances[i]):
+        planned = s >= self.distances[self.next] - 1e-6 * max(1.0, self.distances[self.next])
+        if not (planned or auto):
             return
-        heat = self.coupler.heat
         st = run.contact.state()
         active = (self.coupler.lump @ st["active"].astype(float)) > 0.0
-        _, z, T = heat.block_grid()
         if not active.any():
-            if self.log:
+            if planned and self.log:
                 self.log(f"  point {i + 1}: no contact node active at s = {s:.4g} mm; mu kept")
             return
+        _, z, T = self.coupler.heat.block_grid()
         profile = average_profile(z, T, active)
+        if not planned:  # automatic: a point when the surface temperature moved by auto_dT
+            if abs(profile.mean[0] - self.T_last) < self.settings.auto_dT or i + 1 >= self.settings.max_points:
+                return
+        else:
+            self.next += 1
+        self.T_last = float(profile.mean[0])
         parts = partition_profile(profile, self.settings.n_partitions, self.settings.partition_depth)
         wall = time.perf_counter()
         result = self.cascade(parts)
@@ -231,7 +252,7 @@ class LoopObserver:
         if self.log:
             temps = ", ".join(f"{T_:.1f}" for _, T_ in parts.layers)
             state = f"mu {mu_out:.4g}" if np.isfinite(mu_out) else f"cascade failed ({result.reason}); mu kept"
-            self.log(f"  point {i + 1}/{len(self.distances)} at s = {s:.4g} mm: surface {profile.mean[0]:.2f} K "
+            self.log(f"  point {i + 1}{'' if auto else f'/{len(self.distances)}'} at s = {s:.4g} mm: surface {profile.mean[0]:.2f} K "
                      f"(std {profile.std[0]:.2f}, {profile.n_active} nodes), partitions [{temps}] K -> {state} "
                      f"({wall:.1f} s)")
         if np.isfinite(mu_out):
@@ -261,7 +282,7 @@ def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSetting
     if log:
         log(f"  isothermal mu(T0) = {mu0:.4g} (+ mu_const {loop.mu_const:g})")
     distances = loop.distances(spec.slide_distance)
-    out.n_points = len(distances)
+    out.s_final = float(distances[-1])
     spec = dataclasses.replace(spec, friction=loop.mu_const + mu0)
     coupler = ThermalCoupler(rubber, thermal)
     observer = LoopObserver(coupler, distances, loop, cascade, mu0, log)
@@ -271,9 +292,9 @@ def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSetting
     if observer.error is not None:
         out.error = f"thermal loop stopped at point {len(out.intervals) + 1}: {observer.error}"
         out.notes.append(out.error)
-    elif len(out.intervals) < len(distances):
-        out.notes.append(f"{len(out.intervals)} of {len(distances)} homogenisation points reached "
-                         f"({out.macro.sliding.reason or 'no active contact at some points'})")
+    elif not out.intervals or out.intervals[-1].s_end < out.s_final * (1.0 - 1e-6):
+        out.notes.append(f"the slide's end (s = {out.s_final:g} mm) was not reached as a homogenisation point "
+                         f"({out.macro.sliding.reason or 'no active contact there'})")
     out.wall = time.perf_counter() - wall
     return out
 

@@ -57,7 +57,8 @@ from rubberfriction.driver.thermal.macro import ThermalSettings, flat_road_spec
 def loop_settings(scene: Scene) -> LoopSettings:
     t = scene.thermal
     return LoopSettings(divisions=t.divisions, points=tuple(t.points), n_partitions=t.partitions,
-                        partition_depth=t.partition_depth, mu_const=t.mu_const)
+                        partition_depth=t.partition_depth, mu_const=t.mu_const, auto_dT=t.auto_dT,
+                        max_points=t.max_points)
 
 
 def hot_layer_settings(scene: Scene) -> HotLayerSettings:
@@ -116,8 +117,10 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet) -> list[Therm
         T0 = _T0(scene, comp)
         label = f"{name}_p{p:g}_v{v:g}"
         if log and t.mode == "coupled":
-            log(f"[thermal loop] point {i}/{len(todo)}: {label}, {len(loop.distances(t.slide_distance))} "
-                f"homogenisation points, {loop.n_partitions} partitions over {loop.partition_depth} mm")
+            where = (f"automatic points (every {loop.auto_dT:g} K)" if loop.auto_dT > 0 else
+                     f"{len(loop.distances(t.slide_distance))} homogenisation points")
+            log(f"[thermal loop] point {i}/{len(todo)}: {label}, {where}, {loop.n_partitions} partitions over "
+                f"{loop.partition_depth} mm")
         elif log:
             log(f"[thermal loop] point {i}/{len(todo)}: {label}, hot layer {t.hot_layer} mm at T_S, "
                 f"{len(t.hot_layer_rises)} surface temperatures")
