@@ -14,6 +14,8 @@ BENCHMARKS = {
     "multiscale": ("rubberfriction.driver.bench.multiscale", "default scene and four-scale point, serial vs ranks"),
     "trade": ("rubberfriction.driver.bench.trade", "speed-accuracy trade of one mu point: mesh, penalty, samples"),
     "thermal": ("rubberfriction.driver.bench.thermal", "thermal macro scale: z-resolution study, T_R and T_C over v"),
+    "thermal-loop": ("rubberfriction.driver.bench.thermal_loop",
+                     "thermal multiscale loop: partitions n_p (8.4.2) and divisions n_d (8.4.3)"),
 }
 
 
