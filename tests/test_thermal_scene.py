@@ -130,3 +130,26 @@ def test_small_thermal_scene_end_to_end(tmp_path):
     assert series["probe_0"][-1] > T0 + 0.1
     for name in ("interface.csv", "temperature.xdmf", "temperature.h5", "thermal.png"):
         assert (run / name).is_file(), name
+
+
+@pytest.mark.mpi
+def test_thermal_runs_farmed_over_two_ranks_give_the_serial_table(tmp_path):
+    """Given-mode thermal runs dealt out over 2 ranks: thermal_results.csv equals the serial one
+    but for the wall times (two velocities, one per rank)."""
+    import os
+
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1")
+    scene = tmp_path / "hot.toml"
+    scene.write_text((BASE + SMALL).replace("velocities = [1000.0]", "velocities = [500.0, 1000.0]"))
+    tables = []
+    for name, prefix in (("serial", []), ("mpi", ["mpirun", "-n", "2"])):
+        proc = subprocess.run(prefix + [sys.executable, "-m", "rubberfriction", "run", str(scene), "--out",
+                                        str(tmp_path / name), "--quiet"], env=env, capture_output=True, text=True,
+                              timeout=900)
+        assert proc.returncode == 0, proc.stdout + proc.stderr
+        rows = list(csv.DictReader(open(tmp_path / name / "thermal" / "thermal_results.csv")))
+        for r in rows:
+            r.pop("wall")
+            r.pop("cpu_heat"), r.pop("cpu_contact")
+        tables.append(rows)
+    assert len(tables[0]) == 2 and tables[0] == tables[1]

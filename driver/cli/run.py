@@ -194,12 +194,12 @@ def _run_thermal(scene: Scene, args: argparse.Namespace) -> int:
                   f"{t.block_length} x {t.block_height} mm, slide {t.slide_distance} mm, kappa {t.kappa}, "
                   f"h_c {t.h_c:g}\n  output: {scene.output}")
         return 0
-    if _rank() != 0:
-        return 0
     try:
-        rows = run_thermal_scene(scene, quiet=args.quiet)
+        rows = run_thermal_scene(scene, quiet=args.quiet)  # every rank: runs dealt out over ranks
     except SceneError as err:
         return _error(str(err))
+    if rows is None:  # a worker rank
+        return 0
     return 0 if all(r.ok for r in rows) else 1
 
 

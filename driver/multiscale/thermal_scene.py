@@ -103,8 +103,16 @@ def _T0(scene: Scene, compound) -> float:
     return compound.wlf.T_ref if compound.wlf is not None else 293.15
 
 
-def run_thermal_scene(scene: Scene, *, quiet: bool = False) -> list[ThermalRunSummary]:
-    """Run every (compound, p, v) of a thermal scene; a failed run is reported, never raised."""
+def run_thermal_scene(scene: Scene, *, quiet: bool = False, comm=None) -> list[ThermalRunSummary] | None:
+    """Run every (compound, p, v) of a thermal scene; a failed run is reported, never raised.
+
+    Every rank of ``comm`` (default COMM_WORLD) calls this: the runs are dealt out round robin (each
+    is serial and deterministic, so the results do not depend on the number of ranks) and rank 0
+    gathers the summaries, writes thermal_results.csv and returns them (the others None)."""
+    from mpi4py import MPI
+
+    comm = MPI.COMM_WORLD if comm is None else comm
+    rank, size = comm.Get_rank(), comm.Get_size()
     t = scene.thermal
     if t is None:
         raise SceneError(f"{scene.source}: not a thermal scene ([physics].thermal = false)")
@@ -114,11 +122,17 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False) -> list[ThermalRunSu
     compounds, road = _materials(scene)
     friction = friction_of(scene)
     out = Path(scene.output) / "thermal"
-    out.mkdir(parents=True, exist_ok=True)
+    if rank == 0:
+        out.mkdir(parents=True, exist_ok=True)
+    if size > 1:
+        comm.Barrier()
     num = scene.numerics
     todo = [(n, c, p, v) for n, c in compounds for p in scene.conditions.pressures for v in scene.conditions.velocities]
+    quiet = quiet or rank != 0  # workers print nothing; rank 0 reports its own runs and the table
     summaries = []
     for i, (name, comp, p, v) in enumerate(todo, 1):
+        if (i - 1) % size != rank:
+            continue
         T0 = _T0(scene, comp)
         spec = flat_road_spec(comp, pressure=p, velocity=v, friction=friction, block_length=t.block_length,
                               block_height=t.block_height, slide_distance=t.slide_distance,
@@ -164,6 +178,12 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False) -> list[ThermalRunSu
                   f"{summary.T_contact - T0:+.3g} K  T_R {summary.T_road_behind - T0:+.3g} K  ({wall:.1f} s, "
                   f"{summary.steps:.0f} steps, {summary.cutbacks:.0f} cut-backs, {summary.newton_iterations:.0f} "
                   f"Newton iterations, heat {summary.cpu_heat:.1f} s CPU)", flush=True)
+    if size > 1:
+        parts = comm.gather(summaries, root=0)
+        if rank != 0:
+            return None
+        order = {(n, p, v): k for k, (n, _, p, v) in enumerate(todo)}
+        summaries = sorted((s for part in parts for s in part), key=lambda s: order[(s.compound, s.pressure, s.velocity)])
     write_summary(out / "thermal_results.csv", summaries)
     if not quiet:
         print(f"[thermal] results: {out / 'thermal_results.csv'}")
