@@ -121,3 +121,13 @@ def test_hot_bottom_partition_lies_between_cold_and_hot_and_matches_the_layered_
     assert abs(res.mu_energy - exact) < 0.03 * exact, (res.mu_energy, exact)
     # the hot layer matters: the strip without it differs by far more than the tolerance
     assert abs(exact - cold_mu) > 0.2 * cold_mu
+
+
+def test_a_temperature_without_wlf_data_leaves_the_relaxation_alone():
+    """m3 has a Prony series but no WLF constants: a run at T0 = 300 K is the run at the reference
+    (it failed in set-up before); mu equal to the run without a temperature to 1e-12."""
+    m3 = load_compound("m3")
+    a = simulate(m3, amplitude=0.002, pressure=0.1, velocity=10.0, temperature=300.0, periods=1.0)
+    b = simulate(m3, amplitude=0.002, pressure=0.1, velocity=10.0, periods=1.0)
+    assert a["result"].ok and b["result"].ok, (a["result"].reason, b["result"].reason)
+    assert abs(a["mu_force"] - b["mu_force"]) <= 1e-12 * abs(b["mu_force"])

@@ -18,6 +18,7 @@ the road temperature behind the block T_R and the contact temperature T_C over v
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import resource
 import time
 
@@ -101,10 +102,11 @@ def run(args: argparse.Namespace) -> int:
                   f"{r['cpu_mech']:>8.1f}/{r['cpu_heat']:>5.1f}/{r['cpu_contact']:>5.1f}      {r['rss_mb']:>7.0f}",
                   flush=True)
     if "velocities" in parts:
-        comp = load_compound("m3")
+        comp = dataclasses.replace(load_compound("m3"), prony=None)  # hyperelastic, as thesis 8.5.1
         road = load_road("r1").thermal
         T0 = 293.15
-        print(f"thesis 8.5.1 set-up: m3 (hyperelastic), 20 x 7 mm, p 0.3 MPa, T0 20 degC, kappa 1, h_c 1e6, "
+        print(f"thesis 8.5.1 set-up: m3 (Mooney-Rivlin of table C.2 only: hyperelastic), 20 x 7 mm, "
+              f"edge radius {args.edge_radius:g} mm, p 0.3 MPa, T0 20 degC, kappa 1, h_c 1e6, "
               f"slide {args.slide} mm; mu(v) stated: {MU_OF_V}")
         print(f"{'v m/s':>6} {'mu':>5} {'T_C-T0':>7} {'T_R-T0':>7} {'T_max-T0':>8} {'wall s':>7}")
         for v, mu in MU_OF_V.items():

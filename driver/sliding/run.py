@@ -160,8 +160,8 @@ class SlidingRun:
             background = s.temperature if s.temperature is not None else s.compound.wlf.T_ref
             depth = self.sp.cell_centroids()[:, 1] - z0
             self.sp.set_temperature(layer_temperatures(s.temperature_layers, background, depth))
-        elif s.temperature is not None:
-            self.sp.set_temperature(s.temperature)
+        elif s.temperature is not None and getattr(s.compound, "wlf", None) is not None:
+            self.sp.set_temperature(s.temperature)  # (without WLF data the relaxation has no T)
         nfull = self.sp.W.dofmap.index_map.size_local * self.sp.W.dofmap.index_map_bs
         X, d = self.sp.node_X, self.sp.displacement_dofs()
         tol = 1e-9 * max(L, H)
