@@ -244,7 +244,7 @@ def evaluate(req: TheoryRequest) -> TheoryResult:
 
 def draw_beside_fe(ax_mu: Any, scene: Scene, *, v_fe: Any, compound: str | None = None,
                    pressure: float | None = None, T0: float | None = None,
-                   models: tuple[str, ...] = ("persson-1d", "persson-2d"),
+                   models: tuple[str, ...] = ("persson-1d", "persson-2d", "kluppel-heinrich"),
                    ax_area: Any | None = None, n: int = 40) -> tuple[list[TheoryCurve], list[str]]:
     """Draw the theory curves of a scene on the multiscale report's mu(v) axes (and A/A0 axes).
 

@@ -20,13 +20,16 @@ Files written into the campaign's output folder:
   fraction intervals) and each scale's contact fraction (eq. 7.4) over v.
 * ``mu_v.png``, ``mu_p.png`` -- the curves with 95 % CI error bars.  ``mu_v.png`` also shows,
   per (compound, p), the analytical baselines of the same surface PSD and compound (Persson line
-  roughness = plane strain and isotropic eq. 2.10, at the scene's T0; ``baseline.py``)
+  roughness = plane strain and isotropic eq. 2.10, and Klueppel-Heinrich, at the scene's T0;
+  ``baseline.py``)
   in the colour of the FE points; the summary lists them at the FE speeds (``theory:`` lines),
   or why they are missing.  ``write_report(..., theory=False)`` or ``rubberfriction run
   --no-theory`` leaves them out.
 * ``scales_<point>.png`` -- fig. 6.29 a (p, mu, A_r over scales with spread);
   ``samples_<point>.png`` -- fig. 6.29 b (per-sample values per scale);
-  ``dissipation_<point>.png`` -- fig. 6.29 c (dissipation over depth) when the runs provide it.
+  ``dissipation_<point>.png`` -- fig. 6.29 c (dissipation over depth of the first friction-branch
+  sample per scale) and ``dissipation_<point>.csv`` (every friction-branch sample: depth, mJ/mm^3
+  per mm slid, share of the window energy; the campaign's runner records it with every run).
 * separated variant: ``friction_law_<point>.png`` (fig. 6.4 a: the spline law with the micro
   raw data) and ``comparison.png`` (fig. 6.4 b, c: mu and wall time, multiscale vs reference).
 * ``summary.txt`` (also printed), ``scene.toml`` (the scene as run), ``campaign.json``
@@ -496,6 +499,37 @@ def plot_scales(r: PointResult, out: Path) -> list[Path]:
     return files
 
 
+def depth_edges(centres: np.ndarray) -> np.ndarray:
+    """Bin edges of contiguous depth bins from 0 given their centres (e_0 = 0, e_k+1 = 2 c_k - e_k)."""
+    edges = np.zeros(len(centres) + 1)
+    for k, c in enumerate(centres):
+        edges[k + 1] = 2.0 * c - edges[k]
+    return edges
+
+
+def dissipation_rows(r: PointResult, store: Any) -> list[dict[str, Any]]:
+    """Per scale and friction-branch sample: the stored dissipation by depth (thesis fig. 6.29 c),
+    mJ/mm^3 per mm slid, with each bin's share of the run's window energy."""
+    rows = []
+    for stage, runs in r.runs.items():
+        if not stage.startswith("up"):
+            continue
+        for t, o in runs:
+            if not o.ok or not store.has(o.key):
+                continue
+            dd = store.load(o.key).dissipation_by_depth
+            if dd is None or not len(dd[0]):
+                continue
+            z, d = np.asarray(dd[0]), np.asarray(dd[1])
+            e = d * np.diff(depth_edges(z))
+            share = e / e.sum() if e.sum() > 0 else np.zeros_like(e)
+            for zk, dk, sk in zip(z, d, share):
+                rows.append({"point": r.point.id, "scale": t.label.get("scale"),
+                             "scale_name": t.label.get("scale_name"), "sample": t.label.get("sample"),
+                             "depth_mm": float(zk), "dissipation": float(dk), "share": float(sk)})
+    return rows
+
+
 def plot_dissipation(r: PointResult, store: Any, out: Path) -> list[Path]:
     """Thesis fig. 6.29 c: dissipation over depth of the first sample of each scale (if stored)."""
     plt = _plt()
@@ -644,6 +678,9 @@ def write_report(result: Any, quiet: bool = False, theory: bool = True) -> list[
     for r in pts:
         if r.variant == "rough" and r.ok:
             files += plot_scales(r, out)
+            rows = dissipation_rows(r, result.store)
+            if rows:
+                files.append(write_csv(out / f"dissipation_{_slug(r.point.id)}.csv", rows))
             files += plot_dissipation(r, result.store, out)
     if result.scene.variant == "separated":
         files += plot_separated(pts, out)

@@ -61,9 +61,14 @@ def slide_distance(spec, block_length: float) -> float:
 
 
 def window_mask(result, spec, block_length: float) -> np.ndarray:
-    """Steps of the homogenisation window, s > window_start x distance (as in
-    ``SlidingRun._result``)."""
+    """Steps of the homogenisation window the run averaged over, s > stats ``window_start`` (as
+    in ``SlidingRun._result``: the fixed rule's window_start x distance, or the converged rule's
+    last whole periods); without those stats the fixed rule."""
     s = np.asarray(result.series.get("s", np.zeros(0)), dtype=float)
+    stats = getattr(result, "stats", None) or {}
+    if "window_start" in stats:
+        lo, hi = float(stats["window_start"]), float(stats.get("window_end", 1.0))
+        return s > lo + 1e-9 * max(hi, 1.0)
     return s > spec.window_start * slide_distance(spec, block_length)
 
 

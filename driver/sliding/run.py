@@ -581,13 +581,19 @@ def sliding_runner(wall_limit: float = 0.0, progress: Callable[[dict], None] | N
                    ) -> Callable[[SlidingSpec], SlidingResult]:
     """The run function of a campaign: :func:`run_sliding` with the scene's per-run wall-time
     limit (``wall_limit`` > 0: a run still going after that many seconds stops itself with a
-    structured failure, stored as 'timeout') and, with ``progress``, a
+    structured failure, stored as 'timeout'), the window's dissipation by depth
+    (``outputs.DissipationByDepth``, stored as ``dissipation_by_depth``) and, with ``progress``, a
     :class:`~rubberfriction.driver.sliding.progress.StepReporter` calling it after every sliding
     step with a dict of where the run is (the campaign's progress line)."""
     limit = float(wall_limit)
 
     def runner(spec: SlidingSpec) -> SlidingResult:
-        observers = (StepReporter(progress),) if progress is not None else ()
+        from rubberfriction.driver.sliding.outputs import DissipationByDepth
+
+        # dissipation by depth of the window (thesis fig. 6.29 c): stored with every run
+        observers = [DissipationByDepth()]
+        if progress is not None:
+            observers.append(StepReporter(progress))
         return run_sliding(spec, observers=observers, wall_limit=limit)
 
     return runner
