@@ -416,6 +416,18 @@ PYBIND11_MODULE(_contact, m) {
           "Vec; None skips; other types raise TypeError). Returns {'mallocs', 'entries'}.")
       .def("commit", &rf::ContactInterface::commit, "Accept the last evaluation as the converged state of the step")
       .def("state", &state_dict)
+      .def(
+          "last_pairs",
+          [](const rf::ContactInterface& c) {
+            const auto& v = c.last_pairs();
+            py::array_t<double> out({static_cast<py::ssize_t>(v.size()), static_cast<py::ssize_t>(6)});
+            auto m = out.mutable_unchecked<2>();
+            for (std::size_t i = 0; i < v.size(); ++i)
+              for (int j = 0; j < 6; ++j) m(static_cast<py::ssize_t>(i), j) = v[i][static_cast<std::size_t>(j)];
+            return out;
+          },
+          "Pairs of the last evaluation, rows (slave, master image, master segment, lo xi, hi xi, "
+          "10 lo kind + hi kind), for debugging and tests")
       .def("report", &report_dict)
       .def(
           "sparsity_pairs",

@@ -448,6 +448,10 @@ void ContactInterface::evaluate(const double* u, std::size_t n, const V2<double>
     throw std::invalid_argument("rigid master offset must be finite");
   const auto t0 = Clock::now();
   const std::vector<PairRecord> pairs = search(u, n, offset);  // 1
+  last_pairs_.clear();
+  for (const PairRecord& pr : pairs)
+    last_pairs_.push_back({double(pr.slave), double(pr.master.image), double(pr.master.seg), pr.lo.xi, pr.hi.xi,
+                           10.0 * double(pr.lo.kind) + double(pr.hi.kind)});
   const double t_search = seconds_since(t0);
   const auto t1 = Clock::now();
   const Stencils st = stencils(pairs);                                 // 2

@@ -120,6 +120,9 @@ class ContactInterface {
   const FrictionLaw* friction() const { return friction_.get(); }
   const ThermalParameters& thermal() const { return thermal_; }
   DofIndex max_dof() const { return max_dof_; }
+  /// The pairs of the last evaluation, one row each: slave segment (node for node-to-segment),
+  /// master image, master segment, lo xi, hi xi, 10 lo kind + hi kind (debugging and tests).
+  const std::vector<std::array<double, 6>>& last_pairs() const { return last_pairs_; }
 
  private:
   struct MasterRef {
@@ -197,6 +200,7 @@ class ContactInterface {
   std::vector<double> slave_T_;
   std::vector<DofIndex> fixed_;  // sorted
   double search_radius_ = -1.0;
+  std::vector<std::array<double, 6>> last_pairs_;
   int n_gauss_ = 4;
   bool allow_new_nonzeros_ = false;
   bool periodic_seam_ = false;
