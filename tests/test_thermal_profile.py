@@ -36,7 +36,6 @@ def test_profile_is_the_mean_over_active_columns_with_its_std():
 
 def test_partitions_average_their_bound_values_on_macro_levels():
     """Linear profile T = 330 - 400 z: each partition value is the exact mean over it."""
-    x = np.zeros(3)
     T = np.tile(330.0 - 400.0 * Z, (3, 1))
     prof = average_profile(Z, T, np.ones(3, bool))
     for n_p in (1, 2, 3, 5):

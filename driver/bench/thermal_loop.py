@@ -28,7 +28,7 @@ from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
 from rubberfriction.driver.multiscale.scene import load_scene
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
-from rubberfriction.driver.multiscale.thermal_loop import CascadeRunner, LoopSettings, run_thermal_loop
+from rubberfriction.driver.multiscale.thermal_loop import CascadeRunner, run_thermal_loop
 from rubberfriction.driver.multiscale.thermal_loop_scene import loop_settings
 from rubberfriction.driver.runtime.farm import Executor
 from rubberfriction.driver.runtime.store import Store

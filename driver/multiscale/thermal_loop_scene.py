@@ -48,10 +48,9 @@ from rubberfriction.driver.multiscale.thermal_loop import (
     run_hot_layer,
     run_thermal_loop,
 )
-from rubberfriction.driver.multiscale.thermal_scene import _materials, _T0, _csv, write_run
+from rubberfriction.driver.multiscale.thermal_scene import _csv, _materials, _T0, macro_inputs, write_run
 from rubberfriction.driver.runtime.farm import Executor
 from rubberfriction.driver.sliding.run import sliding_runner
-from rubberfriction.driver.thermal.macro import ThermalSettings, flat_road_spec
 
 
 def loop_settings(scene: Scene) -> LoopSettings:
@@ -124,16 +123,7 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet) -> list[Therm
         elif log:
             log(f"[thermal loop] point {i}/{len(todo)}: {label}, hot layer {t.hot_layer} mm at T_S, "
                 f"{len(t.hot_layer_rises)} surface temperatures")
-        spec = flat_road_spec(comp, pressure=p, velocity=v, friction=0.0, block_length=t.block_length,
-                              block_height=t.block_height, slide_distance=t.slide_distance,
-                              h_contact=t.h_contact, T0=T0, step_per_element=t.step_per_element,
-                              element=num.element, contact=num.contact, grading=num.grading,
-                              compression_steps=num.compression_steps, max_cutbacks=num.max_cutbacks,
-                              penalty_alpha=num.penalty_alpha, edge_radius=t.edge_radius)
-        settings = ThermalSettings(road=road, T0=T0, kappa=t.kappa, h_c=t.h_c, road_depth=t.road_depth,
-                                   road_ahead=t.road_ahead, road_behind=t.road_behind,
-                                   first_layer=t.first_layer, grading=t.grading, probes=t.probes,
-                                   bulk_wlf=t.bulk_wlf)
+        spec, settings = macro_inputs(scene, comp, road, p, v, T0, 0.0)  # friction: from the loop
         cascade = CascadeRunner(scene.name, Point(name, p, v), scales.sets, make_spec, scene.samples.pressure,
                                 scene.samples.friction, executor, comm,
                                 max_failed_fraction=scene.samples.max_failed_fraction)

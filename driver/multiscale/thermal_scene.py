@@ -35,6 +35,7 @@ import numpy as np
 
 from rubberfriction.driver.fe.friction_law import fit_mu_pvT
 from rubberfriction.driver.multiscale.scene import Scene, SceneError
+from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.thermal.macro import (
     ThermalMacroResult,
     ThermalSettings,
@@ -97,6 +98,23 @@ def _materials(scene: Scene):
     return compounds, road.thermal
 
 
+def macro_inputs(scene: Scene, compound, road, pressure: float, velocity: float, T0: float,
+                 friction) -> tuple[SlidingSpec, ThermalSettings]:
+    """The macro run's mechanical spec and thermal settings from a thermal scene's tables."""
+    t, num = scene.thermal, scene.numerics
+    spec = flat_road_spec(compound, pressure=pressure, velocity=velocity, friction=friction,
+                          block_length=t.block_length, block_height=t.block_height,
+                          slide_distance=t.slide_distance, h_contact=t.h_contact, T0=T0,
+                          step_per_element=t.step_per_element, element=num.element, contact=num.contact,
+                          grading=num.grading, compression_steps=num.compression_steps,
+                          max_cutbacks=num.max_cutbacks, penalty_alpha=num.penalty_alpha,
+                          edge_radius=t.edge_radius)
+    settings = ThermalSettings(road=road, T0=T0, kappa=t.kappa, h_c=t.h_c, road_depth=t.road_depth,
+                               road_ahead=t.road_ahead, road_behind=t.road_behind, first_layer=t.first_layer,
+                               grading=t.grading, probes=t.probes, bulk_wlf=t.bulk_wlf)
+    return spec, settings
+
+
 def _T0(scene: Scene, compound) -> float:
     if scene.conditions.T0 is not None:
         return scene.conditions.T0
@@ -134,16 +152,7 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False, comm=None) -> list[T
         if (i - 1) % size != rank:
             continue
         T0 = _T0(scene, comp)
-        spec = flat_road_spec(comp, pressure=p, velocity=v, friction=friction, block_length=t.block_length,
-                              block_height=t.block_height, slide_distance=t.slide_distance,
-                              h_contact=t.h_contact, T0=T0, step_per_element=t.step_per_element,
-                              element=num.element, contact=num.contact, grading=num.grading,
-                              compression_steps=num.compression_steps, max_cutbacks=num.max_cutbacks,
-                              penalty_alpha=num.penalty_alpha, edge_radius=t.edge_radius)
-        settings = ThermalSettings(road=road, T0=T0, kappa=t.kappa, h_c=t.h_c, road_depth=t.road_depth,
-                                   road_ahead=t.road_ahead, road_behind=t.road_behind,
-                                   first_layer=t.first_layer, grading=t.grading, probes=t.probes,
-                                   bulk_wlf=t.bulk_wlf)
+        spec, settings = macro_inputs(scene, comp, road, p, v, T0, friction)
         label = f"{name}_p{p:g}_v{v:g}"
         if not quiet:
             print(f"[thermal] run {i}/{len(todo)}: {label} (block {t.block_length} x {t.block_height} mm, "
