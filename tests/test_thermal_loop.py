@@ -180,6 +180,7 @@ def test_coupled_scene_writes_mu_with_and_without_flash_temperature(tmp_path: Pa
     assert float(intervals[-1]["mu_out"]) == pytest.approx(float(rows[0]["mu_flash"]) - 0.6, rel=1e-12)
     for name in ("profiles.csv", "loop.png", "series.csv", "thermal.png"):
         assert (point / name).is_file(), name
+    assert (folder / "mu_v.png").is_file()  # mu(v) with and without, beside Persson's flash theory
     n = len(Store(tmp_path / "out" / "store"))
     assert n == 9  # three cascades of three runs
     assert main(["run", str(path), "--quiet"]) == 0

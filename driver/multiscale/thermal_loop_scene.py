@@ -6,6 +6,8 @@ temperature of a grid with a hot layer, then the macro run with that mu(T_S) law
 Outputs under ``<output>/``: ``store/`` (every lower-scale run, keyed with its partition
 temperatures) and ``thermal/``:
 
+* ``mu_v.png`` -- the lower scales' mu(v) with and without flash temperature and the relative
+  change, beside Persson's line-roughness theory with and without its flash temperature;
 * ``loop_results.csv`` -- one row per point: mu without flash temperature (the isothermal
   cascade plus mu_const) and with it (mu_const + the lower scales' mu at the end of the slide),
   their relative difference, the final surface temperature of the profile (eq. 8.1), wall time;
@@ -154,8 +156,11 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet) -> list[Therm
                 f"temperature ({100 * r['change']:+.2f} %), surface {r['T_surface'] - T0:+.3g} K, "
                 f"{res.wall:.1f} s{'; ' + '; '.join(res.notes) if res.notes else ''}")
     _write_rows(folder / "loop_results.csv", rows)
+    for note in plot_mu_v(scene, rows, folder / "mu_v.png"):
+        if log:
+            log(f"[thermal loop] {note}")
     if log:
-        log(f"[thermal loop] results: {folder / 'loop_results.csv'}")
+        log(f"[thermal loop] results: {folder / 'loop_results.csv'}, {folder / 'mu_v.png'}")
     return results
 
 
@@ -284,3 +289,54 @@ def write_hot_layer(res: HotLayerResult, folder: Path, T0: float) -> None:
     fig.tight_layout()
     fig.savefig(folder / "hot_layer.png", dpi=110)
     plt.close(fig)
+
+
+def plot_mu_v(scene: Scene, rows: list[dict], path: Path) -> list[str]:
+    """mu(v) with and without flash temperature per (compound, p), beside Persson's line-roughness
+    theory with and without its flash temperature (``theory --flash``, same surface and
+    compound): the lower scales' mu (FE mu - mu_const, the part the theory models) and the
+    relative change by flash temperature.  Returns notes (a theory failure never breaks it)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rubberfriction.driver.multiscale.baseline import evaluate, request_from_scene
+
+    notes: list[str] = []
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    groups = sorted({(r["compound"], r["pressure"]) for r in rows})
+    for g, (name, p) in enumerate(groups):
+        sel = sorted((r for r in rows if (r["compound"], r["pressure"]) == (name, p)), key=lambda r: r["velocity"])
+        v = np.array([r["velocity"] for r in sel])
+        iso = np.array([r["mu_isothermal"] - r["mu_const"] for r in sel])
+        hot = np.array([r["mu_flash"] - r["mu_const"] for r in sel])
+        c = f"C{g}"
+        ax[0].plot(v, iso, "o-", color=c, label=f"FE {name}, {p:g} MPa: isothermal")
+        ax[0].plot(v, hot, "s--", color=c, label="FE: with flash temperature")
+        ax[1].plot(v, 100 * (hot / iso - 1), "s-", color=c, label=f"FE {name}, {p:g} MPa")
+        try:
+            comp = dict(zip(scene.conditions.compounds, scene.conditions.compound_paths))[name]
+            grid = tuple(np.geomspace(v.min() / 3, v.max() * 3, 30))
+            curves = {}
+            for flash in (False, True):
+                req = request_from_scene(scene, velocities=grid, compound=str(comp), pressure=float(p),
+                                         T0=scene.conditions.T0, models=("persson-1d",), flash=flash)
+                curves[flash] = evaluate(req).curves[0]
+            ax[0].plot(curves[False].v, curves[False].mu_hysteresis, ":", color=c, label="Persson (line)")
+            ax[0].plot(curves[True].v, curves[True].mu_hysteresis, "-.", color=c, label="Persson with flash")
+            ax[1].plot(curves[True].v, 100 * (curves[True].mu_hysteresis / curves[False].mu_hysteresis - 1), "-.",
+                       color=c, label="Persson with flash")
+        except Exception as err:  # noqa: BLE001 -- the baseline must never break the outputs
+            notes.append(f"{name}, {p:g} MPa: Persson curves not drawn: {type(err).__name__}: {err}")
+    ax[0].set(xscale="log", xlabel="v (mm/s)", ylabel="mu of the lower scales (hysteresis)",
+              title="with and without flash temperature")
+    ax[1].set(xscale="log", xlabel="v (mm/s)", ylabel="change by flash temperature (%)",
+              title="relative change")
+    for a in ax:
+        a.legend(fontsize=7)
+        a.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return notes
