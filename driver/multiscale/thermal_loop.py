@@ -34,12 +34,18 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
+from rubberfriction import validation as V
 from rubberfriction.driver.multiscale.cascade import RoughCascade
 from rubberfriction.driver.multiscale.results import Point, PointResult, ScaleSet
 from rubberfriction.driver.runtime.farm import run_farm
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.thermal.conduction import block_levels
-from rubberfriction.driver.thermal.macro import ThermalMacroResult, ThermalSettings, run_thermal_macro
+from rubberfriction.driver.thermal.macro import (
+    ThermalCoupler,
+    ThermalMacroResult,
+    ThermalSettings,
+    run_thermal_macro,
+)
 from rubberfriction.driver.thermal.profile import (
     Partitions,
     TemperatureProfile,
@@ -69,21 +75,15 @@ class LoopSettings:
     max_points: int = 16
 
     def __post_init__(self) -> None:
-        if not (np.isfinite(self.auto_dT) and self.auto_dT >= 0):
-            raise ValueError(f"auto_dT = {self.auto_dT!r} K: expected >= 0 (0: divisions or points)")
-        if not (isinstance(self.max_points, int) and self.max_points >= 1):
-            raise ValueError(f"max_points = {self.max_points!r}: expected an integer >= 1")
-        if not (isinstance(self.divisions, int) and self.divisions >= 1):
-            raise ValueError(f"divisions = {self.divisions!r}: expected an integer >= 1")
-        if not (isinstance(self.n_partitions, int) and self.n_partitions >= 1):
-            raise ValueError(f"n_partitions = {self.n_partitions!r}: expected an integer >= 1")
-        if not (np.isfinite(self.partition_depth) and self.partition_depth > 0):
-            raise ValueError(f"partition_depth = {self.partition_depth!r} mm: expected > 0")
-        if not (np.isfinite(self.mu_const) and self.mu_const >= 0):
-            raise ValueError(f"mu_const = {self.mu_const!r}: expected >= 0")
+        V.nonnegative("auto_dT", self.auto_dT, "K")
+        V.integer("max_points", self.max_points, minimum=1)
+        V.integer("divisions", self.divisions, minimum=1)
+        V.integer("n_partitions", self.n_partitions, minimum=1)
+        V.positive("partition_depth", self.partition_depth, "mm")
+        V.nonnegative("mu_const", self.mu_const)
         p = np.asarray(self.points, float)
         if p.size and (not np.all(np.isfinite(p)) or p[0] <= 0 or np.any(np.diff(p) <= 0)):
-            raise ValueError(f"points = {list(self.points)!r} mm: expected increasing sliding distances > 0")
+            raise V.InputError(f"points = {list(self.points)!r} mm: expected increasing sliding distances > 0")
 
     def distances(self, slide: float) -> np.ndarray:
         """The planned homogenisation points s_1 < ... < s_m = slide (mm); automatic points
@@ -93,7 +93,7 @@ class LoopSettings:
         if self.points:
             p = np.asarray(self.points, float)
             if p[-1] > slide * (1 + 1e-12):
-                raise ValueError(f"points: {p[-1]:g} mm lies beyond the slide of {slide:g} mm")
+                raise V.InputError(f"points: {p[-1]:g} mm lies beyond the slide of {slide:g} mm")
             return p if abs(p[-1] - slide) <= 1e-9 * slide else np.append(p, slide)
         return slide * np.arange(1, self.divisions + 1) / self.divisions
 
@@ -229,7 +229,7 @@ class LoopObserver:
         if not (planned or auto):
             return
         st = run.contact.state()
-        active = (self.coupler.lump @ st["active"].astype(float)) > 0.0
+        active = self.coupler.interface_active(st)
         if not active.any():
             if planned and self.log:
                 self.log(f"  point {i + 1}: no contact node active at s = {s:.4g} mm; mu kept")
@@ -266,8 +266,6 @@ def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSetting
     """The loop of the module docstring for one point on rank 0 (``spec``: the macro run; its
     friction is replaced).  The workers of ``cascade.comm`` must be in ``cascade.serve()``;
     :meth:`CascadeRunner.done` releases them (the caller's job, after its last point)."""
-    from rubberfriction.driver.thermal.macro import ThermalCoupler
-
     wall = time.perf_counter()
     # A: isothermal mu(T0), on the partition bounds of the later cascades (layer bounds are mesh
     # lines of the lower-scale blocks: the same meshes in every cascade, only temperatures differ)
@@ -318,13 +316,13 @@ class HotLayerSettings:
     def __post_init__(self) -> None:
         r = np.asarray(self.rises, float)
         if r.size < 2 or r[0] != 0.0 or np.any(np.diff(r) <= 0):
-            raise ValueError(f"rises = {list(self.rises)!r} K: expected at least two increasing values "
+            raise V.InputError(f"rises = {list(self.rises)!r} K: expected at least two increasing values "
                              "starting at 0 (the isothermal point)")
-        if not (0.0 < self.layer < self.transition):
-            raise ValueError(f"layer = {self.layer!r} mm, transition = {self.transition!r} mm: expected "
-                             "0 < layer < transition")
-        if not (np.isfinite(self.mu_const) and self.mu_const >= 0):
-            raise ValueError(f"mu_const = {self.mu_const!r}: expected >= 0")
+        V.positive("layer", self.layer, "mm")
+        if not self.layer < self.transition:
+            raise V.InputError(f"layer = {self.layer!r} mm, transition = {self.transition!r} mm: expected "
+                               "0 < layer < transition")
+        V.nonnegative("mu_const", self.mu_const)
 
 
 def hot_layer_partitions(T_S: float, T0: float, settings: HotLayerSettings) -> Partitions:

@@ -49,6 +49,7 @@ from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonS
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.sliding import shortcut
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
+from rubberfriction.driver.sliding.outputs import DissipationByDepth
 from rubberfriction.driver.sliding.progress import StepReporter
 from rubberfriction.driver.sliding.temperature import check_layers, layer_levels, layer_temperatures
 from rubberfriction.driver.sliding.spec import (
@@ -588,8 +589,6 @@ def sliding_runner(wall_limit: float = 0.0, progress: Callable[[dict], None] | N
     limit = float(wall_limit)
 
     def runner(spec: SlidingSpec) -> SlidingResult:
-        from rubberfriction.driver.sliding.outputs import DissipationByDepth
-
         # dissipation by depth of the window (thesis fig. 6.29 c): stored with every run
         observers = [DissipationByDepth()]
         if progress is not None:

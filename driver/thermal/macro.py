@@ -107,7 +107,7 @@ class ThermalCoupler:
         self.initial_block = initial_block  # block temperatures carried from an earlier slide (or None: T0)
         self.error: str | None = None
         self.heat: TwoBodyHeat | None = None
-        self._bulk: sps.csr_matrix | None = None
+        self.bulk_map: sps.csr_matrix | None = None  # heat block grid -> mechanical cell centroids
 
     def on_start(self, run) -> None:
         """A new attempt starts sliding (the run's fallbacks restart it): a fresh heat problem at T0,
@@ -161,11 +161,10 @@ class ThermalCoupler:
         self._T_prev = Tb
         run.contact.set_slave_temperatures(self._slave_temperatures(Tb))
         history = getattr(run.sp, "history", None)
-        self._bulk = None  # heat block grid -> mechanical cell centroids (bilinear), if the bulk follows T
+        self.bulk_map = None  # bilinear, built only where the bulk follows the temperature
         if s.bulk_wlf and history is not None and getattr(run.spec.compound, "wlf", None) is not None:
             c = run.sp.cell_centroids()
-            self._bulk = _bilinear_map(*self.heat.block_grid()[:2], c[:, 0] - self.x0,
-                                       c[:, 1] - float(slave.X[:, 1].min()))
+            self.bulk_map = _bilinear_map(*self.heat.block_grid()[:2], c[:, 0] - self.x0, c[:, 1] - z_face)
             self._update_bulk(run)
 
     def on_step(self, run, k: int, t: float) -> None:
@@ -176,6 +175,10 @@ class ThermalCoupler:
         except Exception as err:  # noqa: BLE001 -- reported as a failed thermal run
             self.error = f"{type(err).__name__}: {err}"
 
+    def interface_active(self, state: dict) -> np.ndarray:
+        """Contact mask per heat interface node: in contact where any slave node lumped onto it is."""
+        return (self.lump @ state["active"].astype(float)) > 0.0
+
     def _slave_temperatures(self, Tb: np.ndarray) -> np.ndarray:
         """Interface temperatures at the slave nodes (linear in x; exact on the flat face)."""
         return np.interp(self.slave_x, self.heat.interface.x, Tb)
@@ -184,7 +187,7 @@ class ThermalCoupler:
         st = run.contact.state()
         L = self.lump
         power = L @ (st["friction_power_density"] * st["weight"])  # mW/mm per interface node
-        active = (L @ st["active"].astype(float)) > 0.0
+        active = self.interface_active(st)
         dt = float(run.dt_slide)
         # a step cut back into sub-steps: the state is the last sub-step's; scale its power so the
         # heat of the step is the frictional dissipation of all its sub-steps (run.step_friction_energy)
@@ -201,7 +204,7 @@ class ThermalCoupler:
         Tb, _ = self.heat.interface_temperatures()
         slave_T = self._slave_temperatures(Tb)
         run.contact.set_slave_temperatures(slave_T)
-        if self._bulk is not None:
+        if self.bulk_map is not None:
             self._update_bulk(run)
         p = st["pressure"] * st["weight"] * st["active"]
         T_contact = float(p @ slave_T / p.sum()) if p.sum() > 0 else float("nan")
@@ -219,7 +222,7 @@ class ThermalCoupler:
 
     def _update_bulk(self, run) -> None:
         """Cell temperatures of the mechanical block from the heat field (WLF shift per cell)."""
-        T_cell = self._bulk @ self.heat.block_grid()[2].ravel()
+        T_cell = self.bulk_map @ self.heat.block_grid()[2].ravel()
         run.sp.set_temperature(T_cell)
         self.bulk_T_max = float(T_cell.max())
 
@@ -277,7 +280,7 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSetti
     out.stats.update({"max_step_dT": coupler.max_step_dT, "heat_dofs": float(len(coupler.heat.X)),
                       "cpu_heat": coupler.cpu_heat, "max_power_rescale": coupler.max_rescale,
                       "heat_description": coupler.heat.describe(),
-                      "bulk_wlf": float(coupler._bulk is not None),
+                      "bulk_wlf": float(coupler.bulk_map is not None),
                       "bulk_T_max": getattr(coupler, "bulk_T_max", float("nan"))})
     return out
 
