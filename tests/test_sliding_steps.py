@@ -14,7 +14,14 @@ from types import SimpleNamespace
 import numpy as np
 
 from rubberfriction.driver.sliding.run import EASY_STREAK, SlidingRun
-from rubberfriction.driver.sliding.spec import MESH_REFINEMENT, SlidingResult, SlidingSpec, refined
+from rubberfriction.driver.sliding.spec import (
+    MESH_REFINEMENT,
+    SOFT_TANGENT,
+    SlidingResult,
+    SlidingSpec,
+    refined,
+    softened,
+)
 
 
 class ScriptedNewton:
@@ -89,7 +96,7 @@ class ScriptedAttempts(SlidingRun):
         time.sleep(self.seconds)
         if self.ok_if(self.spec, formulation, step_factor):
             return SlidingResult("ok")
-        reached = [1.0, 3.0, 0.0, 2.0, 1.0][len(self.log) - 1]
+        reached = [1.0, 3.0, 0.0, 2.0, 1.0, 0.5][len(self.log) - 1]
         return SlidingResult("failed", reason=f"scripted {len(self.log)}", t_reached=reached)
 
 
@@ -111,6 +118,25 @@ def test_fallback_chain_ends_with_refined_contact_elements():
     assert res.stats["fallback_level"] == 4 and res.stats["mesh_refinement"] == MESH_REFINEMENT
     assert res.stats["attempt"] == f"nts x{MESH_REFINEMENT} mesh"
     assert run.spec is spec  # the run's own spec again after the refined attempts
+
+
+def test_frictional_runs_try_a_softer_tangential_penalty_second():
+    """With friction: mortar, then mortar with c_T SOFT_TANGENT times softer (stick/slip cycling),
+    then the frictionless chain; the soft attempt's spec carries the softer c_T, the others not."""
+    spec = small_spec(friction=0.9)
+    seen = []
+    run = ScriptedAttempts(spec, lambda s, f, k: seen.append(s.tangential_penalty) or False)
+    res = run.run()
+    h = spec.h_contact
+    assert [entry[:2] for entry in run.log] == [("mortar", 1.0), ("mortar", 1.0), ("nts", 1.0), ("nts", 0.25),
+                                                ("mortar", 1.0), ("nts", 1.0)]
+    assert [entry[2] for entry in run.log] == [h] * 4 + [h / MESH_REFINEMENT] * 2
+    c_T = spec.tangential_penalty
+    assert seen == [c_T, SOFT_TANGENT * c_T, c_T, c_T, c_T, c_T]
+    assert "mortar c_T x0.1: scripted 2" in res.stats["attempts"]
+    ok = ScriptedAttempts(spec, lambda s, f, k: s.tangential_penalty < c_T).run()
+    assert ok.ok and ok.stats["attempt"] == "mortar c_T x0.1" and ok.stats["tangential_penalty"] == SOFT_TANGENT * c_T
+    assert softened(spec, 1.0) is spec and ScriptedAttempts(small_spec(friction=0.0), None).attempts()[1].formulation == "nts"
 
 
 def test_refined_spec_keeps_the_penalty_frequency():

@@ -4,7 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from rubberfriction.driver.fe.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
+from rubberfriction.driver.fe.contact import (
+    DEFAULT_TANGENTIAL_FRACTION,
+    Contact,
+    PenaltySettings,
+    RigidMaster,
+    SlaveSurface,
+)
 from rubberfriction.driver.sliding.spec import PENALTY_ALPHA, penalty_modulus
 from rubberfriction.driver.sliding.temperature import surface_temperature
 from rubberfriction.meshes.block import rubber_block
@@ -32,12 +38,13 @@ def sliding_contact(sp, spec, formulation: str) -> Contact:
     slave = SlaveSurface.from_boundary(sp.boundary(1), periodic_seam=spec.period > 0)
     master = RigidMaster(np.column_stack([np.asarray(spec.surface_x, float), np.asarray(spec.surface_h, float)]),
                          float(spec.period))
+    frac = float(getattr(spec, "tangential_penalty", DEFAULT_TANGENTIAL_FRACTION))
     if getattr(spec, "penalty", 0.0) > 0:
-        pen = PenaltySettings(c_N=float(spec.penalty))
+        pen = PenaltySettings(c_N=float(spec.penalty), tangential_fraction=frac)
         E_eff = None
     else:
         alpha = float(getattr(spec, "penalty_alpha", PENALTY_ALPHA))
-        pen, E_eff = PenaltySettings(alpha=alpha), penalty_modulus(spec)
+        pen, E_eff = PenaltySettings(alpha=alpha, tangential_fraction=frac), penalty_modulus(spec)
     contact = Contact(slave, master, method=formulation, friction=spec.friction, E_eff=E_eff, penalty=pen,
                       comm=sp.mesh.comm)
     T_face = surface_temperature(getattr(spec, "temperature_layers", ()), getattr(spec, "temperature", None))

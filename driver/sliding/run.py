@@ -21,8 +21,8 @@ with the periodic master, so the cell slides over many periods.  Macro block: no
 
 Failure handling: a step that does not converge (or inverts an element) is retried with half the
 step (cut-back), steps grow again after easy successes; when the step gets too small the run starts
-again with the next fallback (`SlidingRun.attempts`): node-to-segment contact, smaller sliding
-steps, then contact elements twice as short.  A run that still fails returns `status="failed"`
+again with the next fallback (`SlidingRun.attempts`): a softer tangential penalty (frictional
+runs), node-to-segment contact, smaller sliding steps, then contact elements twice as short.  A run that still fails returns `status="failed"`
 with the reason of the attempt that got furthest and the time reached (stats ``attempts`` lists
 every attempt's reason).  Nothing is raised through the caller.
 
@@ -39,6 +39,7 @@ import time
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -54,10 +55,13 @@ from rubberfriction.driver.sliding.progress import StepReporter
 from rubberfriction.driver.sliding.temperature import check_layers, layer_levels, layer_temperatures
 from rubberfriction.driver.sliding.spec import (
     MESH_REFINEMENT,
+    SOFT_TANGENT,
     SlidingResult,
     SlidingSpec,
     default_h_contact,
+    has_friction,
     refined,
+    softened,
 )
 from rubberfriction.driver.sliding.window import (
     error_estimate,
@@ -86,6 +90,22 @@ class ContactLike:
 #: sub-steps in a row double the sub-step length (one would make it oscillate: double, fail, halve)
 EASY_ITERATIONS = 6
 EASY_STREAK = 2
+
+
+class Attempt(NamedTuple):
+    """One attempt of the fallback chain (:meth:`SlidingRun.attempts`)."""
+
+    formulation: str  # "mortar" or "nts"
+    step_factor: float = 1.0  # sliding steps this many times the spec's
+    refine: int = 1  # contact elements this many times shorter (spec.refined)
+    tangent: float = 1.0  # c_T this many times the spec's (spec.softened)
+
+    @property
+    def label(self) -> str:
+        """e.g. "mortar", "nts x0.25 step", "mortar x2 mesh", "mortar c_T x0.1"."""
+        return self.formulation + (f" x{self.step_factor:g} step" if self.step_factor != 1.0 else "") + (
+            f" x{self.refine} mesh" if self.refine != 1 else "") + (
+            f" c_T x{self.tangent:g}" if self.tangent != 1.0 else "")
 
 
 @dataclass
@@ -330,18 +350,25 @@ class SlidingRun:
         return float(self.problem.reaction(d).sum())
 
     # --- the run -------------------------------------------------------------------------------
-    def attempts(self) -> list[tuple[str, float, int]]:
-        """The fallback chain: (contact formulation, sliding step factor, mesh refinement).
+    def attempts(self) -> list[Attempt]:
+        """The fallback chain: contact formulation, sliding step factor, mesh refinement and
+        tangential penalty factor of each attempt.
 
-        Mortar, then node-to-segment, then smaller sliding steps (stabilisation), then contact
-        elements MESH_REFINEMENT times shorter with each formulation: a slave bent over master
-        features sharper than its elements (a peak poking through a contact element) has no
-        smooth solution path at that resolution, and no step length fixes that.
+        Mortar, then (frictional runs) mortar with c_T SOFT_TANGENT times softer (stick/slip
+        cycling at the first sliding steps, see ``spec.SOFT_TANGENT``), node-to-segment, smaller
+        sliding steps (stabilisation), then contact elements MESH_REFINEMENT times shorter with
+        each formulation: a slave bent over master features sharper than its elements (a peak
+        poking through a contact element) has no smooth solution path at that resolution, and no
+        step length fixes that.
         """
         base = self.base_spec.contact
-        first = [(base, 1.0, 1)] + ([("nts", 1.0, 1)] if base == "mortar" else [])
-        chain = first + [(first[-1][0], 0.25, 1)]
-        return chain + [(f, 1.0, MESH_REFINEMENT) for f, _, _ in first]
+        first = [Attempt(base)]
+        if has_friction(self.base_spec):
+            first.append(Attempt(base, tangent=SOFT_TANGENT))
+        if base == "mortar":
+            first.append(Attempt("nts"))
+        chain = first + [Attempt(first[-1].formulation, step_factor=0.25)]
+        return chain + [Attempt(f, refine=MESH_REFINEMENT) for f in dict.fromkeys(a.formulation for a in first)]
 
     def run(self) -> SlidingResult:
         """The attempts in turn until one succeeds.  Under a wall-time limit a refined attempt that
@@ -355,15 +382,15 @@ class SlidingRun:
         if self.wall_limit > 0.0:
             self._deadline = wall0 + self.wall_limit
         try:
-            for i, (formulation, step_factor, refine) in enumerate(self.attempts()):
-                label = formulation + (f" x{step_factor:g} step" if step_factor != 1.0 else "") + (
-                    f" x{refine} mesh" if refine != 1 else "")
+            for i, att in enumerate(self.attempts()):
+                formulation, step_factor, refine = att.formulation, att.step_factor, att.refine
+                label = att.label
                 left = self._deadline - time.perf_counter()
                 if refine > 1 and full is not None and full * refine**2 > left:
                     failures.append(f"{label}: skipped (needs about {full * refine**2:.0f} s, "
                                     f"{left:.0f} s left)")
                     continue
-                self.spec = refined(self.base_spec, refine)
+                self.spec = softened(refined(self.base_spec, refine), att.tangent)
                 self.t_planned = 0.0
                 t_attempt = time.perf_counter()
                 try:
@@ -377,9 +404,12 @@ class SlidingRun:
                 result.stats["attempt"] = label
                 result.stats["contact_formulation"] = formulation
                 result.stats["mesh_refinement"] = refine
+                result.stats["tangential_penalty"] = self.spec.tangential_penalty
                 result.stats["wall_time"] = time.perf_counter() - wall0
                 self._notify("on_finish", result)
                 if result.ok:
+                    if failures:  # what failed before this attempt
+                        result.stats["attempts"] = " | ".join(failures)
                     return result
                 if result.stats.get("failure") == "wall_limit":
                     result.stats["attempts"] = " | ".join(failures)

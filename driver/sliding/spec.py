@@ -63,6 +63,9 @@ class SlidingSpec:
     shortcut: bool = False
     penalty: float = 0.0  # 0: automatic, c_N = penalty_alpha |E*_eff(omega)| / h_contact
     penalty_alpha: float = 100.0  # see PENALTY_ALPHA
+    # tangential penalty c_T = tangential_penalty x c_N: the stick compliance; a slipping node's
+    # traction is mu p whatever c_T (see SOFT_TANGENT, the frictional fallback)
+    tangential_penalty: float = 0.1
     max_cutbacks: int = 8
 
 
@@ -142,6 +145,27 @@ def cost_model(spec: SlidingSpec) -> float:
 
 #: contact elements of the refined fallback attempts are this many times shorter
 MESH_REFINEMENT = 2
+
+
+#: the frictional runs' fallback multiplies c_T by this (SlidingRun.attempts).  With c_T = 0.1 c_N
+#: at alpha = 100 the first sliding step puts every contact node far outside the stick cone (trial
+#: traction ~ c_T x step >> mu p) and Newton cycles between stick and slip sets; ten times softer,
+#: the stick zone stays resolved (measured: the 20 x 7 mm m3 block of thesis 8.5.1 at mu 0.9 and
+#: 0.3 MPa stagnates at its first sliding step with 0.1 and slides with 0.01).  Steady sliding
+#: friction does not depend on c_T (full slip: t_T = mu p); the stick phase gets a tangential
+#: contact compliance of h / (0.01 alpha E) per unit length, ~1 % of a macro block's shear compliance.
+SOFT_TANGENT = 0.1
+
+
+def has_friction(spec: SlidingSpec) -> bool:
+    """A frictional run: a friction law or a nonzero mu."""
+    f = spec.friction
+    return f is not None and not (isinstance(f, (int, float)) and float(f) == 0.0)
+
+
+def softened(spec: SlidingSpec, factor: float) -> SlidingSpec:
+    """The same run with c_T `factor` times the spec's (the frictional fallback)."""
+    return spec if factor == 1.0 else replace(spec, tangential_penalty=spec.tangential_penalty * factor)
 
 
 def refined(spec: SlidingSpec, factor: int) -> SlidingSpec:
