@@ -198,3 +198,20 @@ def test_run_check_loads_every_compound_the_scene_names(tmp_path: Path, capsys, 
     assert main(["run", str(scene), "--check"]) == 2
     err = capsys.readouterr().err
     assert "[conditions].compounds[0] = 'bad.toml'" in err and field in err, err
+
+
+def test_tangential_penalty_reaches_the_run_specs():
+    """[numerics] tangential_penalty: the runs' c_T / c_N (macro spec of a thermal scene included);
+    zero is refused."""
+    import dataclasses
+
+    from rubberfriction.driver.multiscale.thermal_scene import macro_inputs
+    from rubberfriction.forms.material_files import load_compound, load_road
+
+    s = parse("[numerics]\ntangential_penalty = 0.02\n")
+    assert s.numerics.tangential_penalty == 0.02
+    assert parse().numerics.tangential_penalty == 0.1
+    t = dataclasses.replace(load_scene("thermal_macro"), numerics=s.numerics)
+    spec, _ = macro_inputs(t, load_compound("m3"), load_road("r1").thermal, 0.3, 10.0, 293.15, 0.9)
+    assert spec.tangential_penalty == 0.02
+    assert "tangential_penalty" in error_of(scene_text("[numerics]\ntangential_penalty = 0.0\n"))

@@ -194,14 +194,17 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "step_per_element": Key("float", 0.5, "sliding step / contact element size", above=0.0,
                                 maximum=4.0),
         "compression_steps": Key("int", 10, "steps of the compression phase", minimum=1),
-        "contact": Key("str", "mortar", "contact formulation (a failing run falls back to nts, smaller "
-                       "steps, then contact elements twice as short)",
+        "contact": Key("str", "mortar", "contact formulation (a failing run falls back to a softer c_T "
+                       "(frictional runs), nts, smaller steps, then contact elements twice as short)",
                        choices=("mortar", "nts")),
         "element": Key("str", "Q1P0", "rubber element", choices=("Q1P0", "Q1")),
         "max_cutbacks": Key("int", 8, "step halvings before a step counts as failed", minimum=0),
         "penalty_alpha": Key("float", 100.0, "normal penalty c_N = alpha |E*(omega)| / h_contact: "
                              "contact compliance ~1/alpha of an element's; lower is faster on "
                              "steep surfaces and softer (more contact area)", above=0.0),
+        "tangential_penalty": Key("float", 0.1, "tangential penalty c_T = this x c_N (the stick "
+                                  "compliance; full slip does not depend on it); a frictional run "
+                                  "that fails tries it 10 times softer next", above=0.0),
         "run_timeout": Key("float", 0.0, "seconds after which a single run stops with a stored "
                                          "failure ('timeout': reported, recomputed on the next "
                                          "run of the scene) and the campaign goes on; a run stuck "
@@ -401,6 +404,7 @@ class NumericsConfig:
     element: str
     max_cutbacks: int
     penalty_alpha: float
+    tangential_penalty: float
     master_points_per_wavelength: int
     run_timeout: float
 

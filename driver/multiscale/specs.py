@@ -78,7 +78,8 @@ class SpecBuilder:
                            grading=num.grading, compression_steps=num.compression_steps,
                            window_start=window, converge_tol=tol, steady_state=steady,
                            shortcut=num.shortcut,
-                           max_cutbacks=num.max_cutbacks, penalty_alpha=num.penalty_alpha)
+                           max_cutbacks=num.max_cutbacks, penalty_alpha=num.penalty_alpha,
+                           tangential_penalty=num.tangential_penalty)
         # contact element size: the shortest wavelength of the sample / elements_per_wavelength;
         # the shortest wavelength is the band's short edge (thesis 6.5.1), else (or if shorter)
         # the run's estimate from slope sign changes

@@ -108,6 +108,7 @@ def macro_inputs(scene: Scene, compound, road, pressure: float, velocity: float,
                           step_per_element=t.step_per_element, element=num.element, contact=num.contact,
                           grading=num.grading, compression_steps=num.compression_steps,
                           max_cutbacks=num.max_cutbacks, penalty_alpha=num.penalty_alpha,
+                          tangential_penalty=num.tangential_penalty,
                           edge_radius=t.edge_radius)
     settings = ThermalSettings(road=road, T0=T0, kappa=t.kappa, h_c=t.h_c, road_depth=t.road_depth,
                                road_ahead=t.road_ahead, road_behind=t.road_behind, first_layer=t.first_layer,
