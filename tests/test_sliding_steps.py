@@ -135,8 +135,10 @@ def test_frictional_runs_try_a_softer_tangential_penalty_second():
     assert seen == [c_T, SOFT_TANGENT * c_T, c_T, c_T, c_T, c_T]
     assert "mortar c_T x0.1: scripted 2" in res.stats["attempts"]
     ok = ScriptedAttempts(spec, lambda s, f, k: s.tangential_penalty < c_T).run()
-    assert ok.ok and ok.stats["attempt"] == "mortar c_T x0.1" and ok.stats["tangential_penalty"] == SOFT_TANGENT * c_T
-    assert softened(spec, 1.0) is spec and ScriptedAttempts(small_spec(friction=0.0), None).attempts()[1].formulation == "nts"
+    assert ok.ok and ok.stats["attempt"] == "mortar c_T x0.1"
+    assert ok.stats["tangential_penalty"] == SOFT_TANGENT * c_T
+    assert softened(spec, 1.0) is spec
+    assert ScriptedAttempts(small_spec(friction=0.0), None).attempts()[1].formulation == "nts"
 
 
 def test_refined_spec_keeps_the_penalty_frequency():
