@@ -3,11 +3,13 @@ message that names the key, the value and what is expected (unknown keys with a 
 
 from __future__ import annotations
 
+import dataclasses
 import textwrap
 from pathlib import Path
 
 import pytest
 
+from rubberfriction.driver.fe.contact import DEFAULT_TANGENTIAL_FRACTION
 from rubberfriction.driver.multiscale.scene import (
     SCHEMA,
     SceneError,
@@ -16,6 +18,9 @@ from rubberfriction.driver.multiscale.scene import (
     schema_text,
     shipped_scenes,
 )
+from rubberfriction.driver.multiscale.thermal_scene import macro_inputs
+from rubberfriction.driver.sliding.spec import SlidingSpec
+from rubberfriction.forms.material_files import load_compound, load_road
 
 
 def scene_text(extra: str = "", surface: str = 'source = "sines"\namplitudes = [0.02, 0.002]\n'
@@ -203,14 +208,10 @@ def test_run_check_loads_every_compound_the_scene_names(tmp_path: Path, capsys, 
 def test_tangential_penalty_reaches_the_run_specs():
     """[numerics] tangential_penalty: the runs' c_T / c_N (macro spec of a thermal scene included);
     zero is refused."""
-    import dataclasses
-
-    from rubberfriction.driver.multiscale.thermal_scene import macro_inputs
-    from rubberfriction.forms.material_files import load_compound, load_road
-
     s = parse("[numerics]\ntangential_penalty = 0.02\n")
     assert s.numerics.tangential_penalty == 0.02
     assert parse().numerics.tangential_penalty == 0.1
+    assert SlidingSpec.tangential_penalty == DEFAULT_TANGENTIAL_FRACTION == 0.1  # one default
     t = dataclasses.replace(load_scene("thermal_macro"), numerics=s.numerics)
     spec, _ = macro_inputs(t, load_compound("m3"), load_road("r1").thermal, 0.3, 10.0, 293.15, 0.9)
     assert spec.tangential_penalty == 0.02

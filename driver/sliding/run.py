@@ -22,9 +22,10 @@ with the periodic master, so the cell slides over many periods.  Macro block: no
 Failure handling: a step that does not converge (or inverts an element) is retried with half the
 step (cut-back), steps grow again after easy successes; when the step gets too small the run starts
 again with the next fallback (`SlidingRun.attempts`): a softer tangential penalty (frictional
-runs), node-to-segment contact, smaller sliding steps, then contact elements twice as short.  A run that still fails returns `status="failed"`
-with the reason of the attempt that got furthest and the time reached (stats ``attempts`` lists
-every attempt's reason).  Nothing is raised through the caller.
+runs), node-to-segment contact, smaller sliding steps, then contact elements twice as short.  A
+run that still fails returns `status="failed"` with the reason of the attempt that got furthest
+and the time reached (stats ``attempts`` lists every failed attempt's reason, also on a run that
+succeeded after them).  Nothing is raised through the caller.
 
 Outputs: mu(t) = F_x/F_z (eq. 6.2) and mu from dissipated energy (eq. 2.8: viscous (+ frictional)
 energy per sliding distance over F_z), their averages over the homogenisation window, the mean
@@ -383,8 +384,7 @@ class SlidingRun:
             self._deadline = wall0 + self.wall_limit
         try:
             for i, att in enumerate(self.attempts()):
-                formulation, step_factor, refine = att.formulation, att.step_factor, att.refine
-                label = att.label
+                formulation, step_factor, refine, label = att.formulation, att.step_factor, att.refine, att.label
                 left = self._deadline - time.perf_counter()
                 if refine > 1 and full is not None and full * refine**2 > left:
                     failures.append(f"{label}: skipped (needs about {full * refine**2:.0f} s, "

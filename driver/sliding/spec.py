@@ -8,6 +8,7 @@ and the automatic normal penalty's modulus are functions of the spec alone, so t
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -64,7 +65,8 @@ class SlidingSpec:
     penalty: float = 0.0  # 0: automatic, c_N = penalty_alpha |E*_eff(omega)| / h_contact
     penalty_alpha: float = 100.0  # see PENALTY_ALPHA
     # tangential penalty c_T = tangential_penalty x c_N: the stick compliance; a slipping node's
-    # traction is mu p whatever c_T (see SOFT_TANGENT, the frictional fallback)
+    # traction is mu p whatever c_T (see SOFT_TANGENT, the frictional fallback); the default is
+    # fe.contact.DEFAULT_TANGENTIAL_FRACTION (not imported: this module stays free of PETSc)
     tangential_penalty: float = 0.1
     max_cutbacks: int = 8
 
@@ -160,7 +162,7 @@ SOFT_TANGENT = 0.1
 def has_friction(spec: SlidingSpec) -> bool:
     """A frictional run: a friction law or a nonzero mu."""
     f = spec.friction
-    return f is not None and not (isinstance(f, (int, float)) and float(f) == 0.0)
+    return f is not None and not (isinstance(f, numbers.Real) and float(f) == 0.0)
 
 
 def softened(spec: SlidingSpec, factor: float) -> SlidingSpec:
