@@ -158,7 +158,9 @@ py::dict state_dict(const rf::ContactInterface& c) {
 
 py::dict report_dict(const rf::ContactInterface& c) {
   py::dict d;
-  d["method"] = c.method() == rf::Method::mortar ? "mortar" : "node_to_segment";
+  d["method"] = c.method() == rf::Method::mortar            ? "mortar"
+                : c.method() == rf::Method::node_to_surface ? "node_to_surface"
+                                                            : "node_to_segment";
   const rf::PenaltyChoice& p = c.penalty();
   py::dict pen;
   pen["set"] = p.set;
@@ -285,6 +287,23 @@ PYBIND11_MODULE(_contact, m) {
            py::arg("log_floor") = 1e-12, py::arg("mu_min") = 0.0,
            "Tensor-product B-spline mu over (p, v) or (p, v, T); knots/coefficients in scipy's tck layout");
 
+  py::class_<rf::HeightField>(m, "HeightField",
+                              "periodic C2 cubic spline z = h(x) through uniformly spaced vertices (the smooth rigid "
+                              "master of node-to-surface contact)")
+      .def(py::init([](const DArray& vertices, double period) {
+             return rf::HeightField(points(vertices, "height field vertices"), period);
+           }),
+           py::arg("vertices"), py::arg("period"))
+      .def(
+          "__call__",
+          [](const rf::HeightField& f, double x) {
+            const rf::HeightValue v = f(x);
+            return py::make_tuple(v.h, v.d1, v.d2, v.d3);
+          },
+          py::arg("x"), "(h, dh/dx, d2h/dx2, d3h/dx3) at x")
+      .def_property_readonly("period", &rf::HeightField::period)
+      .def_property_readonly("spacing", &rf::HeightField::spacing);
+
   py::class_<rf::ContactInterface>(m, "ContactInterface")
       .def(py::init([](const DArray& X, const IArray& dofs, const IArray& segments, const py::object& temperature_dofs,
                        const py::object& interior_points, const std::string& method) {
@@ -293,8 +312,11 @@ PYBIND11_MODULE(_contact, m) {
                meth = rf::Method::mortar;
              else if (method == "node_to_segment" || method == "nts")
                meth = rf::Method::node_to_segment;
+             else if (method == "node_to_surface" || method == "surface")
+               meth = rf::Method::node_to_surface;
              else
-               throw std::invalid_argument("method must be 'mortar' or 'node_to_segment', got '" + method + "'");
+               throw std::invalid_argument("method must be 'mortar', 'node_to_segment' or 'node_to_surface', got '" +
+                                           method + "'");
              return std::make_unique<rf::ContactInterface>(
                  surface("slave", X, dofs, segments, temperature_dofs, interior_points), meth);
            }),

@@ -68,15 +68,24 @@ ContactInterface::ContactInterface(SurfaceMesh slave, Method method) : slave_(st
   out_.resize(n);
   for (const auto& d : slave_.dofs) max_dof_ = std::max({max_dof_, d[0], d[1]});
   for (const auto d : slave_.temperature_dofs) max_dof_ = std::max(max_dof_, d);
+  w_ref_.assign(n, 0.0);
+  for (const auto& sg : slave_.segments) {
+    const double len = norm(slave_.X[static_cast<std::size_t>(sg[1])] - slave_.X[static_cast<std::size_t>(sg[0])]);
+    w_ref_[static_cast<std::size_t>(sg[0])] += 0.5 * len;
+    w_ref_[static_cast<std::size_t>(sg[1])] += 0.5 * len;
+  }
 }
 
 void ContactInterface::set_rigid_master(RigidPolyline master) {
   if (master_) throw std::invalid_argument("a deformable master is already set; one master per interface");
+  if (method_ == Method::node_to_surface) height_ = std::make_unique<HeightField>(master.vertices(), master.period());
   rigid_ = std::make_unique<RigidPolyline>(std::move(master));
 }
 
 void ContactInterface::set_deformable_master(SurfaceMesh master) {
   if (rigid_) throw std::invalid_argument("a rigid master is already set; one master per interface");
+  if (method_ == Method::node_to_surface)
+    throw std::invalid_argument("node-to-surface contact needs a rigid periodic master (a height field)");
   for (const auto& d : master.dofs)
     for (const auto& s : slave_.dofs)
       if (d[0] == s[0] || d[0] == s[1] || d[1] == s[0] || d[1] == s[1])
@@ -417,6 +426,53 @@ void ContactInterface::search_nts(std::vector<PairRecord>& pairs) const {
   }
 }
 
+// node_to_surface search: every slave node within the search radius of the height field (gap
+// g = (z - h(x)) / sqrt(1 + h'^2) at the node's x, rigid offset applied) is paired; there is
+// nothing else to find, the surface is a function of x.
+void ContactInterface::search_surface(std::vector<PairRecord>& pairs) const {
+  const double r = search_radius();
+  for (int A = 0; A < slave_.num_nodes(); ++A) {
+    const V2<double> x = xs_[static_cast<std::size_t>(A)];
+    const HeightValue hv = (*height_)(x.x - offset_.x);
+    const double g = (x.y - offset_.y - hv.h) / std::sqrt(1.0 + hv.d1 * hv.d1);
+    if (!(g <= r)) continue;
+    PairRecord pr;
+    pr.slave = A;
+    pairs.push_back(pr);
+  }
+}
+
+// node_to_surface integrals of slave node A: with s = x - o_x, phi = z - o_z - h(s) and
+// m = sqrt(1 + h'(s)^2), the gap g = phi / m (the normal distance to first order in phi, smooth
+// in the node's position wherever h is), the frame n_A = -grad g (unit on the surface), the
+// constant reference weight w_A (half the adjacent reference segments) as A_A and D_AA, and
+// gbar_A = w_A g n_A / |n_A|^2, so that the nodal law's g_A = gbar_A . n_A / A_A is g. The law's
+// P_A = p_A n_A then makes R_A = w_A P_A = d/dx_A (w_A c_N <-g_A>^2 / 2): the residual is a
+// gradient and its tangent (second derivatives of g through h'', h''') is symmetric.
+void ContactInterface::surface_integrals(int A, const Stencil& L, NodalIntegrals& a) const {
+  const std::size_t iA = static_cast<std::size_t>(A);
+  const Eigen::Index S = stride() * static_cast<Eigen::Index>(L.size());
+  const V2<DX> x = position_dual(L, A);
+  const HeightValue hv = (*height_)(x.x.v - offset_.x);
+  const DX ds = x.x - x.x.v;  // dual offset of x from where h was evaluated (value 0)
+  const DX h = hv.h + hv.d1 * ds, h1 = hv.d1 + hv.d2 * ds, h2 = hv.d2 + hv.d3 * ds;
+  const DX phi = x.y - offset_.y - h;
+  const DX m = sqrt(1.0 + h1 * h1);
+  const DX g = phi / m;
+  a.frame = {h1 / m + phi * h1 * h2 / (m * m * m), -1.0 / m};
+  const double w = w_ref_[iA];
+  const DX nn = a.frame.x * a.frame.x + a.frame.y * a.frame.y;
+  a.area = constantX(w, S);
+  a.gx = w * g * a.frame.x / nn;
+  a.gy = w * g * a.frame.y / nn;
+  a.D.clear();
+  a.D.emplace_back(A, constantX(w, S));
+  double wc = 0.0;
+  for (int e : {prev_node(A), next_node(A)})
+    if (e >= 0) wc += 0.5 * norm(xs_[static_cast<std::size_t>(e)] - xs_[iA]);
+  a.current_weight = wc;
+}
+
 void ContactInterface::check_ready(std::size_t n, double dt) const {
   if (!rigid_ && !master_)
     throw std::invalid_argument("no master surface: call set_rigid_master(...) or set_deformable_master(...)");
@@ -492,6 +548,8 @@ std::vector<ContactInterface::PairRecord> ContactInterface::search(const double*
   std::vector<PairRecord> pairs;
   if (method_ == Method::mortar)
     search_mortar(pairs);
+  else if (method_ == Method::node_to_surface)
+    search_surface(pairs);
   else
     search_nts(pairs);
   return pairs;
@@ -507,6 +565,11 @@ ContactInterface::PairSlots ContactInterface::pair_slots(const PairRecord& pr) c
     p.entity[3] = next_node(sg[1]);
     p.receivers = {sg[0], sg[1]};
     p.n_receivers = 2;
+  } else if (method_ == Method::node_to_surface) {
+    p.entity[1] = pr.slave;
+    p.receivers = {pr.slave, -1};
+    p.n_receivers = 1;
+    return p;
   } else {
     p.entity[0] = prev_node(pr.slave);
     p.entity[1] = pr.slave;
@@ -542,8 +605,9 @@ ContactInterface::Stencils ContactInterface::stencils(const std::vector<PairReco
   for (int A = 0; A < ns; ++A) {
     Stencil& L = st.nodes[static_cast<std::size_t>(A)];
     if (L.empty()) continue;
-    for (int e : {prev_node(A), A, next_node(A)})
-      if (e >= 0) L.push_back(e);
+    if (method_ != Method::node_to_surface)  // n_A of 5.36 depends on the neighbours
+      for (int e : {prev_node(A), A, next_node(A)})
+        if (e >= 0) L.push_back(e);
     std::sort(L.begin(), L.end());
     L.erase(std::unique(L.begin(), L.end()), L.end());
   }
@@ -567,6 +631,12 @@ std::vector<ContactInterface::NodalIntegrals> ContactInterface::integrate(const 
     a.gy = constantX(0.0, S);
     a.area = constantX(0.0, S);
     if (vertex_end(A)) a.nu = {constantX(0.0, S), constantX(0.0, S)};
+  }
+  if (method_ == Method::node_to_surface) {
+    for (const PairRecord& pr : pairs)
+      surface_integrals(pr.slave, st.nodes[static_cast<std::size_t>(pr.slave)],
+                        acc[static_cast<std::size_t>(pr.slave)]);
+    return acc;
   }
   PairIntegrals pi;
   for (std::size_t i = 0; i < pairs.size(); ++i) {
@@ -643,7 +713,9 @@ NodalKinematics ContactInterface::nodal_kinematics(int A, const Stencil& L, cons
   kin.gx = a.gx;
   kin.gy = a.gy;
   kin.area = a.area;
-  if (vertex_end(A) && norm(values(a.nu)) > 0.0) {
+  if (method_ == Method::node_to_surface) {
+    kin.normal = a.frame;
+  } else if (vertex_end(A) && norm(values(a.nu)) > 0.0) {
     kin.normal = normalized(a.nu);
   } else {
     const int p = prev_node(A), q = next_node(A);
@@ -708,7 +780,7 @@ void ContactInterface::record_node(int A, const NodalIntegrals& a, const NodalKi
   ++tot.n_active;
   if (resp.status == stick) ++tot.n_stick;
   if (resp.status == slip) ++tot.n_slip;
-  tot.contact_length += a.area.v;
+  tot.contact_length += method_ == Method::node_to_surface ? a.current_weight : a.area.v;
   tot.force_x -= a.area.v * resp.P.x.v;
   tot.force_z -= a.area.v * resp.P.y.v;
   tot.friction_power += a.area.v * resp.friction_power;

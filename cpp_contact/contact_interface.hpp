@@ -11,6 +11,7 @@
 #pragma once
 
 #include "friction_law.hpp"
+#include "height_field.hpp"
 #include "mortar_segment.hpp"
 #include "nodal_contact_law.hpp"
 #include "surface.hpp"
@@ -24,7 +25,11 @@
 
 namespace rf {
 
-enum class Method { mortar, node_to_segment };
+/// mortar: segment-to-segment (5.33-5.38); node_to_segment: its collocation at the slave nodes;
+/// node_to_surface: slave nodes against the smooth periodic height field of a rigid master
+/// (height_field.hpp), gap g = (z - h(x)) / sqrt(1 + h'(x)^2), constant reference nodal weights,
+/// so the contact force is the gradient of the penalty potential sum_A w_A c_N <-g_A>^2 / 2.
+enum class Method { mortar, node_to_segment, node_to_surface };
 
 struct PenaltyChoice {
   bool set = false;
@@ -152,6 +157,8 @@ class ContactInterface {
     DX gx, gy, area;                       ///< gbar_A, A_A
     std::vector<std::pair<int, DX>> D, M;  ///< D_AB by slave node B, M_AC by entity ns + C
     V2<DX> nu;                             ///< Int M_A nu2 da (chain ends only: their frame)
+    V2<DX> frame;                          ///< node_to_surface: n_A = -grad g_A
+    double current_weight = 0.0;           ///< node_to_surface: current nodal length (outputs)
   };
 
   void positions(const double* u, std::size_t n, std::vector<V2<double>>& xs, std::vector<V2<double>>& xm) const;
@@ -160,6 +167,9 @@ class ContactInterface {
   void candidates(const V2<double>& lo, const V2<double>& hi, std::vector<MasterRef>& out) const;
   void search_mortar(std::vector<PairRecord>& pairs) const;
   void search_nts(std::vector<PairRecord>& pairs) const;
+  void search_surface(std::vector<PairRecord>& pairs) const;
+  /// node_to_surface: gap, frame and weights of slave node A over its stencil L = {A}.
+  void surface_integrals(int A, const Stencil& L, NodalIntegrals& a) const;
   SlaveSegment slave_segment(int e) const;
   void check_ready(std::size_t n, double dt) const;
 
@@ -193,6 +203,8 @@ class ContactInterface {
   SurfaceMesh slave_;
   Method method_;
   std::unique_ptr<RigidPolyline> rigid_;
+  std::unique_ptr<HeightField> height_;  ///< node_to_surface: the rigid master as a C2 spline
+  std::vector<double> w_ref_;            ///< reference nodal weights of the slave (half segments)
   std::unique_ptr<SurfaceMesh> master_;
   PenaltyChoice penalty_;
   std::shared_ptr<const FrictionLaw> friction_;

@@ -60,6 +60,9 @@ from rubberfriction.driver.fe.friction_law import as_cpp_law
 DEFAULT_ALPHA = 10.0
 #: Automatic tangential penalty c_T = fraction * c_N.
 DEFAULT_TANGENTIAL_FRACTION = 0.1
+#: Contact methods by the names Contact accepts (value: the canonical name).
+METHODS = {"mortar": "mortar", "nts": "nts", "node_to_segment": "nts", "surface": "surface",
+           "node_to_surface": "surface"}
 #: Gauss points per mortar integration segment (exact for the patch test from 2 on).
 DEFAULT_GAUSS_POINTS = 4
 
@@ -149,8 +152,12 @@ class Contact:
     Parameters
     ----------
     slave: SlaveSurface.  master: RigidMaster or DeformableMaster.
-    method: "mortar" (segment-to-segment, default) or "nts" (node-to-segment: the same interface
-        collocated at the slave nodes, cheaper, the fallback when a mortar run fails).
+    method: "mortar" (segment-to-segment, default), "nts" (node-to-segment: the same interface
+        collocated at the slave nodes, cheaper, the fallback when a mortar run fails) or
+        "surface" (node-to-surface: slave nodes against the C2 periodic spline through a rigid
+        periodic master sampled at uniform x; the penalty force is the gradient of a potential,
+        so a step has an equilibrium however sharp the road's peaks are against the elements;
+        ``cpp_contact/height_field.hpp``).
     friction: None (frictionless), a number mu, a SplineLaw or a ``_contact.FrictionLaw``.
     E_eff: plane-strain modulus of the slave body [MPa] for the automatic penalty.
     penalty: PenaltySettings.  thermal: ThermalSettings or None.
@@ -169,16 +176,16 @@ class Contact:
                  gauss_points: int = DEFAULT_GAUSS_POINTS, fixed_dofs=None,
                  allow_new_nonzeros: bool = False, comm=None):
         _check_serial(comm)
-        if method not in ("mortar", "nts", "node_to_segment"):
-            raise ValueError(f"method: got {method!r}, expected 'mortar' or 'nts'")
-        self.method = "mortar" if method == "mortar" else "nts"
+        if method not in METHODS:
+            raise ValueError(f"method: got {method!r}, expected one of {sorted(set(METHODS.values()))}")
+        self.method = METHODS[method]
         self.slave = slave
         self.master = master
         self._c = _contact.ContactInterface(
             np.asarray(slave.X, float), np.asarray(slave.dofs, np.int64), np.asarray(slave.segments, np.int64),
             None if slave.temperature_dofs is None else np.asarray(slave.temperature_dofs, np.int64),
             None if slave.interior_points is None else np.asarray(slave.interior_points, float),
-            "mortar" if self.method == "mortar" else "node_to_segment")
+            {"mortar": "mortar", "nts": "node_to_segment", "surface": "node_to_surface"}[self.method])
         self._c.set_periodic_seam(bool(slave.periodic_seam))
         if isinstance(master, RigidMaster):
             self._c.set_rigid_master(np.asarray(master.vertices, float), float(master.period))

@@ -196,7 +196,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "compression_steps": Key("int", 10, "steps of the compression phase", minimum=1),
         "contact": Key("str", "mortar", "contact formulation (a failing run falls back to a softer c_T "
                        "(frictional runs), nts, smaller steps, then contact elements twice as short)",
-                       choices=("mortar", "nts")),
+                       choices=("mortar", "nts", "surface")),
         "element": Key("str", "Q1P0", "rubber element", choices=("Q1P0", "Q1")),
         "max_cutbacks": Key("int", 8, "step halvings before a step counts as failed", minimum=0),
         "penalty_alpha": Key("float", 100.0, "normal penalty c_N = alpha |E*(omega)| / h_contact: "

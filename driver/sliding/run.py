@@ -96,7 +96,7 @@ EASY_STREAK = 2
 class Attempt(NamedTuple):
     """One attempt of the fallback chain (:meth:`SlidingRun.attempts`)."""
 
-    formulation: str  # "mortar" or "nts"
+    formulation: str  # "mortar", "nts" or "surface" (driver.fe.contact.Contact)
     step_factor: float = 1.0  # sliding steps this many times the spec's
     refine: int = 1  # contact elements this many times shorter (spec.refined)
     tangent: float = 1.0  # c_T this many times the spec's (spec.softened)

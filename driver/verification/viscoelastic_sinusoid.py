@@ -91,7 +91,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--temperature", type=float, default=None, help="K (default: WLF reference)")
     p.add_argument("--mesh", type=int, default=16, help="elements per wavelength on the contact face")
     p.add_argument("--periods", type=float, default=3.0, help="sliding distance in wavelengths")
-    p.add_argument("--contact", default="mortar", choices=["mortar", "nts"])
+    p.add_argument("--contact", default="mortar", choices=["mortar", "nts", "surface"])
     p.add_argument("--layer", type=parse_layer, action="append", default=[], metavar="THICKNESS:T",
                    help="temperature layer from the contact face up (mm:K, repeatable; the block "
                         "above the layers is at --temperature); checked against the layered strip")
