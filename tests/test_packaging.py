@@ -100,3 +100,15 @@ def test_version_is_stated_once_per_file_and_agrees() -> None:
     import rubberfriction
 
     assert CONFIG["project"]["version"] == rubberfriction.__version__
+
+
+def test_console_shows_no_build_chatter() -> None:
+    """FFCx compiles new forms with setuptools, which raises the root logger to INFO: a first run
+    with a cold JIT cache printed every gcc command line.  After the CLI's logging set-up an INFO
+    record on the root logger stays off the console and a warning still shows."""
+    code = ("import logging; from rubberfriction.driver.cli.main import quiet_build_logging; "
+            "quiet_build_logging(); logging.root.setLevel(logging.INFO); "
+            "logging.info('gcc -O2 -c libffcx_forms.c'); logging.warning('kept')")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd="/", check=True)
+    assert "gcc" not in out.stdout + out.stderr
+    assert "kept" in out.stderr

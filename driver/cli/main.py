@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import logging
 import sys
 
 # (module, what it adds) -- kept in the order shown by --help.
@@ -40,7 +41,19 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def quiet_build_logging() -> None:
+    """Warnings and errors only on the console.  FFCx compiles each new form with setuptools,
+    which raises the root logger to INFO and printed every gcc command line (about 60 on a first
+    run with a cold JIT cache); a root handler at WARNING keeps them out whatever the root level."""
+    if not logging.root.handlers:
+        logging.basicConfig(format="%(levelname)s: %(name)s: %(message)s")
+    for handler in logging.root.handlers:
+        if type(handler) is logging.StreamHandler:  # the console; not a test runner's capture
+            handler.setLevel(logging.WARNING)
+
+
 def main(argv: list[str] | None = None) -> int:
+    quiet_build_logging()
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
