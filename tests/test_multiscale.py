@@ -492,3 +492,27 @@ def test_sine_samples_are_exact_periods():
     assert isinstance(s, PeriodicSample) and s.x.size == 16 * 4 + 1 and s.h[0] == s.h[-1]
     exact = 0.01 * np.sin(2 * np.pi * s.x) + 0.002 * np.sin(2 * np.pi * s.x / 0.25)
     np.testing.assert_allclose(s.h, exact, atol=1e-15)
+
+
+def test_samples_and_summary_report_the_energy_balance(tmp_path: Path):
+    """energy_balance = mu_energy / mu_force - 1 per run in samples.csv; the summary counts the
+    runs beyond ENERGY_BALANCE_TOL and names the largest.  The toy runner's sample 1 dissipates
+    1.5 x its friction work, sample 0 exactly its friction work."""
+    from rubberfriction.driver.multiscale.report import ENERGY_BALANCE_TOL, energy_balance_line, sample_rows
+
+    sets = scales_with_distinct_samples(2)
+
+    def runner(spec: SlidingSpec) -> SlidingResult:
+        res = toy(spec)
+        res.mu_energy = res.mu_force * (1.5 if _slope(spec) > 0.011 else 1.0)
+        return res
+
+    casc = RoughCascade("t", Point("tread_default", 0.3, 100.0), sets, make_spec, k=1, j=2)
+    run(CampaignPlanner([casc]), Store(tmp_path / "s"), runner)
+    rows = sample_rows([casc.result])
+    for r in rows:
+        assert r["energy_balance"] == pytest.approx(0.5 if r["sample"] == 1 else 0.0, abs=1e-12)
+    line = energy_balance_line([casc.result])
+    n_off = sum(r["sample"] == 1 for r in rows)
+    assert f"{n_off} of {len(rows)} runs beyond {100 * ENERGY_BALANCE_TOL:.0f} %" in line
+    assert "largest 50 %" in line and "sample 1" in line and "not energy-consistent" in line
