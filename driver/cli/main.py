@@ -15,6 +15,7 @@ import sys
 # (module, what it adds) -- kept in the order shown by --help.
 COMMAND_MODULES: tuple[str, ...] = (
     "rubberfriction.driver.cli.run",
+    "rubberfriction.driver.cli.rerun",
     "rubberfriction.driver.cli.verify",
     "rubberfriction.driver.cli.surface",
     "rubberfriction.driver.cli.material",

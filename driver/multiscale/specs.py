@@ -8,6 +8,7 @@ single-scale run (thesis 6.5.1 element size rule, the band-limited rigid master)
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 from typing import Any
 
@@ -15,6 +16,7 @@ import numpy as np
 
 from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scene import Scene, SceneError
+from rubberfriction.driver.runtime.store import Store, canonical
 from rubberfriction.driver.sliding.spec import SlidingSpec, default_h_contact
 from rubberfriction.driver.surfaces.profile import UNIFORM_RTOL
 from rubberfriction.driver.surfaces.samples import refine_periodic
@@ -104,3 +106,60 @@ def load_compounds(scene: Scene) -> dict[str, Any]:
             c = dataclasses.replace(c, prony=None)  # no history variables are built
         out[name] = c
     return out
+
+
+def find_key(store: Store, prefix: str) -> str:
+    """The store key starting with ``prefix`` (at least 6 characters), or a clear error."""
+    if len(prefix) < 6:
+        raise ValueError(f"run key {prefix!r}: give at least 6 characters of the key "
+                         "(samples.csv, column key)")
+    hits = [k for k in store.keys() if k.startswith(prefix)]
+    if not hits:
+        raise ValueError(f"run key {prefix!r}: no such run in {store.root}")
+    if len(hits) > 1:
+        raise ValueError(f"run key {prefix!r} is ambiguous in {store.root}: " + ", ".join(h[:12] for h in hits))
+    return hits[0]
+
+
+def stored_spec(store: Store, key: str) -> SlidingSpec:
+    """The SlidingSpec of a stored run, rebuilt from its run file: the surface arrays, the scalar
+    inputs, the compound loaded again by its name, a constant (or no) friction coefficient.
+
+    The rebuilt spec is checked against the canonical image the run file holds (every field,
+    arrays by their sha256, the compound by all its values), so a rerun computes exactly the
+    stored inputs or refuses: a compound file that changed since the run, or a friction law
+    object (a mu(p, v) spline) that a run file does not hold, is an error naming the field."""
+    stored = store.load(key)
+    image = json.loads(stored.inputs["spec"])
+    if image.get("__type__") != "SlidingSpec":
+        raise ValueError(f"run {key[:12]}: its inputs are a {image.get('__type__')}, not a SlidingSpec")
+    kw: dict[str, Any] = {}
+    for f in dataclasses.fields(SlidingSpec):
+        v = image.get(f.name)
+        if f.name in ("surface_x", "surface_h"):
+            kw[f.name] = np.asarray(stored.inputs[f.name], dtype=float)
+        elif f.name == "compound":
+            name = str(stored.inputs.get("compound"))
+            try:
+                kw["compound"] = load_compound(name)
+            except ValueError as err:
+                raise ValueError(f"run {key[:12]}: compound {name!r}: {err}") from None
+        elif f.name == "friction":
+            if isinstance(v, dict):
+                raise ValueError(f"run {key[:12]}: friction is a {v.get('__type__')} law; a run file "
+                                 "holds constant coefficients only, so this run cannot be rebuilt")
+            kw["friction"] = v
+        elif f.name == "temperature_layers":
+            kw[f.name] = tuple(tuple(float(x) for x in layer) for layer in v)
+        elif v in ("nan", "inf", "-inf"):
+            kw[f.name] = float(v)
+        else:
+            kw[f.name] = v
+    spec = SlidingSpec(**kw)
+    rebuilt = canonical(spec)
+    differ = sorted(k for k in image if rebuilt.get(k) != image[k])
+    if differ:
+        hint = (" (the compound file changed since the run)" if differ == ["compound"] else "")
+        raise ValueError(f"run {key[:12]}: the rebuilt inputs differ from the stored ones in "
+                         f"{', '.join(differ)}{hint}")
+    return spec

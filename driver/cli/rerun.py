@@ -1,0 +1,154 @@
+"""``rubberfriction rerun FOLDER KEY``: one stored single-scale run of a campaign again.
+
+Every run of a campaign is stored by the hash of its inputs (``driver.runtime.store``); its key
+is in ``samples.csv`` (column key).  ``rerun`` rebuilds that run's SlidingSpec from the run file
+(checked field by field against the stored image, so it is exactly the stored run or an error)
+and runs it again, serially, with progress, optionally with another contact formulation, shorter
+contact elements or only the first attempt of the fallback chain, and writes its outputs for a
+look.  For reproducing a result, or diagnosing a failed run without the campaign around it:
+
+    rubberfriction rerun rf-results/default 6b9a9635                 # as stored, all fallbacks
+    rubberfriction rerun rf-results/default 6b9a9635 --first-attempt --out diag/
+    rubberfriction rerun rf-results/default 6b9a9635 --contact surface --refine 2
+
+Exit status: 0 when the run succeeds, 1 when it fails, 2 on bad input (unknown key, a run whose
+inputs cannot be rebuilt).
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("rerun", help="run one stored single-scale run of a campaign again "
+                       "(reproduce a result, diagnose a failure)", description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("folder", help="a campaign's output folder (holding store/) or a store folder")
+    p.add_argument("key", help="the run's key or its first 6 or more characters (samples.csv, key)")
+    p.add_argument("--contact", choices=("mortar", "nts", "surface"),
+                   help="contact formulation of the first attempt (default: the stored one)")
+    p.add_argument("--refine", type=int, default=1, metavar="N",
+                   help="contact elements N times shorter (sliding steps follow them)")
+    p.add_argument("--first-attempt", action="store_true",
+                   help="only the first attempt of the fallback chain: see where it fails")
+    p.add_argument("--out", metavar="DIR", help="write series.csv, mu.png, summary.json and the "
+                   "dissipation by depth of the rerun into DIR")
+    p.add_argument("--json", metavar="FILE", help="write the stored and the new result as JSON")
+    p.set_defaults(func=_rerun)
+
+
+def _store_root(folder: Path) -> Path:
+    return folder / "store" if (folder / "store" / "runs").is_dir() else folder
+
+
+def _rerun(args: argparse.Namespace) -> int:
+    from rubberfriction.driver.multiscale.specs import find_key, stored_spec
+    from rubberfriction.driver.runtime.store import Store
+    from rubberfriction.driver.sliding.outputs import DissipationByDepth, write_run_outputs
+    from rubberfriction.driver.sliding.progress import StepReporter
+    from rubberfriction.driver.sliding.run import Attempt, SlidingRun, block_mesh, sliding_contact
+    from rubberfriction.driver.sliding.spec import refined
+
+    root = _store_root(Path(args.folder))
+    if not (root / "runs").is_dir():
+        print(f"rerun: {args.folder}: no campaign store here (expected {root}/runs)", file=sys.stderr)
+        return 2
+    if args.refine < 1:
+        print(f"rerun: --refine {args.refine}: expected a whole number >= 1", file=sys.stderr)
+        return 2
+    store = Store(root)
+    try:
+        key = find_key(store, args.key)
+        spec = stored_spec(store, key)
+    except ValueError as err:
+        print(f"rerun: {err}", file=sys.stderr)
+        return 2
+    stored = store.load(key)
+    lab = stored.label
+    print(f"run {key[:12]}: {lab.get('point', '?')} {lab.get('branch', '')} {lab.get('scale_name', '')} "
+          f"sample {lab.get('sample', '?')}; p = {spec.pressure:.4g} MPa, v = {spec.velocity:g} mm/s, "
+          f"friction {spec.friction if spec.friction is not None else 'none'}, contact {spec.contact}, "
+          f"h_contact {spec.h_contact:.4g} mm")
+    print(f"  stored: {stored.status}, mu_force {stored.values.get('mu_force', math.nan):.6g}, "
+          f"{stored.provenance.get('wall_time', math.nan):.1f} s"
+          + (f" ({stored.reason.splitlines()[0]})" if stored.reason else ""))
+    if args.contact:
+        spec = dataclasses.replace(spec, contact=args.contact)
+    if args.refine > 1:
+        spec = refined(spec, args.refine)
+    progress = _Progress()
+    observers = [DissipationByDepth(), StepReporter(progress)]
+    run = SlidingRun(spec, block_mesh, sliding_contact, observers=observers)
+    if args.first_attempt:
+        first = run.attempts()[0]
+        run.attempts = lambda: [first]  # noqa: E731 (this run only)
+    t0 = time.perf_counter()
+    result = run.run()
+    wall = time.perf_counter() - t0
+    progress.done()
+    st = result.stats
+    print(f"  rerun:  {result.status}, mu_force {result.mu_force:.6g}, mu_energy {result.mu_energy:.6g}, "
+          f"window drift {result.window_drift:.3g}, attempt {st.get('attempt', '?')}, "
+          f"{st.get('steps', 0):.0f} steps, {st.get('newton_iterations', 0):.0f} Newton iterations, "
+          f"{st.get('cutbacks', 0):.0f} cut-backs, {wall:.1f} s"
+          + (f" ({result.reason.splitlines()[0]})" if result.reason else ""))
+    if st.get("attempts"):
+        print(f"  failed attempts: {st['attempts']}")
+    same = (not args.contact and args.refine == 1 and not args.first_attempt
+            and math.isfinite(stored.values.get("mu_force", math.nan)))
+    if same:
+        diff = result.mu_force - stored.values["mu_force"]
+        print(f"  reproduces the stored mu_force: difference {diff:.3g}")
+    if args.out:
+        written = write_run_outputs(result, spec, args.out)
+        print("  written: " + ", ".join(str(p) for p in written.values()))
+    if args.json:
+        doc = {"key": key, "label": lab, "stored": {"status": stored.status, **stored.values},
+               "rerun": {"status": result.status, "reason": result.reason, "mu_force": result.mu_force,
+                         "mu_energy": result.mu_energy, "window_drift": result.window_drift,
+                         "wall_time": wall, "stats": {k: v for k, v in st.items()
+                                                      if isinstance(v, (int, float, str))}},
+               "contact": spec.contact, "refine": args.refine, "first_attempt": args.first_attempt}
+        Path(args.json).write_text(json.dumps(doc, indent=2, default=float, allow_nan=True))
+        print(f"  written: {args.json}")
+    return 0 if result.ok else 1
+
+
+class _Progress:
+    """Where the rerun is, on stderr: an overwritten line on a terminal (at most every 0.5 s),
+    a plain line every 30 s otherwise (logs)."""
+
+    def __init__(self) -> None:
+        self.tty = sys.stderr.isatty()
+        self.last = -math.inf
+        self.shown = False
+
+    def __call__(self, info: dict) -> None:
+        now = time.perf_counter()
+        if now - self.last < (0.5 if self.tty else 30.0) and info.get("phase") == "sliding":
+            return
+        self.last = now
+        if info.get("phase") == "sliding":
+            left = info.get("left", math.nan)
+            text = (f"sliding {info['distance']:.4g}/{info['slide_distance']:.4g} mm, step "
+                    f"{info['step']}/{info['steps']}, {info['cutbacks']} cut-backs"
+                    + (f", ~{left:.0f} s left" if math.isfinite(left) else "")
+                    + (f" (after {info['after']} failed)" if info.get("after") else ""))
+        else:
+            text = f"{info.get('after')} failed; next attempt"
+        self.shown = True
+        if self.tty:
+            print(f"\r  {text[:120]:<120}", end="", file=sys.stderr, flush=True)
+        else:
+            print(f"  {text}", file=sys.stderr, flush=True)
+
+    def done(self) -> None:
+        if self.tty and self.shown:
+            print(file=sys.stderr)
