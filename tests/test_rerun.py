@@ -80,3 +80,22 @@ def test_inputs_that_cannot_be_rebuilt_are_refused(tmp_path: Path, capsys):
     assert "no such run" in capsys.readouterr().err
     assert main(["rerun", str(tmp_path), k_law[:3]]) == 2
     assert "at least 6 characters" in capsys.readouterr().err
+
+
+FAILING = Path(__file__).parent / "data" / "failing_runs"
+
+
+@pytest.mark.parametrize("prefix,pressure", [("6b9a9635", 7.647690314749106), ("f280d52c", 7.647690314749106)])
+def test_the_kept_failing_inputs_rebuild_exactly(prefix, pressure):
+    """The default scene's failing micro2 runs (issue 14's regression inputs) rebuild from their
+    run files: every field equal to the stored canonical image (stored_spec checks it)."""
+    store = Store(FAILING)
+    spec = stored_spec(store, find_key(store, prefix))
+    assert spec.pressure == pressure and spec.friction is None and spec.period == pytest.approx(0.04)
+
+
+def test_overrides_are_checked(tmp_path: Path, capsys):
+    assert main(["rerun", str(FAILING), "6b9a9635", "--set", "no_such_field=1"]) == 2
+    assert "SlidingSpec field" in capsys.readouterr().err
+    assert main(["rerun", str(FAILING), "6b9a9635", "--set", "steady_state=maybe"]) == 2
+    assert "not true or false" in capsys.readouterr().err

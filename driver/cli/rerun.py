@@ -36,6 +36,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="contact formulation of the first attempt (default: the stored one)")
     p.add_argument("--refine", type=int, default=1, metavar="N",
                    help="contact elements N times shorter (sliding steps follow them)")
+    p.add_argument("--set", action="append", default=[], metavar="FIELD=VALUE",
+                   help="override a scalar input of the run (SlidingSpec field), e.g. "
+                        "steady_state=false, penalty_alpha=100, tangential_penalty=0.01; repeatable")
     p.add_argument("--first-attempt", action="store_true",
                    help="only the first attempt of the fallback chain: see where it fails")
     p.add_argument("--out", metavar="DIR", help="write series.csv, mu.png, summary.json and the "
@@ -79,6 +82,11 @@ def _rerun(args: argparse.Namespace) -> int:
     print(f"  stored: {stored.status}, mu_force {stored.values.get('mu_force', math.nan):.6g}, "
           f"{stored.provenance.get('wall_time', math.nan):.1f} s"
           + (f" ({stored.reason.splitlines()[0]})" if stored.reason else ""))
+    try:
+        spec = _overrides(spec, args.set)
+    except ValueError as err:
+        print(f"rerun: {err}", file=sys.stderr)
+        return 2
     if args.contact:
         spec = dataclasses.replace(spec, contact=args.contact)
     if args.refine > 1:
@@ -101,7 +109,7 @@ def _rerun(args: argparse.Namespace) -> int:
           + (f" ({result.reason.splitlines()[0]})" if result.reason else ""))
     if st.get("attempts"):
         print(f"  failed attempts: {st['attempts']}")
-    same = (not args.contact and args.refine == 1 and not args.first_attempt
+    same = (not args.contact and args.refine == 1 and not args.first_attempt and not args.set
             and math.isfinite(stored.values.get("mu_force", math.nan)))
     if same:
         diff = result.mu_force - stored.values["mu_force"]
@@ -119,6 +127,32 @@ def _rerun(args: argparse.Namespace) -> int:
         Path(args.json).write_text(json.dumps(doc, indent=2, default=float, allow_nan=True))
         print(f"  written: {args.json}")
     return 0 if result.ok else 1
+
+
+def _overrides(spec, items: list[str]):
+    """spec with FIELD=VALUE overrides of its scalar fields (bool, int, float, str), converted
+    to the field's current type; anything else is a ValueError naming the field."""
+    changes = {}
+    for item in items:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not hasattr(spec, name):
+            raise ValueError(f"--set {item!r}: expected FIELD=VALUE with a SlidingSpec field")
+        old = getattr(spec, name)
+        if isinstance(old, bool):
+            if text.strip().lower() not in ("true", "false", "1", "0"):
+                raise ValueError(f"--set {name}: {text!r} is not true or false")
+            changes[name] = text.strip().lower() in ("true", "1")
+        elif isinstance(old, (int, float)) and not isinstance(old, bool):
+            try:
+                changes[name] = type(old)(text)
+            except ValueError:
+                raise ValueError(f"--set {name}: {text!r} is not a {type(old).__name__}") from None
+        elif isinstance(old, str):
+            changes[name] = text
+        else:
+            raise ValueError(f"--set {name}: only scalar fields can be set (it is a {type(old).__name__})")
+    return dataclasses.replace(spec, **changes)
 
 
 class _Progress:
