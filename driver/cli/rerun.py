@@ -56,7 +56,7 @@ def _rerun(args: argparse.Namespace) -> int:
     from rubberfriction.driver.runtime.store import Store
     from rubberfriction.driver.sliding.outputs import DissipationByDepth, write_run_outputs
     from rubberfriction.driver.sliding.progress import StepReporter
-    from rubberfriction.driver.sliding.run import Attempt, SlidingRun, block_mesh, sliding_contact
+    from rubberfriction.driver.sliding.run import SlidingRun, block_mesh, sliding_contact
     from rubberfriction.driver.sliding.spec import refined
 
     root = _store_root(Path(args.folder))
