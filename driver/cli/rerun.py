@@ -4,12 +4,13 @@ Every run of a campaign is stored by the hash of its inputs (``driver.runtime.st
 is in ``samples.csv`` (column key).  ``rerun`` rebuilds that run's SlidingSpec from the run file
 (checked field by field against the stored image, so it is exactly the stored run or an error)
 and runs it again, serially, with progress, optionally with another contact formulation, shorter
-contact elements or only the first attempt of the fallback chain, and writes its outputs for a
-look.  For reproducing a result, or diagnosing a failed run without the campaign around it:
+contact elements, changed scalar inputs (``--set``) or only the first attempt of the fallback
+chain, and writes its outputs for a look.  For reproducing a result, or diagnosing a failed run without the campaign around it:
 
     rubberfriction rerun rf-results/default 6b9a9635                 # as stored, all fallbacks
     rubberfriction rerun rf-results/default 6b9a9635 --first-attempt --out diag/
     rubberfriction rerun rf-results/default 6b9a9635 --contact surface --refine 2
+    rubberfriction rerun tests/data/failing_runs f280d52c --set penalty_alpha=30 --first-attempt
 
 Exit status: 0 when the run succeeds, 1 when it fails, 2 on bad input (unknown key, a run whose
 inputs cannot be rebuilt).
