@@ -48,7 +48,7 @@ def test_a_stored_run_reruns_bit_for_bit(tmp_path: Path, capsys):
     assert result.ok, result.reason
     store = Store(tmp_path / "store")
     key = put(store, spec, result)
-    rebuilt = stored_spec(store, find_key(store, key[:8]))
+    rebuilt = stored_spec(store.load(find_key(store, key[:8])))
     assert run_key(rebuilt) == key
     out = tmp_path / "rerun.json"
     assert main(["rerun", str(tmp_path), key[:8], "--json", str(out), "--out", str(tmp_path / "o")]) == 0
@@ -69,13 +69,13 @@ def test_inputs_that_cannot_be_rebuilt_are_refused(tmp_path: Path, capsys):
     law = fit_mu_pv(p, v, 0.5 + 0.0 * p[:, None] * v[None, :])
     k_law = put(store, sinusoid_spec(friction=law), SlidingResult("failed", reason="not run"))
     with pytest.raises(ValueError, match="friction is a .* law"):
-        stored_spec(store, k_law)
+        stored_spec(store.load(k_law))
     comp = load_compound("tread_default")
     changed = dataclasses.replace(comp, hyperelastic=dataclasses.replace(comp.hyperelastic,
                                                                           C10=1.01 * comp.hyperelastic.C10))
     k_comp = put(store, sinusoid_spec(compound=changed), SlidingResult("failed", reason="not run"))
     with pytest.raises(ValueError, match="compound file changed"):
-        stored_spec(store, k_comp)
+        stored_spec(store.load(k_comp))
     assert main(["rerun", str(tmp_path), "zzzzzzzz"]) == 2
     assert "no such run" in capsys.readouterr().err
     assert main(["rerun", str(tmp_path), k_law[:3]]) == 2
@@ -90,7 +90,7 @@ def test_the_kept_failing_inputs_rebuild_exactly(prefix, pressure):
     """The default scene's failing micro2 runs (issue 14's regression inputs) rebuild from their
     run files: every field equal to the stored canonical image (stored_spec checks it)."""
     store = Store(FAILING)
-    spec = stored_spec(store, find_key(store, prefix))
+    spec = stored_spec(store.load(find_key(store, prefix)))
     assert spec.pressure == pressure and spec.friction is None and spec.period == pytest.approx(0.04)
 
 

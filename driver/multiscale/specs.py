@@ -16,7 +16,7 @@ import numpy as np
 
 from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scene import Scene, SceneError
-from rubberfriction.driver.runtime.store import Store, canonical
+from rubberfriction.driver.runtime.store import Store, StoredRun, canonical
 from rubberfriction.driver.sliding.spec import SlidingSpec, default_h_contact
 from rubberfriction.driver.surfaces.profile import UNIFORM_RTOL
 from rubberfriction.driver.surfaces.samples import refine_periodic
@@ -121,7 +121,7 @@ def find_key(store: Store, prefix: str) -> str:
     return hits[0]
 
 
-def stored_spec(store: Store, key: str) -> SlidingSpec:
+def stored_spec(stored: StoredRun) -> SlidingSpec:
     """The SlidingSpec of a stored run, rebuilt from its run file: the surface arrays, the scalar
     inputs, the compound loaded again by its name, a constant (or no) friction coefficient.
 
@@ -129,7 +129,7 @@ def stored_spec(store: Store, key: str) -> SlidingSpec:
     arrays by their sha256, the compound by all its values), so a rerun computes exactly the
     stored inputs or refuses: a compound file that changed since the run, or a friction law
     object (a mu(p, v) spline) that a run file does not hold, is an error naming the field."""
-    stored = store.load(key)
+    key = stored.key
     image = json.loads(stored.inputs["spec"])
     if image.get("__type__") != "SlidingSpec":
         raise ValueError(f"run {key[:12]}: its inputs are a {image.get('__type__')}, not a SlidingSpec")
