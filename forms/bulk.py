@@ -13,7 +13,8 @@ mixed element (eq. 3.61), which stays well posed as K -> infinity:
 
     R(u, p; v, q) = int (F S) : grad(v) dV + int (J - 1 - p/K) q dV
 
-External loads (tractions) and contact are added by the caller.
+External loads (tractions) and contact are added by the caller.  The stabilised Q1P0 element
+adds :func:`pressure_jump_stabilisation` to the constraint equation.
 """
 
 from __future__ import annotations
@@ -63,3 +64,17 @@ def bulk_residual(u: Any, p: Any, v: Any, q: Any, material: MooneyRivlinLike, dx
         K = 2.0 / material.D1
         R += (ufl.det(F) - 1.0 - p / K) * q * dx
     return R
+
+
+def pressure_jump_stabilisation(p: Any, q: Any, mesh: Any, scale: float) -> Any:
+    """- scale sum_F h_F int_F [p][q] dS over the interior facets (Kechkar and Silvester 1992, the
+    global form): penalises pressure jumps between neighbouring cells, which removes the
+    checkerboard mode of piecewise-constant pressures.  h_F is the cells' mean width across the
+    facet, 1 / |K n| with the inverse Jacobian K (reference per physical length) and the facet
+    normal n: on the graded contact layers (thin cells) each facet term is then about one cell area,
+    like the pressure mass, whatever the aspect ratio.  ``scale`` = beta / G_s (1/MPa) makes the
+    term commensurate with the pressure Schur complement ~ |q|^2 / G.  Zero for a uniform
+    pressure (the patch tests are unaffected)."""
+    K, n = ufl.JacobianInverse(mesh), ufl.FacetNormal(mesh)
+    width = ufl.avg(1.0 / ufl.sqrt(ufl.dot(ufl.dot(K, n), ufl.dot(K, n))))
+    return -scale * width * ufl.jump(p) * ufl.jump(q) * ufl.dS

@@ -37,9 +37,10 @@ def patch_exact(E, nu, pressure, length):
     return pressure / lam_x, pressure * length
 
 
-@pytest.mark.parametrize("n_upper,n_lower", [(7, 5), (4, 9)])
-def test_patch_mortar_exact(n_upper, n_lower):
-    r = cc.patch(n_upper=n_upper, n_lower=n_lower, method="mortar", **PATCH)
+@pytest.mark.parametrize("n_upper,n_lower,element", [(7, 5, "Q1P0"), (4, 9, "Q1P0"), (7, 5, "Q1P0s")])
+def test_patch_mortar_exact(n_upper, n_lower, element):
+    """Exact with the stabilised element too: a uniform pressure has no jumps."""
+    r = cc.patch(n_upper=n_upper, n_lower=n_lower, method="mortar", element=element, **PATCH)
     by = checks_of(r, PATCH_CHECKS)
     p_exact, force = patch_exact(**PATCH)
     assert by["slave nodes in contact"]["computed"] == n_upper + 1  # every slave node

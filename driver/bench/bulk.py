@@ -91,7 +91,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="rubberfriction bench bulk", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sizes", type=int, nargs="+", default=[20, 40, 80], help="elements per side")
-    ap.add_argument("--element", default="Q1P0", choices=["Q1P0", "Q1"])
+    ap.add_argument("--element", default="Q1P0", choices=["Q1P0", "Q1P0s", "Q1"])
     ap.add_argument("--compound", default="tread_default")
     ap.add_argument("--compare-jit", action="store_true",
                     help="also run with dolfinx's default compiler flags and print the ratios")

@@ -197,7 +197,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "contact": Key("str", "mortar", "contact formulation (a failing run falls back to a softer c_T "
                        "(frictional runs), nts, smaller steps, then contact elements twice as short)",
                        choices=("mortar", "nts", "surface")),
-        "element": Key("str", "Q1P0", "rubber element", choices=("Q1P0", "Q1")),
+        "element": Key("str", "Q1P0", "rubber element (Q1P0s: Q1P0 with pressure-jump "
+                       "stabilisation, no checkerboard mode in confined cells)",
+                       choices=("Q1P0", "Q1P0s", "Q1")),
         "max_cutbacks": Key("int", 8, "step halvings before a step counts as failed", minimum=0),
         "penalty_alpha": Key("float", 100.0, "normal penalty c_N = alpha |E*(omega)| / h_contact: "
                              "contact compliance ~1/alpha of an element's; lower is faster on "

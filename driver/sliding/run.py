@@ -61,6 +61,7 @@ from rubberfriction.driver.sliding.spec import (
     SlidingSpec,
     default_h_contact,
     has_friction,
+    penalty_modulus,
     refined,
     softened,
 )
@@ -177,7 +178,11 @@ class SlidingRun:
             options["edge_radius"] = s.edge_radius
         body = self._mesh_factory(L, H, hc, s.grading, z0, **options)
         self.mesh, self.facet_tags = body.mesh, body.facet_tags
-        self.sp = SolidProblem(self.mesh, self.facet_tags, s.compound, SolidSettings(element=s.element))
+        # Q1P0s: the jump stabilisation scaled by the shear modulus at the run's excitation
+        # frequency (E* ~ 4 G, nearly incompressible), the modulus the cell's deformation sees
+        G_s = 0.25 * penalty_modulus(s) if s.element == "Q1P0s" else 0.0
+        self.sp = SolidProblem(self.mesh, self.facet_tags, s.compound,
+                               SolidSettings(element=s.element, stabilisation_modulus=G_s))
         if s.temperature_layers:  # partitions over the height (thesis 8.3.3)
             background = s.temperature if s.temperature is not None else s.compound.wlf.T_ref
             depth = self.sp.cell_centroids()[:, 1] - z0

@@ -25,6 +25,8 @@ CASES: dict[str, tuple[str, str]] = {
                             "two conducting half-spaces heated at the interface: temperature and heat split by effusivity"),
     "moving-heat-source": ("rubberfriction.driver.verification.heat_cases",
                            "steady road temperature under a sliding block vs Jaeger's moving band source"),
+    "pressure-modes": ("rubberfriction.driver.verification.pressure_modes",
+                       "spurious pressure modes of Q1P0 and the stabilised Q1P0s in a confined block"),
     "relaxation": ("rubberfriction.driver.verification.relaxation",
                    "bulk stress relaxation and harmonic shear vs the Prony closed form"),
 }

@@ -197,8 +197,8 @@ def two_blocks(length, h_upper, h_lower, n_upper, n_lower, *, ny_upper=None, ny_
 
 
 def patch(*, E: float = 10.0, nu: float = 0.3, pressure: float = 0.1, length: float = 1.0,
-          n_upper: int = 7, n_lower: int = 5, method: str = "mortar", c_N: float | None = None,
-          tolerance: float = 1e-8) -> dict:
+          n_upper: int = 7, n_lower: int = 5, method: str = "mortar", element: str = "Q1P0",
+          c_N: float | None = None, tolerance: float = 1e-8) -> dict:
     """Contact patch test on non-matching meshes.
 
     Upper block [0, l] x [gap, gap + l/2] (slave, n_upper facets on its contact face) on the lower
@@ -211,7 +211,7 @@ def patch(*, E: float = 10.0, nu: float = 0.3, pressure: float = 0.1, length: fl
     gap = 0.01 * length
     body = two_blocks(length, 0.5 * length, 0.5 * length, n_upper, n_lower, gap=gap)
     tol = 1e-9 * length
-    sp = SolidProblem(body.mesh, body.facet_tags, elastic_compound(E, nu), SolidSettings(element="Q1P0"))
+    sp = SolidProblem(body.mesh, body.facet_tags, elastic_compound(E, nu), SolidSettings(element=element))
     q = fem.Constant(body.mesh, 0.0)
     sp.add_traction(2, ufl.as_vector([0.0, -q]))
     X, d = sp.node_X, sp.displacement_dofs()

@@ -38,7 +38,7 @@ from rubberfriction.forms.material_files import load_compound
 def simulate(compound: Compound, *, wavelength: float = 1.0, amplitude: float = 0.002,
              pressure: float = 0.1, velocity: float = 10.0, temperature: float | None = None,
              elements_per_wavelength: int = 16, segments: int = 128, periods: float = 3.0,
-             step_fraction: float = 0.5, contact: str = "mortar", observers=(),
+             step_fraction: float = 0.5, contact: str = "mortar", element: str = "Q1P0", observers=(),
              converge_tol: float = 0.0, steady_state: bool = False,
              layers: tuple[tuple[float, float], ...] = ()) -> dict:
     """FE run and closed form; returns both mu estimates and the analytical value.
@@ -55,7 +55,7 @@ def simulate(compound: Compound, *, wavelength: float = 1.0, amplitude: float = 
     h = amplitude * np.cos(2.0 * np.pi * x / wavelength)
     hc = wavelength / elements_per_wavelength
     spec = SlidingSpec(surface_x=x, surface_h=h, period=wavelength, pressure=pressure, velocity=velocity,
-                       compound=compound, temperature=temperature, h_contact=hc, contact=contact,
+                       compound=compound, temperature=temperature, h_contact=hc, contact=contact, element=element,
                        slide_distance=periods * wavelength, step_length=step_fraction * hc,
                        converge_tol=converge_tol, steady_state=steady_state,
                        temperature_layers=tuple((float(d), float(T)) for d, T in layers))
@@ -92,6 +92,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mesh", type=int, default=16, help="elements per wavelength on the contact face")
     p.add_argument("--periods", type=float, default=3.0, help="sliding distance in wavelengths")
     p.add_argument("--contact", default="mortar", choices=["mortar", "nts", "surface"])
+    p.add_argument("--element", default="Q1P0", choices=["Q1P0", "Q1P0s", "Q1"], help="rubber element")
     p.add_argument("--layer", type=parse_layer, action="append", default=[], metavar="THICKNESS:T",
                    help="temperature layer from the contact face up (mm:K, repeatable; the block "
                         "above the layers is at --temperature); checked against the layered strip")
@@ -110,6 +111,7 @@ def run(args: argparse.Namespace) -> dict:
     out = simulate(comp, wavelength=args.wavelength, amplitude=args.amplitude, pressure=args.pressure,
                    velocity=args.velocity, temperature=args.temperature,
                    elements_per_wavelength=args.mesh, periods=args.periods, contact=args.contact,
+                   element=getattr(args, "element", "Q1P0"),
                    observers=observers, layers=tuple(getattr(args, "layer", []) or ()))
     res = out["result"]
     notes = [f"run status: {res.status} {res.reason}", f"wall time {res.stats.get('wall_time', 0):.2f} s",
@@ -128,7 +130,7 @@ def run(args: argparse.Namespace) -> dict:
               check(f"mu (energy, eq. 2.8) vs {reference}", out["mu_energy"], out["mu_exact"], 0.03),
               check("mu force vs energy", out["mu_force"], out["mu_energy"], 0.02)]
     params = {k: getattr(args, k) for k in ("compound", "wavelength", "amplitude", "pressure", "velocity",
-                                           "temperature", "mesh", "periods", "contact")}
+                                           "temperature", "mesh", "periods", "contact", "element")}
     params["layers"] = [list(x) for x in getattr(args, "layer", []) or []]
     if folder:
         params["out"] = str(folder)
