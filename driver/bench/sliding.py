@@ -18,7 +18,7 @@
    compiled by dolfinx's default flags (``forms/jit.py``) and prints the ratio per part.
 
     rubberfriction bench sliding [--part accuracy|stability|both|iterations] [--quick]
-                                 [--wall-limit S] [--penalty-alpha A] [--json FILE]
+                                 [--wall-limit S] [--penalty-alpha A] [--element E] [--json FILE]
                                  [--pressure P] [--velocity V] [--slide-fraction F] [--compare-jit]
 """
 
@@ -66,13 +66,13 @@ def rough_sample():
     return default_road().extract_samples(1, seed=1)[2][0]
 
 
-def stability(quick: bool, wall_limit: float, penalty_alpha: float) -> list[dict]:
+def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str = "Q1P0") -> list[dict]:
     comp = load_compound("tread_default")
     sample = rough_sample()
     x, h = np.asarray(sample.x)[:-1], np.asarray(sample.h)[:-1]
     print(f"stability sweep on a rough sample: period {sample.period:.4g} mm, rms height "
           f"{sample.rms_height:.3g} mm, rms slope {sample.rms_slope:.3g}, {x.size} segments; "
-          f"penalty alpha {penalty_alpha:g}, wall limit {wall_limit:g} s per run")
+          f"penalty alpha {penalty_alpha:g}, element {element}, wall limit {wall_limit:g} s per run")
     print(f"{'v [m/s]':>8} {'p [MPa]':>8} {'status':>7} {'fallback':>8} {'cutbacks':>8} {'newton':>7} "
           f"{'wall [s]':>9} {'mu':>9}  reason")
     vs = (1e-6, 1e-2, 10.0) if quick else (1e-6, 1e-4, 1e-2, 1.0, 10.0)
@@ -82,7 +82,7 @@ def stability(quick: bool, wall_limit: float, penalty_alpha: float) -> list[dict
         for p in ps:
             spec = SlidingSpec(surface_x=x, surface_h=h, period=sample.period, pressure=p, velocity=v * 1e3,
                                compound=comp, elements_per_wavelength=8, slide_distance=sample.period,
-                               penalty_alpha=penalty_alpha)
+                               penalty_alpha=penalty_alpha, element=element)
             t0 = time.perf_counter()
             r = run_sliding(spec, wall_limit=wall_limit)
             st, wall = r.stats, time.perf_counter() - t0
@@ -196,6 +196,8 @@ def main(argv: list[str] | None = None) -> int:
                          "(300; 0: no limit)")
     ap.add_argument("--penalty-alpha", type=_number(0.0, strict=True), default=100.0,
                     help="contact penalty factor of the stability runs (SlidingSpec.penalty_alpha)")
+    ap.add_argument("--element", choices=["Q1P0", "Q1P0s", "Q1"], default="Q1P0",
+                    help="rubber element of the stability runs (SlidingSpec.element)")
     ap.add_argument("--json", metavar="FILE",
                     help="write the stability rows (or the iteration split) as JSON")
     ap.add_argument("--pressure", type=_number(0.0, strict=True), default=10.0,
@@ -218,7 +220,7 @@ def main(argv: list[str] | None = None) -> int:
     if a.part in ("accuracy", "both"):
         accuracy(a.quick)
     if a.part in ("stability", "both"):
-        rows = stability(a.quick, a.wall_limit, a.penalty_alpha)
+        rows = stability(a.quick, a.wall_limit, a.penalty_alpha, a.element)
         if a.json:
             with open(a.json, "w") as f:
                 json.dump({"stability": rows}, f, indent=1, default=float)
