@@ -66,7 +66,7 @@ def bulk_residual(u: Any, p: Any, v: Any, q: Any, material: MooneyRivlinLike, dx
     return R
 
 
-def pressure_jump_stabilisation(p: Any, q: Any, mesh: Any, scale: float) -> Any:
+def pressure_jump_stabilisation(p: Any, q: Any, mesh: Any, scale: Any) -> Any:
     """- scale sum_F h_F int_F [p][q] dS over the interior facets (Kechkar and Silvester 1992, the
     global form): penalises pressure jumps between neighbouring cells, which removes the
     checkerboard mode of piecewise-constant pressures.  h_F is the cells' mean width across the

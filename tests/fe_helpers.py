@@ -8,7 +8,7 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.newton import NewtonSettings, NewtonSolver
 from rubberfriction.forms.kinematics import deformation_gradient, vector_from_tensor3
 from rubberfriction.forms.viscoelastic import evaluate_at_points
 
@@ -26,7 +26,7 @@ def n_full(sp) -> int:
 
 def solve(sp, spec: ConstraintSpec, rtol: float = 1e-13, hooks=None):
     cmap = ConstraintMap(spec)
-    pb = ConstrainedNonlinearProblem(sp.residual, sp.jacobian(), sp.w, cmap, hooks=hooks)
+    pb = sp.nonlinear_problem(cmap, hooks=hooks or ())
     res = NewtonSolver(pb, NewtonSettings(rtol=rtol, atol=1e-14)).solve()
     assert res.converged, res.reason
     return pb, res

@@ -37,3 +37,36 @@ def test_bad_stabilisation_is_refused():
         SolidSettings(element="Q1P0s", stabilisation=0.0)
     with pytest.raises(ValueError, match="element"):
         SolidSettings(element="Q2P1")
+
+
+def test_pressure_jump_hook_equals_the_mixed_form():
+    """The constant hook (assembled on the pressure space, mapped to the mixed dofs) gives the
+    residual and tangent of the same integral written in the mixed form (1e-12), at a random state."""
+    import numpy as np
+    import ufl
+    from dolfinx import fem
+    from dolfinx import mesh as dmesh
+    from dolfinx.fem import petsc as fem_petsc
+    from mpi4py import MPI
+
+    from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
+    from rubberfriction.forms.bulk import pressure_jump_stabilisation
+    from rubberfriction.forms.compound import Compound, MooneyRivlin
+
+    m = dmesh.create_rectangle(MPI.COMM_SELF, [np.array([0.0, 0.0]), np.array([2.0, 0.5])], [6, 5],
+                               dmesh.CellType.quadrilateral)
+    m.geometry.x[:, 1] = m.geometry.x[:, 1] ** 2 / 0.5  # graded rows: thin cells at the bottom
+    tags = dmesh.meshtags(m, 1, np.array([], np.int32), np.array([], np.int32))
+    mat = Compound(name="x", hyperelastic=MooneyRivlin.neo_hooke(0.7, 500.0), prony=None, wlf=None, thermal=None)
+    sp = SolidProblem(m, tags, mat, SolidSettings(element="Q1P0s", stabilisation=0.3))
+    x = np.random.default_rng(1).normal(size=sp.w.x.array.size)
+    sp.w.x.array[:] = x
+    _, p = sp.split()
+    _, q = sp.test_functions()
+    form = pressure_jump_stabilisation(p, q, m, 0.3 / 0.7)
+    b = fem_petsc.assemble_vector(fem.form(form)).array
+    A = fem_petsc.assemble_matrix(fem.form(ufl.derivative(form, sp.w, ufl.TrialFunction(sp.W))))
+    A.assemble()
+    L = sp.pressure_jump.L
+    assert np.abs(L @ x - b).max() < 1e-12 * np.abs(b).max()
+    assert np.abs(L.toarray() - A.convert("dense").getDenseArray()).max() < 1e-12 * np.abs(L.data).max()

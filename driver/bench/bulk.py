@@ -27,11 +27,7 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.fe.newton import (
-    ConstrainedNonlinearProblem,
-    NewtonSettings,
-    NewtonSolver,
-)
+from rubberfriction.driver.fe.newton import NewtonSettings, NewtonSolver
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.forms import jit
 from rubberfriction.forms.material_files import load_compound
@@ -56,7 +52,7 @@ def run_size(n: int, element: str, compound: str) -> dict:
     spec = ConstraintSpec(nfull)
     spec.fix(sp.dofs_where(lambda x: np.isclose(x[:, 1], 0.0)), 0.0)
     spec.fix(sp.dofs_where(lambda x: np.isclose(x[:, 1], 10.0), 1), -0.1)
-    pb = ConstrainedNonlinearProblem(sp.residual, sp.jacobian(), sp.w, ConstraintMap(spec))
+    pb = sp.nonlinear_problem(ConstraintMap(spec))
     pb.assemble()  # compiles the forms: set-up, not iteration
     if sp.history is not None:  # compiles the history expressions (a step at rest: H stays 0)
         sp.prepare_step(1e-3)

@@ -24,7 +24,7 @@ from petsc4py import PETSc
 
 from rubberfriction.driver.fe.constraints import ConstraintMap
 from rubberfriction.driver.fe.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
-from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSolver
+from rubberfriction.driver.fe.newton import NewtonSolver
 from rubberfriction.driver.verification import contact_cases as cc
 
 
@@ -98,8 +98,7 @@ def bench_newton_share(nx: int, steps: int = 3, friction=0.5, step_fraction: flo
         timer["calls"] += 1
 
 
-    pb = ConstrainedNonlinearProblem(sp.residual, sp.jacobian(), sp.w, cmap, hooks=[timed_hook],
-                                     extra_couplings=contact.couplings())
+    pb = sp.nonlinear_problem(cmap, hooks=[timed_hook], extra_couplings=contact.couplings())
     solver = NewtonSolver(pb, cc.newton_settings(rtol=1e-9, max_iterations=40), force_scale=0.1 * L)
     dt = step_fraction * L / nx / 10.0  # slide step_fraction of an element per step at 10 mm/s
     contact.set_time_step(dt)

@@ -132,12 +132,13 @@ def cpu_split(stats: dict) -> dict[str, float]:
     return parts
 
 
-def iterations(pressure: float, velocity: float, slide_fraction: float, compare_jit: bool) -> dict:
+def iterations(pressure: float, velocity: float, slide_fraction: float, compare_jit: bool,
+               element: str = "Q1P0") -> dict:
     """Per-iteration CPU split of one lowest-scale run (module docstring, part 3)."""
-    spec = lowest_scale_spec(pressure, velocity, slide_fraction)
+    spec = dataclasses.replace(lowest_scale_spec(pressure, velocity, slide_fraction), element=element)
     print(f"lowest-scale run: micro2 sample 1 of the default scene, period {spec.period:g} mm, "
           f"h_contact {spec.h_contact:g} mm, p {pressure:g} MPa, v {velocity:g} mm/s, slide "
-          f"{spec.slide_distance:g} mm")
+          f"{spec.slide_distance:g} mm, element {element}")
     variants = [("project flags", jit.COMPILE_ARGS)]
     if compare_jit:
         variants.append(("dolfinx flags", jit.DOLFINX_DEFAULT_ARGS))
@@ -197,7 +198,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--penalty-alpha", type=_number(0.0, strict=True), default=100.0,
                     help="contact penalty factor of the stability runs (SlidingSpec.penalty_alpha)")
     ap.add_argument("--element", choices=["Q1P0", "Q1P0s", "Q1"], default="Q1P0",
-                    help="rubber element of the stability runs (SlidingSpec.element)")
+                    help="rubber element of the stability and iteration runs (SlidingSpec.element)")
     ap.add_argument("--json", metavar="FILE",
                     help="write the stability rows (or the iteration split) as JSON")
     ap.add_argument("--pressure", type=_number(0.0, strict=True), default=10.0,
@@ -212,7 +213,7 @@ def main(argv: list[str] | None = None) -> int:
                     help="iterations: repeat with dolfinx's default compiler flags, print ratios")
     a = ap.parse_args(argv)
     if a.part == "iterations":
-        out = iterations(a.pressure, a.velocity, a.slide_fraction, a.compare_jit)
+        out = iterations(a.pressure, a.velocity, a.slide_fraction, a.compare_jit, a.element)
         if a.json:
             with open(a.json, "w") as f:
                 json.dump({"iterations": out}, f, indent=1, default=float)

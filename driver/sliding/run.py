@@ -47,7 +47,7 @@ import numpy as np
 import ufl
 
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.newton import NewtonSettings, NewtonSolver
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.sliding import shortcut
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
@@ -210,9 +210,9 @@ class SlidingRun:
         self.cmap = ConstraintMap(spec)
         self.contact = self._contact_factory(self.sp, s, contact_formulation)
         self.fext = np.zeros(nfull)
-        self.problem = ConstrainedNonlinearProblem(
-            self.sp.residual, self.sp.jacobian(), self.sp.w, self.cmap, hooks=[self.contact.hook],
-            extra_couplings=self.contact.couplings(), external_force=self.fext)
+        self.problem = self.sp.nonlinear_problem(self.cmap, hooks=[self.contact.hook],
+                                                 extra_couplings=self.contact.couplings(),
+                                                 external_force=self.fext)
         self.force_scale = s.pressure * L
         # strict backtracking (no residual growth accepted): with friction a full step from trial
         # slip can jump over the narrow stick cone into reverse slip and back (2-cycle); without,

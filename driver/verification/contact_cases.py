@@ -111,8 +111,8 @@ def newton_settings(**kw) -> NewtonSettings:
 
 
 def make_newton(sp, cmap, contact: Contact, *, fext=None, force_scale=1.0, rtol=1e-10, max_iterations=30):
-    pb = ConstrainedNonlinearProblem(sp.residual, sp.jacobian(), sp.w, cmap, hooks=[contact.hook],
-                                     extra_couplings=contact.couplings(), external_force=fext)
+    pb = sp.nonlinear_problem(cmap, hooks=[contact.hook], extra_couplings=contact.couplings(),
+                              external_force=fext)
     solver = NewtonSolver(pb, newton_settings(rtol=rtol, atol=1e-14 * force_scale, max_iterations=max_iterations),
                           force_scale=force_scale)
     return pb, solver

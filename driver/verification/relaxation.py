@@ -20,7 +20,7 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.newton import NewtonSettings, NewtonSolver
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.verification import check
 from rubberfriction.forms import jit
@@ -43,7 +43,7 @@ class ShearCell:
         spec.fix(d.ravel(), 0.0)
         self.cmap = ConstraintMap(spec)
         self.ux, self.z = d[:, 0], self.sp.node_X[:, 1]
-        pb = ConstrainedNonlinearProblem(self.sp.residual, self.sp.jacobian(), self.sp.w, self.cmap)
+        pb = self.sp.nonlinear_problem(self.cmap)
         self.newton = NewtonSolver(pb, NewtonSettings(rtol=1e-12, atol=1e-15))
         u, _ = self.sp.split()
         F = deformation_gradient(u)
