@@ -23,7 +23,9 @@ constraints and contact hooks the driver adds.  The weak form is ``forms/bulk.py
   the lowest non-uniform pressure mode of a confined block stays at 0.07 G under refinement
   (``verify pressure-modes``), and the full-contact sinusoid is within 0.2 % of its closed form
   at 16 elements per wavelength (beta = 0.05: 2 %; 0.25: 11 %, the jump term then acts as a
-  compressibility on the mesh scale).
+  compressibility on the mesh scale).  The term is linear in p and constant, so it enters as a
+  Newton hook on the pressure dofs (:class:`PressureJump`): build the Newton problem with
+  :meth:`SolidProblem.nonlinear_problem`, which adds it (``residual`` is the bulk form alone).
 * ``"Q1"``: displacement only, for comparison (locks when nearly incompressible).
 
 Bulk stress and residual: :func:`rubberfriction.forms.bulk.second_piola` and
