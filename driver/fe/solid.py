@@ -323,15 +323,15 @@ class PressureJump:
 
     Assembled once on the pressure space alone (``forms.bulk.pressure_jump_stabilisation``), so it
     couples the pressures of neighbouring cells only.  The same integral in the mixed form would
-    couple every dof of two neighbouring cells: measured on a micro2 run, 7x the LU time per
-    Newton iteration from the extra fill (``bench sliding --part iterations --element Q1P0s``)."""
+    couple every dof of two neighbouring cells: measured on a micro2 run, 82 against 18 ms per
+    Newton iteration, most of it LU fill (``bench sliding --part iterations --element Q1P0s``)."""
 
     def __init__(self, W: fem.FunctionSpace, scale: float):
         Q, pmap = W.sub(1).collapse()
         pmap = np.asarray(pmap, dtype=np.int64)
         p, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
         c = fem.Constant(Q.mesh, float(scale))  # not a float in the form: one compiled form for all
-        C = fem_petsc.assemble_matrix(fem.form(pressure_jump_stabilisation(p, q, Q.mesh, c)))
+        C = fem_petsc.assemble_matrix(jit.form(pressure_jump_stabilisation(p, q, Q.mesh, c)))
         C.assemble()
         indptr, cols, vals = C.getValuesCSR()
         rows = np.repeat(np.arange(indptr.size - 1), np.diff(indptr))
