@@ -20,7 +20,7 @@ constraints and contact hooks the driver adds.  The weak form is ``forms/bulk.py
   quadratic mortar segments: linear ones fail the contact patch test).  G_s is the shear modulus
   the deformation sees (``SolidSettings.stabilisation_modulus``; 0: the long-term one), beta =
   ``SolidSettings.stabilisation`` (Kechkar and Silvester: stable for any beta > 0).  Default 0.01:
-  the lowest non-uniform pressure mode of a confined block stays at 0.07 G under refinement
+  the lowest non-uniform pressure mode of a confined block stays at lambda G = 0.07 under refinement
   (``verify pressure-modes``), and the full-contact sinusoid is within 0.2 % of its closed form
   at 16 elements per wavelength (beta = 0.05: 2 %; 0.25: 11 %, the jump term then acts as a
   compressibility on the mesh scale).  The term is linear in p and constant, so it enters as a
