@@ -9,7 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from rubberfriction.driver.fe.contact import DEFAULT_TANGENTIAL_FRACTION
+from rubberfriction.driver.fe.contact import DEFAULT_TANGENTIAL_FRACTION, METHODS
+from rubberfriction.driver.fe.solid import ELEMENTS
 from rubberfriction.driver.multiscale.scene import (
     SCHEMA,
     SceneError,
@@ -203,6 +204,13 @@ def test_run_check_loads_every_compound_the_scene_names(tmp_path: Path, capsys, 
     assert main(["run", str(scene), "--check"]) == 2
     err = capsys.readouterr().err
     assert "[conditions].compounds[0] = 'bad.toml'" in err and field in err, err
+
+
+def test_scene_choices_are_the_solvers_own():
+    """The scene validates [numerics] element and contact against literal lists (the scene module
+    stays free of dolfinx); they must be exactly what SolidSettings and Contact accept."""
+    assert SCHEMA["numerics"]["element"].choices == ELEMENTS
+    assert set(SCHEMA["numerics"]["contact"].choices) == set(METHODS.values())
 
 
 def test_tangential_penalty_reaches_the_run_specs():

@@ -31,6 +31,7 @@ import time
 
 import numpy as np
 
+from rubberfriction.driver.fe.solid import ELEMENTS
 from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
 from rubberfriction.driver.multiscale.scene import load_scene
@@ -197,7 +198,7 @@ def main(argv: list[str] | None = None) -> int:
                          "(300; 0: no limit)")
     ap.add_argument("--penalty-alpha", type=_number(0.0, strict=True), default=100.0,
                     help="contact penalty factor of the stability runs (SlidingSpec.penalty_alpha)")
-    ap.add_argument("--element", choices=["Q1P0", "Q1P0s", "Q1"], default="Q1P0",
+    ap.add_argument("--element", choices=ELEMENTS, default="Q1P0",
                     help="rubber element of the stability and iteration runs (SlidingSpec.element)")
     ap.add_argument("--json", metavar="FILE",
                     help="write the stability rows (or the iteration split) as JSON")

@@ -185,7 +185,7 @@ class Contact:
             np.asarray(slave.X, float), np.asarray(slave.dofs, np.int64), np.asarray(slave.segments, np.int64),
             None if slave.temperature_dofs is None else np.asarray(slave.temperature_dofs, np.int64),
             None if slave.interior_points is None else np.asarray(slave.interior_points, float),
-            {"mortar": "mortar", "nts": "node_to_segment", "surface": "node_to_surface"}[self.method])
+            self.method)  # the binding takes the short names
         self._c.set_periodic_seam(bool(slave.periodic_seam))
         if isinstance(master, RigidMaster):
             self._c.set_rigid_master(np.asarray(master.vertices, float), float(master.period))

@@ -214,8 +214,8 @@ def energy_balance(o: Outcome) -> float:
 def energy_balance_line(points: Sequence[PointResult]) -> str:
     """How far the successful runs' dissipated energy is from their friction work (see
     :func:`energy_balance`): the count beyond ENERGY_BALANCE_TOL and the largest, with its run."""
-    runs = [(abs(energy_balance(o)), t) for r in points for rs in r.runs.values() for t, o in rs
-            if o.ok and math.isfinite(energy_balance(o))]
+    balances = ((abs(energy_balance(o)), t) for r in points for rs in r.runs.values() for t, o in rs if o.ok)
+    runs = [(b, t) for b, t in balances if math.isfinite(b)]
     if not runs:
         return ""
     b, t = max(runs, key=lambda bt: bt[0])

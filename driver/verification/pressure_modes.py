@@ -60,7 +60,7 @@ def pressure_spectrum(element: str, n: int, G: float = 1.0, K: float = 1e8, beta
     A = Jac.convert("dense").getDenseArray().copy()
     if sp.pressure_jump is not None:  # the Q1P0s term is a constant hook, not part of the form
         A += sp.pressure_jump.L.toarray()
-    _, pmap = sp.W.sub(1).collapse()
+    Q, pmap = sp.W.sub(1).collapse()
     pdofs = np.asarray(pmap)
     X = sp.node_X
     on_boundary = np.any(np.isclose(X, 0.0) | np.isclose(X, 1.0), axis=1)
@@ -68,7 +68,7 @@ def pressure_spectrum(element: str, n: int, G: float = 1.0, K: float = 1e8, beta
     Auu, Aup = A[np.ix_(udofs, udofs)], A[np.ix_(udofs, pdofs)]
     Apu, App = A[np.ix_(pdofs, udofs)], A[np.ix_(pdofs, pdofs)]
     S = -App + Apu @ np.linalg.solve(Auu, Aup)
-    q = ufl.TestFunction(sp.W.sub(1).collapse()[0])
+    q = ufl.TestFunction(Q)
     M = fem_petsc.assemble_vector(fem.form(q * ufl.dx)).array  # DG0: the mass matrix is diagonal
     lam = scipy.linalg.eigh(0.5 * (S + S.T), np.diag(M), eigvals_only=True)
     return np.sort(lam)[:modes]

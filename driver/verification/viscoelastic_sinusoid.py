@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rubberfriction.driver.fe.solid import ELEMENTS
 from rubberfriction.driver.sliding.outputs import DissipationByDepth, FieldWriter, write_run_outputs
 from rubberfriction.driver.sliding.run import run_sliding
 from rubberfriction.driver.sliding.sinusoid import closed_form_mu, full_contact_pressure, layered_strip_mu
@@ -92,7 +93,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mesh", type=int, default=16, help="elements per wavelength on the contact face")
     p.add_argument("--periods", type=float, default=3.0, help="sliding distance in wavelengths")
     p.add_argument("--contact", default="mortar", choices=["mortar", "nts", "surface"])
-    p.add_argument("--element", default="Q1P0", choices=["Q1P0", "Q1P0s", "Q1"], help="rubber element")
+    p.add_argument("--element", default="Q1P0", choices=ELEMENTS, help="rubber element")
     p.add_argument("--layer", type=parse_layer, action="append", default=[], metavar="THICKNESS:T",
                    help="temperature layer from the contact face up (mm:K, repeatable; the block "
                         "above the layers is at --temperature); checked against the layered strip")
@@ -111,7 +112,7 @@ def run(args: argparse.Namespace) -> dict:
     out = simulate(comp, wavelength=args.wavelength, amplitude=args.amplitude, pressure=args.pressure,
                    velocity=args.velocity, temperature=args.temperature,
                    elements_per_wavelength=args.mesh, periods=args.periods, contact=args.contact,
-                   element=getattr(args, "element", "Q1P0"),
+                   element=args.element,
                    observers=observers, layers=tuple(getattr(args, "layer", []) or ()))
     res = out["result"]
     notes = [f"run status: {res.status} {res.reason}", f"wall time {res.stats.get('wall_time', 0):.2f} s",
