@@ -1,6 +1,6 @@
 """Benchmark: the thermal macro scale (thesis 8.4.1, 8.5.1).
 
-    rubberfriction bench thermal [--part mesh|velocities|all] [--out DIR]
+    rubberfriction bench thermal [--part mesh|velocities|road|all] [--out DIR]
 
 ``mesh``: the macro mesh study of thesis 8.4.1 on the shipped scene ``thermal_macro`` (20 x 8 mm
 block, p = 0.3 MPa, v = 1 m/s, 10 mm of sliding, mu(T_s) of the scene, kappa = 1, h_c = 1e6) with
@@ -13,6 +13,12 @@ contact.
 T0 = 20 degC, kappa = 1, h_c = 1e6, road r1) for v = 0.01, 0.1, 1 m/s with a constant mu per
 velocity of the magnitude of thesis fig. 8.11 a (``MU_OF_V``, stated values, not the measurement):
 the road temperature behind the block T_R and the contact temperature T_C over v.
+
+``road``: rigid against elastic road (thesis 8.4.1 takes the road as rigid), side by side on the
+mesh study's case (first element 0.01 mm): the road r1 (E = 40 GPa) and, to show the trend, a road
+100 times softer (stated, not a material); mu, T_C, T_R, T_max, the road's sink under the
+contact and their differences from the rigid road (in %; T_R, which may be close to T0 behind
+a block whose trailing edge lifts, in K).
 """
 
 from __future__ import annotations
@@ -35,7 +41,7 @@ FIRST_LAYERS = (0.04, 0.02, 0.01)
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--part", choices=("mesh", "velocities", "all"), default="all")
+    p.add_argument("--part", choices=("mesh", "velocities", "road", "all"), default="all")
     p.add_argument("--velocity", type=float, default=1000.0, help="mm/s, mesh study")
     p.add_argument("--slide", type=float, default=10.0, help="sliding distance, mm")
     p.add_argument("--edge-radius", type=float, default=0.0,
@@ -44,12 +50,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def _macro(compound, road, *, length, height, pressure, velocity, friction, slide, first_layer, T0,
-           h_contact=0.25, edge_radius=0.0):
+           h_contact=0.25, edge_radius=0.0, road_elastic=None):
     spec = flat_road_spec(compound, pressure=pressure, velocity=velocity, friction=friction, block_length=length,
                           block_height=height, slide_distance=slide, h_contact=h_contact, T0=T0,
                           edge_radius=edge_radius)
     settings = ThermalSettings(road=road, T0=T0, kappa=1.0, h_c=1.0e6, road_depth=10.0, road_ahead=2.0,
-                               road_behind=20.0, first_layer=first_layer)
+                               road_behind=20.0, first_layer=first_layer, road_elastic=road_elastic)
     wall = time.perf_counter()
     res = run_thermal_macro(spec, compound.thermal, settings)
     wall = time.perf_counter() - wall
@@ -75,7 +81,7 @@ def _row(res, wall: float, T0: float) -> dict:
 
 
 def run(args: argparse.Namespace) -> int:
-    parts = ("mesh", "velocities") if args.part == "all" else (args.part,)
+    parts = ("mesh", "velocities", "road") if args.part == "all" else (args.part,)
     ok = True
     if "mesh" in parts:
         scene = load_scene("thermal_macro")
@@ -119,7 +125,42 @@ def run(args: argparse.Namespace) -> int:
                 continue
             print(f"{v / 1e3:>6g} {mu:>5.2f} {r['T_C']:>7.3f} {r['T_R']:>7.3f} {r['T_max']:>8.3f} {r['wall']:>7.1f}",
                   flush=True)
+    if "road" in parts:
+        ok &= _road_study(args)
     return 0 if ok else 1
+
+
+def _road_study(args: argparse.Namespace) -> bool:
+    """Rigid against elastic road, side by side (see the module doc)."""
+    scene = load_scene("thermal_macro")
+    comp = load_compound(scene.conditions.compound_paths[0])
+    r1 = load_road(scene.thermal.road)
+    T0 = scene.conditions.T0
+    law = friction_of(scene)
+    print(f"road mechanics: block {scene.thermal.block_length} x {scene.thermal.block_height} mm, edge radius "
+          f"{args.edge_radius:g} mm, p 0.3 MPa, v {args.velocity:g} mm/s, slide {args.slide} mm, mu(T_s) of "
+          f"thermal_macro, road {r1.name} (E {r1.E:g} MPa, nu {r1.nu:g}); differences from the rigid road")
+    print(f"{'road':>16} {'mu':>8} {'T_C-T0':>8} {'T_R-T0':>8} {'T_max-T0':>8} {'sink um':>8} "
+          f"{'d mu %':>7} {'d T_C %':>7} {'d T_max %':>9} {'d T_R K':>8} {'wall s':>7}")
+    ok, base = True, None
+    for label, elastic in (("rigid", None), (f"{r1.name} elastic", (r1.E, r1.nu)),
+                           ("E/100 elastic", (r1.E / 100.0, r1.nu))):
+        res, wall = _macro(comp, r1.thermal, length=scene.thermal.block_length,
+                           height=scene.thermal.block_height, pressure=0.3, velocity=args.velocity, friction=law,
+                           slide=args.slide, first_layer=0.01, T0=T0, edge_radius=args.edge_radius,
+                           road_elastic=elastic)
+        r = _row(res, wall, T0)
+        ok &= r["status"] == "ok"
+        if "mu" not in r:
+            print(f"{label:>16}  failed: {res.sliding.reason} {res.stats.get('thermal_error', '')}")
+            continue
+        r["sink"] = 1e3 * float(res.series["road_sink"][-1])
+        base = base or r
+        d = {k: 100.0 * (r[k] / base[k] - 1.0) for k in ("mu", "T_C", "T_max")}
+        print(f"{label:>16} {r['mu']:>8.5f} {r['T_C']:>8.4f} {r['T_R']:>8.4f} {r['T_max']:>8.4f} {r['sink']:>8.4f} "
+              f"{d['mu']:>7.3f} {d['T_C']:>7.3f} {d['T_max']:>9.3f} {r['T_R'] - base['T_R']:>8.4f} {r['wall']:>7.1f}",
+              flush=True)
+    return ok
 
 
 

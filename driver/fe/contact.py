@@ -230,6 +230,14 @@ class Contact:
         """Rigid translation of the rigid master for the current step [mm]."""
         self.offset = (float(dx), float(dz))
 
+    def set_rigid_master(self, master: RigidMaster) -> None:
+        """New geometry of the rigid master from the next evaluation on (same interface, slip
+        history kept): a road surface that deforms between steps (``driver.thermal.road_deflection``)."""
+        if not isinstance(self.master, RigidMaster) or not isinstance(master, RigidMaster):
+            raise TypeError("set_rigid_master: the interface and the new master must both be rigid")
+        self.master = master
+        self._c.set_rigid_master(np.asarray(master.vertices, float), float(master.period))
+
     def set_time_step(self, dt: float) -> None:
         self.dt = float(dt)
 

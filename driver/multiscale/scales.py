@@ -90,13 +90,7 @@ def build_scales(scene: Scene, n_samples: int) -> Scales:
         return Scales(sets, full, desc, {"source": "sines", "amplitudes": list(s.amplitudes),
                                          "wavelengths": list(s.wavelengths)})
     try:
-        if s.source == "default_road":
-            road = default_road(edges=s.edges)
-        else:
-            profiles = [load_profile(p) for p in s.files]
-            road = multiscale_from_measurements(profiles, s.edges, names=list(s.names) or None,
-                                                block_lengths=list(s.block_lengths) or None,
-                                                name=scene.name)
+        road = _multiscale_road(scene)
         if s.names:
             for sc, nm in zip(road.scales, s.names):
                 sc.name = nm
@@ -112,6 +106,37 @@ def build_scales(scene: Scene, n_samples: int) -> Scales:
     if scene.variant == "separated" and scene.separated is not None and scene.separated.reference:
         full = _full_sample(scene, road)
     return Scales(sets, full, road.describe(), road.to_dict())
+
+
+def _multiscale_road(scene: Scene) -> Any:
+    """The band profiles of a measured or default road (``[surface]`` source default_road or files)."""
+    s = scene.surface
+    if s.source == "default_road":
+        return default_road(edges=s.edges)
+    profiles = [load_profile(p) for p in s.files]
+    return multiscale_from_measurements(profiles, s.edges, names=list(s.names) or None,
+                                        block_lengths=list(s.block_lengths) or None, name=scene.name)
+
+
+def macro_road(scene: Scene, start: float, length: float, dx: float) -> tuple[np.ndarray, np.ndarray]:
+    """A non-periodic road for the thermal macro block: the first (macro) band of the scene's
+    surface from ``start`` mm along its profile for ``length`` mm, sampled every ``dx`` mm; x from
+    0.  Sines: the first sine.  The band is zero-mean; heights in mm."""
+    s = scene.surface
+    x = np.arange(0.0, length + 0.5 * dx, dx)
+    if s.source == "sines":
+        a, lam = s.amplitudes[0], s.wavelengths[0]
+        return x, a * np.sin(2.0 * np.pi * (x + start) / lam)
+    try:
+        band = _multiscale_road(scene).scales[0].profile
+    except SurfaceError as err:
+        raise SceneError(f"{scene.source}: [surface] (source = {s.source!r}): {err}") from None
+    x0 = float(band.x[0]) + start
+    if x0 + length > float(band.x[-1]):
+        raise SceneError(f"{scene.source}: [thermal] road_surface = 'macro': the macro band is "
+                         f"{band.x[-1] - band.x[0]:.1f} mm long; road_start = {start:g} mm plus the "
+                         f"{length:.1f} mm the slide needs does not fit")
+    return x, np.interp(x0 + x, band.x, band.h)
 
 
 def _full_sample(scene: Scene, road: Any) -> Any:

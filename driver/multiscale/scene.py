@@ -237,6 +237,17 @@ SCHEMA: dict[str, dict[str, Key]] = {
                          above=0.0),
         "step_per_element": Key("float", 0.5, "sliding step / h_contact", above=0.0),
         "road_depth": Key("float", 10.0, "depth of the road body in mm", above=0.0),
+        "road_mechanics": Key("str", "rigid", "rigid (thesis 8.4.1) or elastic: the road's surface "
+                                              "deflection under the contact forces (E, nu of the road "
+                                              "material) moves the road each step "
+                                              "(driver/thermal/road_deflection.py)",
+                              choices=("rigid", "elastic")),
+        "road_surface": Key("str", "flat", "flat, or macro: the block slides over the macro band (the "
+                                           "first scale) of the scene's [surface], from road_start on "
+                                           "(mode = given only: the lower scales' mu is the given one)",
+                            choices=("flat", "macro")),
+        "road_start": Key("float", 0.0, "macro road: where along the band profile the road starts, mm",
+                          minimum=0.0),
         "road_ahead": Key("float", 2.0, "road ahead of the block (block frame, inflow at T0), mm",
                           minimum=0.0),
         "road_behind": Key("float", 20.0, "road behind the block (the heated track, outflow), mm",
@@ -447,6 +458,9 @@ class ThermalSceneConfig:
     max_points: int = 16
     hot_layer: float = 0.005
     hot_transition: float = 0.020
+    road_mechanics: str = "rigid"  # or "elastic"
+    road_surface: str = "flat"  # or "macro": the first band of [surface]
+    road_start: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -825,6 +839,10 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
         if t["slides"] > 1:
             raise SceneError(f"{where}: mode = '{t['mode']}' with slides = {t['slides']}: the loop runs one "
                              "slide (repeated slides take a given mu)")
+        if t["road_surface"] != "flat":
+            raise SceneError(f"{where}: mode = '{t['mode']}' with road_surface = '{t['road_surface']}': the "
+                             "loop's cascade already holds the macro band; a rough macro road takes a given mu "
+                             "(mode = 'given')")
     elif (t["mu"] is None) == (not T):
         raise SceneError(f"{where}: expected exactly one of mu (constant) and mu_curve_T/mu_curve_mu "
                          "(mu(T_s)), or mode = 'coupled' (mu from the lower scales)")
@@ -862,7 +880,8 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
         pauses=tuple(t["pauses"]), mode=t["mode"], divisions=t["divisions"], points=tuple(t["points"]),
         partitions=t["partitions"], partition_depth=t["partition_depth"], mu_const=t["mu_const"],
         bulk_wlf=t["bulk_wlf"], hot_layer_rises=tuple(t["hot_layer_rises"]), hot_layer=t["hot_layer"],
-        hot_transition=t["hot_transition"], auto_dT=t["auto_dT"], max_points=t["max_points"])
+        hot_transition=t["hot_transition"], auto_dT=t["auto_dT"], max_points=t["max_points"],
+        road_mechanics=t["road_mechanics"], road_surface=t["road_surface"], road_start=t["road_start"])
 
 
 def shipped_scenes() -> list[str]:

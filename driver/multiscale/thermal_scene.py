@@ -19,8 +19,9 @@ Outputs under ``<output>/thermal/``:
   ``<run>/history.csv`` the whole sequence (global time, slide number or 0 in a pause, mean rubber
   surface temperature, probes); the summary row is the last slide's.
 
-The runs go one after another on rank 0 (each is seconds to minutes); the road is flat (its
-roughness acts through mu).
+The runs are dealt out over the ranks (each is seconds to minutes).  The road is flat (its
+roughness acts through mu) or the macro band of the scene's surface (``road_surface = "macro"``;
+then the given mu is that of the scales below), rigid or elastic (``road_mechanics``).
 """
 
 from __future__ import annotations
@@ -28,12 +29,13 @@ from __future__ import annotations
 import csv
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from rubberfriction.driver.fe.friction_law import fit_mu_pvT
+from rubberfriction.driver.multiscale.scales import macro_road
 from rubberfriction.driver.multiscale.scene import Scene, SceneError
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.thermal.macro import (
@@ -43,6 +45,7 @@ from rubberfriction.driver.thermal.macro import (
     run_thermal_macro,
     run_thermal_slides,
 )
+from rubberfriction.forms.compound import Road
 from rubberfriction.forms.material_files import load_compound, load_road
 
 
@@ -95,12 +98,14 @@ def _materials(scene: Scene):
     road = load_road(scene.thermal.road)
     if road.thermal is None:
         raise SceneError(f"{scene.source}: [thermal].road = {scene.thermal.road!r} has no [thermal] data")
-    return compounds, road.thermal
+    return compounds, road
 
 
-def macro_inputs(scene: Scene, compound, road, pressure: float, velocity: float, T0: float,
+def macro_inputs(scene: Scene, compound, road: Road, pressure: float, velocity: float, T0: float,
                  friction) -> tuple[SlidingSpec, ThermalSettings]:
-    """The macro run's mechanical spec and thermal settings from a thermal scene's tables."""
+    """The macro run's mechanical spec and thermal settings from a thermal scene's tables: a flat
+    road, or the macro band of the scene's surface (``road_surface = "macro"``); the road rigid or
+    elastic with the road material's E and nu (``road_mechanics``)."""
     t, num = scene.thermal, scene.numerics
     spec = flat_road_spec(compound, pressure=pressure, velocity=velocity, friction=friction,
                           block_length=t.block_length, block_height=t.block_height,
@@ -110,9 +115,15 @@ def macro_inputs(scene: Scene, compound, road, pressure: float, velocity: float,
                           max_cutbacks=num.max_cutbacks, penalty_alpha=num.penalty_alpha,
                           tangential_penalty=num.tangential_penalty,
                           edge_radius=t.edge_radius)
-    settings = ThermalSettings(road=road, T0=T0, kappa=t.kappa, h_c=t.h_c, road_depth=t.road_depth,
+    if t.road_surface == "macro":
+        span = t.slide_distance + t.block_length  # the flat road's extent, [-span, 2 span]
+        short = scene.surface.edges[1] if scene.surface.edges else scene.surface.wavelengths[0]
+        x, h = macro_road(scene, t.road_start, 3.0 * span, min(0.5 * t.h_contact, short / 16.0))
+        spec = replace(spec, surface_x=x - span, surface_h=h)
+    settings = ThermalSettings(road=road.thermal, T0=T0, kappa=t.kappa, h_c=t.h_c, road_depth=t.road_depth,
                                road_ahead=t.road_ahead, road_behind=t.road_behind, first_layer=t.first_layer,
-                               grading=t.grading, probes=t.probes, bulk_wlf=t.bulk_wlf)
+                               grading=t.grading, probes=t.probes, bulk_wlf=t.bulk_wlf,
+                               road_elastic=(road.E, road.nu) if t.road_mechanics == "elastic" else None)
     return spec, settings
 
 

@@ -21,8 +21,9 @@ WLF (``SolidProblem.set_temperature``, ``ThermalSettings.bulk_wlf``), for the ne
 one-step lag.  The bulk's own viscous dissipation is not a heat source (thesis 8.3.2: negligible
 on the macro scale against the frictional heat).
 
-Repeated slides with pauses (thesis 8.5.2): ``run_thermal_slides``.  Not yet here (issue 15
-stays open): rounded leading edge, a deformable road, a rough macro road.
+Repeated slides with pauses (thesis 8.5.2): ``run_thermal_slides``.  An elastic road instead of
+the rigid one: ``ThermalSettings.road_elastic`` (``road_deflection``: its surface deflection under
+the contact forces moves the road polyline, staggered like the heat).
 """
 
 from __future__ import annotations
@@ -35,10 +36,12 @@ import numpy as np
 import scipy.sparse as sps
 
 from rubberfriction import validation as V
+from rubberfriction.driver.fe.contact import RigidMaster
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
 from rubberfriction.driver.sliding.run import SlidingRun
 from rubberfriction.driver.sliding.spec import SlidingResult, SlidingSpec
 from rubberfriction.driver.thermal.conduction import FIRST_LAYER, HeatGeometry, TwoBodyHeat, geometric_steps
+from rubberfriction.driver.thermal.road_deflection import ElasticRoad
 from rubberfriction.forms.compound import Thermal
 
 
@@ -50,6 +53,8 @@ class ThermalSettings:
     element height and growth ratio, and probe points (x, z) in the block frame (mm).
     bulk_wlf: the rubber's relaxation times follow the current temperature cell by cell (WLF,
     eqs. 3.33, 3.37) where the compound is viscoelastic with WLF data; False keeps the bulk at T0.
+    road_elastic: (E, nu) of a linear elastic road whose deflection under the contact forces
+    moves the road surface each step (``road_deflection``); None: a rigid road (thesis 8.4.1).
     Defaults: thesis 8.3.1 (kappa = 1, h_c = 1e6)."""
 
     road: Thermal
@@ -63,6 +68,7 @@ class ThermalSettings:
     grading: float = 1.2
     probes: tuple[tuple[float, float], ...] = ()
     bulk_wlf: bool = True
+    road_elastic: tuple[float, float] | None = None  # (E MPa, nu): elastic road (road_deflection); None: rigid
 
     def __post_init__(self) -> None:
         V.instance("thermal.road", self.road, Thermal)
@@ -75,6 +81,11 @@ class ThermalSettings:
             V.positive(f"thermal.{name}", getattr(self, name), "mm")
         for name in ("road_ahead", "road_behind"):
             V.nonnegative(f"thermal.{name}", getattr(self, name), "mm")
+        if self.road_elastic is not None:
+            E, nu = self.road_elastic
+            V.positive("thermal.road_elastic E", E, "MPa")
+            if not -1.0 < V.real("thermal.road_elastic nu", nu) < 0.5:
+                raise V.InputError(f"thermal.road_elastic nu = {nu!r}: expected -1 < nu < 0.5")
 
 
 @dataclass
@@ -84,8 +95,9 @@ class ThermalMacroResult:
     (mean over the whole block surface), T_max
     (hottest block surface node), T_road_behind (road surface one element behind the block),
     heat_block, heat_road (stored, mJ/mm), friction_energy (cumulative heat input, mJ/mm),
-    contact_dissipation (the contact's cumulative frictional dissipation, mJ/mm), probes (K);
-    the final profiles along the interface; stats."""
+    contact_dissipation (the contact's cumulative frictional dissipation, mJ/mm), road_sink (mean
+    road surface deflection u_z under the contact, pressure-weighted, mm; 0 on a rigid road),
+    probes (K); the final profiles along the interface; stats."""
 
     sliding: SlidingResult
     series: dict[str, np.ndarray] = field(default_factory=dict)
@@ -160,6 +172,10 @@ class ThermalCoupler:
         Tb, _ = self.heat.interface_temperatures()
         self._T_prev = Tb
         run.contact.set_slave_temperatures(self._slave_temperatures(Tb))
+        self.road = None
+        self.road_sink = 0.0
+        if s.road_elastic is not None:
+            self._start_elastic_road(run, h_x, length)
         history = getattr(run.sp, "history", None)
         self.bulk_map = None  # bilinear, built only where the bulk follows the temperature
         if s.bulk_wlf and history is not None and getattr(run.spec.compound, "wlf", None) is not None:
@@ -206,6 +222,8 @@ class ThermalCoupler:
         run.contact.set_slave_temperatures(slave_T)
         if self.bulk_map is not None:
             self._update_bulk(run)
+        if self.road is not None:
+            self._deflect_road(run, st, t)
         p = st["pressure"] * st["weight"] * st["active"]
         T_contact = float(p @ slave_T / p.sum()) if p.sum() > 0 else float("nan")
         self.max_step_dT = max(self.max_step_dT, float(np.max(np.abs(Tb - self._T_prev))))
@@ -215,10 +233,44 @@ class ThermalCoupler:
         mu = -st["Fx"] / st["Fz"] if st["Fz"] else float("nan")
         self.rows.append((t, float(run.spec.velocity) * (t - run.t_start), mu, T_contact, float(Tb.mean()),
                           float(Tb.max()), float(Tr[self.behind]), eb, er, self.energy, self.dissipation,
-                          *[float(self.heat.T.x.array[d]) for d in self.probe_dofs]))
+                          self.road_sink, *[float(self.heat.T.x.array[d]) for d in self.probe_dofs]))
         mean = lambda v: (L @ v) / np.maximum(self.count, 1.0)  # noqa: E731 -- per interface node
         self._last = {"x": self.heat.interface.x + self.x0, "T_block": Tb, "pressure": mean(st["pressure"]),
                       "power": power / self.heat.interface.weights, "mu": mean(st["mu"])}
+
+    def _start_elastic_road(self, run, h_x: float, length: float) -> None:
+        """The elastic road (``road_deflection``) under the block and the road's master polyline
+        refined to h_x / 2 (the deflection needs vertices to move); loaded by the compressed state."""
+        s = self.settings
+        E, nu = s.road_elastic
+        margin = s.road_depth  # the clamped ends stay a road depth away from the block
+        self.road = ElasticRoad(self.x0 - s.road_behind - margin, self.x0 + length + s.road_ahead + margin,
+                                s.road_depth, h_x=h_x, E=E, nu=nu, first_layer=s.first_layer, grading=s.grading)
+        m = run.contact.master
+        x = np.union1d(m.vertices[:, 0], np.arange(m.vertices[0, 0], m.vertices[-1, 0], 0.5 * h_x))
+        self.master_base = np.column_stack([x, np.interp(x, m.vertices[:, 0], m.vertices[:, 1])])
+        self.master_period = float(m.period)
+        self._deflect_road(run, run.contact.state(), run.t_start)
+
+    def _deflect_road(self, run, st: dict, t: float) -> None:
+        """Road deflection under the reversed slave nodal contact forces at the slave's current x;
+        the master moves with it for the next step (offset of the step's end, -v (t + dt - t_s))."""
+        n, p, w = st["normal"], st["pressure"], st["weight"]
+        tangent = np.column_stack([n[:, 1], -n[:, 0]])
+        f_slave = w[:, None] * (-p[:, None] * n + st["tangential_traction"][:, None] * tangent)
+        d = run.contact.slave.dofs
+        x = run.contact.slave.X[:, 0] + run.sp.w.x.array[d[:, 0]]
+        self.road.deflect(x, -f_slave)
+        on = st["active"] & (p > 0)
+        sink = float((p * w)[on] @ self.road.at(x[on])[:, 1] / (p * w)[on].sum()) if on.any() else 0.0
+        # the block follows the road's sink rigidly (Newton's start only): a road that moved away
+        # by more than the penalty penetration would leave a load-controlled block without contact
+        run.sp.w.x.array[run.sp.displacement_dofs()[:, 1]] += sink - self.road_sink
+        self.road_sink = sink
+        offset = -float(run.spec.velocity) * (t + float(run.dt_slide) - float(run.t_start))
+        base = self.master_base
+        moved = base + self.road.at(base[:, 0] + offset)
+        run.contact.set_rigid_master(RigidMaster(moved, self.master_period))
 
     def _update_bulk(self, run) -> None:
         """Cell temperatures of the mechanical block from the heat field (WLF shift per cell)."""
@@ -270,7 +322,7 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSetti
     if coupler.heat is None:
         return out
     cols = ["t", "s", "mu", "T_contact", "T_surface", "T_max", "T_road_behind", "heat_block", "heat_road",
-            "friction_energy", "contact_dissipation"]
+            "friction_energy", "contact_dissipation", "road_sink"]
     cols += [f"probe_{i}" for i in range(len(settings.probes))]
     arr = np.array(coupler.rows, float).reshape(-1, len(cols))
     out.series = {c: arr[:, i] for i, c in enumerate(cols)}
