@@ -375,6 +375,8 @@ PYBIND11_MODULE(_contact, m) {
       .def("set_allow_new_nonzeros", &rf::ContactInterface::set_allow_new_nonzeros, py::arg("allow"))
       .def("set_periodic_seam", &rf::ContactInterface::set_periodic_seam, py::arg("seam"),
            "The slave's chain ends are the seam of a periodic cell: they keep the slave normal")
+      .def("set_master_frame", &rf::ContactInterface::set_master_frame, py::arg("on"),
+           "Every slave node takes the master's normal averaged over its support as contact frame")
       .def(
           "reset_history",
           [](rf::ContactInterface& c, const DArray& u, const std::array<double, 2>& offset) {

@@ -630,7 +630,7 @@ std::vector<ContactInterface::NodalIntegrals> ContactInterface::integrate(const 
     a.gx = constantX(0.0, S);
     a.gy = constantX(0.0, S);
     a.area = constantX(0.0, S);
-    if (vertex_end(A)) a.nu = {constantX(0.0, S), constantX(0.0, S)};
+    if (master_frame_node(A)) a.nu = {constantX(0.0, S), constantX(0.0, S)};
   }
   if (method_ == Method::node_to_surface) {
     for (const PairRecord& pr : pairs)
@@ -673,7 +673,7 @@ void ContactInterface::scatter_pair(const PairIntegrals& pi, const PairSlots& ps
   scatter(pi.gap[r][0], a.gx, base);
   scatter(pi.gap[r][1], a.gy, base);
   scatter(pi.area[r], a.area, base);
-  if (vertex_end(ps.receivers[r])) {
+  if (master_frame_node(ps.receivers[r])) {
     scatter(pi.nu[r].x, a.nu.x, base);
     scatter(pi.nu[r].y, a.nu.y, base);
   }
@@ -715,7 +715,7 @@ NodalKinematics ContactInterface::nodal_kinematics(int A, const Stencil& L, cons
   kin.area = a.area;
   if (method_ == Method::node_to_surface) {
     kin.normal = a.frame;
-  } else if (vertex_end(A) && norm(values(a.nu)) > 0.0) {
+  } else if (master_frame_node(A) && norm(values(a.nu)) > 0.0) {
     kin.normal = normalized(a.nu);
   } else {
     const int p = prev_node(A), q = next_node(A);

@@ -81,6 +81,10 @@ class ContactInterface {
   void set_allow_new_nonzeros(bool allow) { allow_new_nonzeros_ = allow; }
   /// The slave's two chain ends are the seam of a periodic cell (see vertex_end)
   void set_periodic_seam(bool seam) { periodic_seam_ = seam; }
+  /// Every node's contact frame is the master's normal averaged over its support (as a chain
+  /// end's always is): the pressure acts along the road's normal and the friction along its
+  /// tangent, whatever the slave's bending (a sharp corner folding over a flat road)
+  void set_master_frame(bool on) { master_frame_ = on; }
   /// Temperature of each slave node for mu(p, v, T) when the slave carries no temperature dofs
   /// (staggered thermomechanical coupling: the heat solver owns the temperature); empty: T_ref.
   void set_slave_temperatures(std::vector<double> T);
@@ -195,6 +199,9 @@ class ContactInterface {
   /// periodic cell (there the two ends are one point of a closed chain, tied by the cell's
   /// constraint, and keep the one-sided slave normal of 5.36)
   bool vertex_end(int A) const { return chain_end(A) && !periodic_seam_; }
+  /// Node A's contact frame is the master's averaged normal (a vertex end, or every node with
+  /// set_master_frame(true)); else the averaged slave normal of 5.36.
+  bool master_frame_node(int A) const { return master_frame_ || vertex_end(A); }
   int stride() const;  ///< dual variables per entity: 2 (x, y) or 3 (x, y, T)
   bool conduction_possible() const;
   V2<DX> position_dual(const Stencil& L, int e) const;
@@ -216,6 +223,7 @@ class ContactInterface {
   int n_gauss_ = 4;
   bool allow_new_nonzeros_ = false;
   bool periodic_seam_ = false;
+  bool master_frame_ = false;
   DofIndex max_dof_ = -1;
 
   // state of the current evaluation

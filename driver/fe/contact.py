@@ -65,6 +65,8 @@ METHODS = {"mortar": "mortar", "nts": "nts", "node_to_segment": "nts", "surface"
            "node_to_surface": "surface"}
 #: Gauss points per mortar integration segment (exact for the patch test from 2 on).
 DEFAULT_GAUSS_POINTS = 4
+#: contact frames (``Contact(frame=...)``): the averaged slave normal, or the master's normal
+FRAMES = ("slave", "master")
 
 
 @dataclass(frozen=True)
@@ -167,6 +169,10 @@ class Contact:
         side); leave empty when constraints are condensed afterwards (P^T A P).
     allow_new_nonzeros: do not error on couplings missing from the matrix pattern (PETSc then
         mallocs; the count is reported by :meth:`assemble`).
+    frame: "slave" (the averaged slave normal of eq. 5.36 at every node but a chain end, whose frame
+        is the master's) or "master" (every node's frame is the master's normal averaged over its
+        support: pressure along the road's normal, friction along its tangent however the slave
+        bends; the sharp-cornered block, ``verify sliding-block --edge-radius 0``).
     comm: the run's communicator (must have one rank).
     """
 
@@ -174,7 +180,7 @@ class Contact:
                  E_eff: float | None = None, penalty: PenaltySettings | None = None,
                  thermal: ThermalSettings | None = None, search_radius: float | None = None,
                  gauss_points: int = DEFAULT_GAUSS_POINTS, fixed_dofs=None,
-                 allow_new_nonzeros: bool = False, comm=None):
+                 allow_new_nonzeros: bool = False, frame: str = "slave", comm=None):
         _check_serial(comm)
         if method not in METHODS:
             raise ValueError(f"method: got {method!r}, expected one of {sorted(set(METHODS.values()))}")
@@ -187,6 +193,10 @@ class Contact:
             None if slave.interior_points is None else np.asarray(slave.interior_points, float),
             self.method)  # the binding takes the short names
         self._c.set_periodic_seam(bool(slave.periodic_seam))
+        if frame not in FRAMES:
+            raise ValueError(f"frame: got {frame!r}, expected one of {FRAMES}")
+        self.frame = frame
+        self._c.set_master_frame(frame == "master")
         if isinstance(master, RigidMaster):
             self._c.set_rigid_master(np.asarray(master.vertices, float), float(master.period))
         elif isinstance(master, DeformableMaster):

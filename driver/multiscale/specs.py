@@ -136,6 +136,8 @@ def stored_spec(stored: StoredRun) -> SlidingSpec:
     kw: dict[str, Any] = {}
     for f in dataclasses.fields(SlidingSpec):
         v = image.get(f.name)
+        if f.name not in image and f.name not in ("surface_x", "surface_h", "compound"):
+            continue  # a field added after the run: its default (what the run computed with)
         if f.name in ("surface_x", "surface_h"):
             kw[f.name] = np.asarray(stored.inputs[f.name], dtype=float)
         elif f.name == "compound":

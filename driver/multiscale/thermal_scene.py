@@ -14,6 +14,8 @@ Outputs under ``<output>/thermal/``:
 * ``<run>/interface.csv`` -- the final profile along the block: x, T_block, pressure, frictional
   power density, mu;
 * ``<run>/temperature.xdmf`` -- the final temperature field of both bodies (ParaView);
+* ``<run>/surface_history.csv`` / ``.png`` -- the rubber surface along the block and the road surface
+  (the heated track behind the block) over the sliding distance;
 * ``<run>/thermal.png`` -- mu(s), temperatures(s), heat balance and the final interface profile;
 * with ``slides`` > 1: ``<run>/slide_<k>/`` holds the files above per slide and
   ``<run>/history.csv`` the whole sequence (global time, slide number or 0 in a pause, mean rubber
@@ -250,6 +252,37 @@ def write_run(res: ThermalMacroResult, folder: Path, T0: float) -> None:
             x.write_function(heat.T, heat.time)
     if res.series and len(res.series["t"]):
         plot_run(res, folder / "thermal.png", T0)
+    if res.surface_history:
+        write_surface_history(res, folder, T0)
+
+
+def write_surface_history(res: ThermalMacroResult, folder: Path, T0: float, max_rows: int = 200) -> None:
+    """surface_history.csv (long format: s, body, x, T; at most ``max_rows`` sliding steps, evenly
+    picked, the last always) and surface_history.png: the rubber surface along the block and the
+    road surface (the track behind the block, x < 0) over the sliding distance."""
+    h, s = res.surface_history, res.series["s"]
+    rows = np.unique(np.linspace(0, len(s) - 1, min(len(s), max_rows)).round().astype(int))
+    with open(folder / "surface_history.csv", "w") as f:
+        f.write("s,body,x,T\n")
+        for k in rows:
+            for body, x, T in (("block", h["x_block"], h["T_block"][k]), ("road", h["x_road"], h["T_road"][k])):
+                for xi, Ti in zip(x, T):
+                    f.write(f"{s[k]:.8g},{body},{xi:.8g},{Ti:.8g}\n")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
+    for a, key, xk, title in ((ax[0], "T_block", "x_block", "rubber surface"),
+                              (ax[1], "T_road", "x_road", "road surface (track behind the block: x < 0)")):
+        m = a.pcolormesh(h[xk], s, h[key] - T0, shading="nearest", cmap="inferno")
+        a.set(xlabel="x (mm, block frame, trailing edge 0)", title=title)
+        fig.colorbar(m, ax=a, label="T - T0 (K)")
+    ax[0].set_ylabel("sliding distance s (mm)")
+    fig.tight_layout()
+    fig.savefig(folder / "surface_history.png", dpi=110)
+    plt.close(fig)
 
 
 def _csv(path: Path, cols: dict) -> None:

@@ -24,6 +24,15 @@ on the macro scale against the frictional heat).
 Repeated slides with pauses (thesis 8.5.2): ``run_thermal_slides``.  An elastic road instead of
 the rigid one: ``ThermalSettings.road_elastic`` (``road_deflection``: its surface deflection under
 the contact forces moves the road polyline, staggered like the heat).
+
+Rough road (a spec whose surface is the macro band of a road, ``thermal_scene.macro_inputs``): the
+mechanics sees the rough polyline; the heat problem keeps its rectangles, the road's in coordinates
+flattened along its surface (depth measured down from the road surface at the same x) and the
+block's undeformed.  The transport along x is then exact (a road point keeps its depth below the
+surface as it moves at -v) and so is the heat capacity (the shear map x, z -> x, z - h(x) keeps
+volumes); the conduction drops the metric terms of the map: a flux per unit x enters an area
+sqrt(1 + h'^2) times larger, so surface temperature rises are overestimated by about h'^2 / 2 at a
+contact spot of slope h' (contact sits near asperity tops, where h' is small).
 """
 
 from __future__ import annotations
@@ -104,6 +113,9 @@ class ThermalMacroResult:
     profiles: dict[str, np.ndarray] = field(default_factory=dict)
     stats: dict[str, float] = field(default_factory=dict)
     heat: TwoBodyHeat | None = None  # the heat problem at the end (fields for output)
+    # surface temperatures over time: x_block (n_b,), x_road (n_r,) in the block frame (mm), T_block
+    # (steps, n_b) of the rubber surface, T_road (steps, n_r) of the road surface, K; rows = series rows
+    surface_history: dict[str, np.ndarray] = field(default_factory=dict)
     probe_dofs: list[int] = field(default_factory=list)  # heat dofs of settings.probes
 
     @property
@@ -165,6 +177,7 @@ class ThermalCoupler:
         xr, _ = self.heat.road_surface()
         self.behind = int(np.argmin(np.abs(xr + h_x)))  # road surface node one element behind the block
         self.rows: list[tuple] = []
+        self.surface_rows: list[tuple[np.ndarray, np.ndarray]] = []  # per step: block and road surface T
         self.energy = self.dissipation = 0.0
         self.cpu_heat = 0.0
         self.max_rescale = 0.0  # largest |scale - 1| of the nodal power (0 without cut-backs)
@@ -231,6 +244,7 @@ class ThermalCoupler:
         _, Tr = self.heat.road_surface()
         eb, er = self.heat.heat_content()
         mu = -st["Fx"] / st["Fz"] if st["Fz"] else float("nan")
+        self.surface_rows.append((Tb, Tr))
         self.rows.append((t, float(run.spec.velocity) * (t - run.t_start), mu, T_contact, float(Tb.mean()),
                           float(Tb.max()), float(Tr[self.behind]), eb, er, self.energy, self.dissipation,
                           self.road_sink, *[float(self.heat.T.x.array[d]) for d in self.probe_dofs]))
@@ -327,6 +341,11 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSetti
     arr = np.array(coupler.rows, float).reshape(-1, len(cols))
     out.series = {c: arr[:, i] for i, c in enumerate(cols)}
     out.profiles = getattr(coupler, "_last", {})
+    if coupler.surface_rows:
+        xr, _ = coupler.heat.road_surface()
+        out.surface_history = {"x_block": coupler.heat.interface.x + coupler.x0, "x_road": xr + coupler.x0,
+                               "T_block": np.array([r[0] for r in coupler.surface_rows]),
+                               "T_road": np.array([r[1] for r in coupler.surface_rows])}
     out.heat = coupler.heat
     out.probe_dofs = coupler.probe_dofs
     out.stats.update({"max_step_dT": coupler.max_step_dT, "heat_dofs": float(len(coupler.heat.X)),
