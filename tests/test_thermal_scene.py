@@ -109,7 +109,8 @@ def test_small_thermal_scene_end_to_end(tmp_path):
     """``rubberfriction run`` on a thermal scene with constant mu = 0.5 (4 x 2 mm block, 1 m/s,
     0.3 MPa): exit 0, one ok row; the contact heats (T_C > T0); the series stores the heat put in
     (stored = frictional energy within 1e-5 while no heat can have left); the probe in the road
-    under the block warms; the field is written for ParaView and the plot exists."""
+    under the block warms; the field is written for ParaView and the plots exist; the surface
+    history ends with the final interface profile."""
     scene = tmp_path / "hot.toml"
     scene.write_text(BASE + SMALL)
     out = tmp_path / "out"
@@ -128,8 +129,15 @@ def test_small_thermal_scene_end_to_end(tmp_path):
     np.testing.assert_allclose(series["heat_block"][early] + series["heat_road"][early],
                                series["friction_energy"][early], rtol=1e-5)
     assert series["probe_0"][-1] > T0 + 0.1
-    for name in ("interface.csv", "temperature.xdmf", "temperature.h5", "thermal.png"):
+    for name in ("interface.csv", "temperature.xdmf", "temperature.h5", "thermal.png", "surface_history.png"):
         assert (run / name).is_file(), name
+    # the surface history's last row is the final interface profile (1e-7 K: printed digits)
+    hist = np.genfromtxt(run / "surface_history.csv", delimiter=",", names=True, dtype=None, encoding=None)
+    itf = np.genfromtxt(run / "interface.csv", delimiter=",", names=True)
+    last = (hist["s"] == hist["s"].max()) & (hist["body"] == "block")
+    np.testing.assert_allclose(hist["x"][last], itf["x"], atol=1e-7)
+    np.testing.assert_allclose(hist["T"][last], itf["T_block"], atol=1e-5)
+    assert np.isclose(hist["s"].max(), series["s"][-1])
 
 
 @pytest.mark.mpi
