@@ -11,12 +11,15 @@ store, computing only the missing lower-scale runs, to the same result; bad sett
 
 from __future__ import annotations
 
+import functools
+import math
 import textwrap
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from rubberfriction.driver.multiscale.cascade import relative_contact_area
 from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
 from rubberfriction.driver.multiscale.scene import load_scene
@@ -25,6 +28,7 @@ from rubberfriction.driver.multiscale.thermal_loop import CascadeRunner, Layered
 from rubberfriction.driver.runtime.farm import Executor
 from rubberfriction.driver.runtime.store import Store
 from rubberfriction.driver.sliding.run import sliding_runner
+from rubberfriction.driver.theory.adhesion import BellLaw, mu_adhesion
 from rubberfriction.driver.thermal.macro import ThermalSettings, flat_road_spec
 from rubberfriction.forms.material_files import load_road
 
@@ -287,3 +291,23 @@ def test_automatic_points_are_dense_where_the_surface_heats_fast(case: Case):
     assert all(b - a >= 1.0 for a, b in zip(T[:-2], T[1:-1]))
     ref = case.loop(1000.0, LoopSettings(divisions=8, mu_const=0.6))
     assert abs(res.mu - ref.mu) < 1e-3 * ref.mu
+
+
+def test_adhesive_part_follows_each_cascades_contact_area(case: Case):
+    """With the scene's bell law every cascade of the loop adds alpha mu_A = alpha tau_A(v) A_r / p
+    on its top scale (eq. 7.6-7.8), A_r the product of that cascade's per-scale contact fractions
+    (eq. 7.5): checked for the isothermal cascade and every interval's against the closed form from
+    the stored fractions (1e-12), and the loop's final mu carries it (above the same loop without
+    adhesion by at least half of alpha mu_A: the friction branch above adds hysteresis, not less)."""
+    law = BellLaw(tau0=0.5, c=0.18, v0=20.0, alpha=0.8)
+    settings = LoopSettings(divisions=2, mu_const=0.0)
+    plain = case.loop(1000.0, settings)
+    adh = case.loop(1000.0, settings, cascade_cls=functools.partial(CascadeRunner, adhesion=law))
+    assert plain.ok and adh.ok, (plain.notes, adh.notes)
+    for result in [adh.isothermal] + [iv.cascade for iv in adh.intervals]:
+        A_r = relative_contact_area([s.contact.mean for s in result.scales])
+        expected = law.alpha * float(mu_adhesion(law, 1000.0, 0.3, A_r))
+        assert 0.0 < A_r < 1.0
+        assert result.mu_adhesion == pytest.approx(expected, rel=1e-12, abs=0.0)
+    assert adh.mu - plain.mu > 0.5 * adh.intervals[-1].cascade.mu_adhesion
+    assert math.isnan(plain.isothermal.mu_adhesion)

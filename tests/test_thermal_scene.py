@@ -68,6 +68,14 @@ def test_repeated_slides_scene_writes_each_slide_and_the_history(tmp_path):
         assert (run / f"slide_{k}" / "series.csv").is_file()
 
 
+def test_given_mu_with_adhesion_is_refused():
+    """A given mu is the whole macro friction: a bell law on top would be silently dropped."""
+    text = BASE.replace("[physics]\nthermal = true", "[physics]\nthermal = true\nadhesion = true")
+    text += "mu = 0.5\n[adhesion]\ntau0 = 1.0\nc = 0.1\nv0 = 10.0\n"
+    with pytest.raises(SceneError, match=r"mode = 'given' with \[physics\]\.adhesion = true"):
+        parse_scene(text, "t.toml", Path("."))
+
+
 def test_thermal_true_needs_a_thermal_table():
     text = BASE.replace("[thermal]\n", "")
     with pytest.raises(SceneError, match=r"expected a \[thermal\] table"):

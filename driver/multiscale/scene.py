@@ -843,6 +843,10 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
             raise SceneError(f"{where}: mode = '{t['mode']}' with road_surface = '{t['road_surface']}': the "
                              "loop's cascade already holds the macro band; a rough macro road takes a given mu "
                              "(mode = 'given')")
+    elif doc.get("physics", {}).get("adhesion", False):
+        raise SceneError(f"{where}: mode = 'given' with [physics].adhesion = true: the given mu is the whole "
+                         "macro friction; put the adhesive part into mu, or use mode = 'coupled' (the bell law "
+                         "on every cascade's contact area)")
     elif (t["mu"] is None) == (not T):
         raise SceneError(f"{where}: expected exactly one of mu (constant) and mu_curve_T/mu_curve_mu "
                          "(mu(T_s)), or mode = 'coupled' (mu from the lower scales)")

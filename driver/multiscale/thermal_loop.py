@@ -5,7 +5,11 @@ The procedure of fig. 8.4 b (lower right) that the thesis proposed and ran by ha
 A. the isothermal cascade (chapter 6, ``cascade.RoughCascade``) gives mu(T0); the thermomechanical
    macro run (``thermal.macro``: block on the flat road, frictional heating) starts with
    mu_const + mu(T0) in its contact (mu_const: a constant part the lower scales do not give, the
-   thesis' adhesive part, 8.3.2, or the 0.6 of 8.4.3);
+   thesis' adhesive part, 8.3.2, or the 0.6 of 8.4.3).  With the scene's bell law
+   (``CascadeRunner(adhesion=)``) every cascade adds alpha mu_A = alpha tau_A(v) A_r / p on its top
+   scale (eq. 7.6-7.8) with the real contact area A_r of that cascade: the flash temperature then
+   acts on the adhesive part through A_r (hot, softer rubber touches more); tau_A(v) is the law's,
+   not shifted by temperature;
 B. at each homogenisation point s_i (sliding distance) the rubber temperature below the active
    contact nodes is averaged over x, eq. (8.1) (``thermal.profile.average_profile``);
 C. the profile becomes n_p partitions over ``partition_depth`` (8.3.3), the temperature layers of
@@ -39,6 +43,7 @@ from rubberfriction.driver.multiscale.cascade import RoughCascade
 from rubberfriction.driver.multiscale.results import Point, PointResult, ScaleSet
 from rubberfriction.driver.runtime.farm import run_farm
 from rubberfriction.driver.sliding.spec import SlidingSpec
+from rubberfriction.driver.theory.adhesion import BellLaw
 from rubberfriction.driver.thermal.conduction import block_levels
 from rubberfriction.driver.thermal.macro import (
     ThermalCoupler,
@@ -166,7 +171,9 @@ class CascadeRunner:
     :meth:`serve` until rank 0 says "done"."""
 
     def __init__(self, campaign: str, point: Point, scales: Sequence[ScaleSet], make_spec, k: int, j: int,
-                 execute, comm=None, progress=None, max_failed_fraction: float = 0.25):
+                 execute, comm=None, progress=None, max_failed_fraction: float = 0.25,
+                 adhesion: BellLaw | None = None):
+        self.adhesion = adhesion  # the scene's bell law: alpha mu_A on the top scale of every cascade
         self.campaign, self.point, self.scales = campaign, point, list(scales)
         self.make_spec, self.k, self.j = make_spec, k, j
         self.execute, self.comm, self.progress = execute, comm, progress
@@ -175,7 +182,7 @@ class CascadeRunner:
 
     def __call__(self, partitions: Partitions | None) -> PointResult:
         planner = RoughCascade(self.campaign, self.point, self.scales, LayeredSpecs(self.make_spec, partitions),
-                               self.k, self.j, max_failed_fraction=self.max_failed)
+                               self.k, self.j, adhesion=self.adhesion, max_failed_fraction=self.max_failed)
         if self.comm is not None and self.comm.Get_size() > 1:
             self.comm.bcast("cascade", root=0)
         run_farm(lambda: planner, self.execute, self.progress, self.comm)

@@ -128,7 +128,8 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet) -> list[Therm
         spec, settings = macro_inputs(scene, comp, road, p, v, T0, 0.0)  # friction: from the loop
         cascade = CascadeRunner(scene.name, Point(name, p, v), scales.sets, make_spec, scene.samples.pressure,
                                 scene.samples.friction, executor, comm,
-                                max_failed_fraction=scene.samples.max_failed_fraction)
+                                max_failed_fraction=scene.samples.max_failed_fraction,
+                                adhesion=scene.adhesion if scene.physics.adhesion else None)
         wall = time.perf_counter()
         try:
             if t.mode == "hot-layer":
