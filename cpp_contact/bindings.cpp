@@ -377,8 +377,6 @@ PYBIND11_MODULE(_contact, m) {
            "The slave's chain ends are the seam of a periodic cell: they keep the slave normal")
       .def("set_master_frame", &rf::ContactInterface::set_master_frame, py::arg("on"),
            "Every slave node takes the master's normal averaged over its support as contact frame")
-      .def("set_gauss_newton", &rf::ContactInterface::set_gauss_newton, py::arg("on"),
-           "node_to_surface: Gauss-Newton tangent (the frame's derivatives dropped; residual unchanged)")
       .def(
           "reset_history",
           [](rf::ContactInterface& c, const DArray& u, const std::array<double, 2>& offset) {

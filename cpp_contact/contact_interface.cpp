@@ -449,9 +449,6 @@ void ContactInterface::search_surface(std::vector<PairRecord>& pairs) const {
 // gbar_A = w_A g n_A / |n_A|^2, so that the nodal law's g_A = gbar_A . n_A / A_A is g. The law's
 // P_A = p_A n_A then makes R_A = w_A P_A = d/dx_A (w_A c_N <-g_A>^2 / 2): the residual is a
 // gradient and its tangent (second derivatives of g through h'', h''') is symmetric.
-// With set_gauss_newton(true) the frame is held at its value in the derivatives: the tangent is
-// then c_N n_A (grad g)^T, the Gauss-Newton part of the Hessian, positive semi-definite where the
-// exact one is indefinite (a pressed node on a peak sharper than its element); same residual.
 void ContactInterface::surface_integrals(int A, const Stencil& L, NodalIntegrals& a) const {
   const std::size_t iA = static_cast<std::size_t>(A);
   const Eigen::Index S = stride() * static_cast<Eigen::Index>(L.size());
@@ -463,7 +460,6 @@ void ContactInterface::surface_integrals(int A, const Stencil& L, NodalIntegrals
   const DX m = sqrt(1.0 + h1 * h1);
   const DX g = phi / m;
   a.frame = {h1 / m + phi * h1 * h2 / (m * m * m), -1.0 / m};
-  if (gauss_newton_) a.frame = {constantX(a.frame.x.v, S), constantX(a.frame.y.v, S)};
   const double w = w_ref_[iA];
   const DX nn = a.frame.x * a.frame.x + a.frame.y * a.frame.y;
   a.area = constantX(w, S);

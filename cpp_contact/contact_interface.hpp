@@ -85,8 +85,6 @@ class ContactInterface {
   /// end's always is): the pressure acts along the road's normal and the friction along its
   /// tangent, whatever the slave's bending (a sharp corner folding over a flat road)
   void set_master_frame(bool on) { master_frame_ = on; }
-  /// node_to_surface: tangent without the frame's derivatives (Gauss-Newton; residual unchanged)
-  void set_gauss_newton(bool on) { gauss_newton_ = on; }
   /// Temperature of each slave node for mu(p, v, T) when the slave carries no temperature dofs
   /// (staggered thermomechanical coupling: the heat solver owns the temperature); empty: T_ref.
   void set_slave_temperatures(std::vector<double> T);
@@ -226,7 +224,6 @@ class ContactInterface {
   bool allow_new_nonzeros_ = false;
   bool periodic_seam_ = false;
   bool master_frame_ = false;
-  bool gauss_newton_ = false;
   DofIndex max_dof_ = -1;
 
   // state of the current evaluation

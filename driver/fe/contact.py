@@ -180,8 +180,7 @@ class Contact:
                  E_eff: float | None = None, penalty: PenaltySettings | None = None,
                  thermal: ThermalSettings | None = None, search_radius: float | None = None,
                  gauss_points: int = DEFAULT_GAUSS_POINTS, fixed_dofs=None,
-                 allow_new_nonzeros: bool = False, frame: str = "slave", gauss_newton: bool = False,
-                 comm=None):
+                 allow_new_nonzeros: bool = False, frame: str = "slave", comm=None):
         _check_serial(comm)
         if method not in METHODS:
             raise ValueError(f"method: got {method!r}, expected one of {sorted(set(METHODS.values()))}")
@@ -198,7 +197,6 @@ class Contact:
             raise ValueError(f"frame: got {frame!r}, expected one of {FRAMES}")
         self.frame = frame
         self._c.set_master_frame(frame == "master")
-        self._c.set_gauss_newton(bool(gauss_newton))
         if isinstance(master, RigidMaster):
             self._c.set_rigid_master(np.asarray(master.vertices, float), float(master.period))
         elif isinstance(master, DeformableMaster):
@@ -249,11 +247,6 @@ class Contact:
             raise TypeError("set_rigid_master: the interface and the new master must both be rigid")
         self.master = master
         self._c.set_rigid_master(np.asarray(master.vertices, float), float(master.period))
-
-    def set_gauss_newton(self, on: bool) -> None:
-        """Node-to-surface: Gauss-Newton tangent (the frame's derivatives dropped) from the next
-        evaluation on; the residual is unchanged."""
-        self._c.set_gauss_newton(bool(on))
 
     def set_time_step(self, dt: float) -> None:
         self.dt = float(dt)

@@ -46,8 +46,7 @@ def sliding_contact(sp, spec, formulation: str) -> Contact:
         alpha = float(getattr(spec, "penalty_alpha", PENALTY_ALPHA))
         pen, E_eff = PenaltySettings(alpha=alpha, tangential_fraction=frac), penalty_modulus(spec)
     contact = Contact(slave, master, method=formulation, friction=spec.friction, E_eff=E_eff, penalty=pen,
-                      frame=getattr(spec, "contact_frame", "slave"),
-                      gauss_newton=bool(getattr(spec, "gauss_newton", False)), comm=sp.mesh.comm)
+                      frame=getattr(spec, "contact_frame", "slave"), comm=sp.mesh.comm)
     T_face = surface_temperature(getattr(spec, "temperature_layers", ()), getattr(spec, "temperature", None))
     if T_face is not None:  # a mu(p, v, T) law sees the contact face's temperature
         contact.set_temperature(float(T_face))

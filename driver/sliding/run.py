@@ -92,10 +92,6 @@ class ContactLike:
 #: sub-steps in a row double the sub-step length (one would make it oscillate: double, fail, halve)
 EASY_ITERATIONS = 6
 EASY_STREAK = 2
-#: node-to-surface retry with the Gauss-Newton contact tangent: linear convergence, so more
-#: iterations, and stagnation only when 20 iterations do not halve the best residual
-GAUSS_NEWTON_ITERATIONS = 100
-GAUSS_NEWTON_STAGNATION = 20
 
 
 class Attempt(NamedTuple):
@@ -261,10 +257,6 @@ class SlidingRun:
                 self._start_iterate(predict, h, x_saved)
             res = self.newton.solve()
             self.newton_iterations += res.iterations
-            if not res.converged and self._gauss_newton_retry():
-                self.sp.w.x.array[:] = x_saved  # the same sub-step, from its start
-                res = self._solve_gauss_newton()
-                self.newton_iterations += res.iterations
             ok, reason = res.converged, res.reason
             if ok and self._inverted():
                 ok, reason = False, "element inversion (det F <= 0)"
@@ -291,26 +283,6 @@ class SlidingRun:
             if adaptive:
                 self._h_next = h
         return True, "", cutbacks
-
-    def _gauss_newton_retry(self) -> bool:
-        """Node-to-surface contact with its exact tangent: a failed sub-step is tried once more with
-        the Gauss-Newton contact tangent before it is cut back (``Contact.set_gauss_newton``)."""
-        return self.contact.method == "surface" and not getattr(self.spec, "gauss_newton", False)
-
-    def _solve_gauss_newton(self):
-        """One Newton solve with the Gauss-Newton contact tangent: positive semi-definite where the
-        exact one is indefinite (a pressed node on a peak sharper than its element), so it heads for
-        the equilibrium the conservative interface has, at a linear rate: hence more iterations and
-        a patient stagnation rule (measured on the failing micro2 inputs, see the README)."""
-        s = self.newton.settings
-        keep = (s.max_iterations, s.stagnation)
-        self.contact.set_gauss_newton(True)
-        s.max_iterations, s.stagnation = GAUSS_NEWTON_ITERATIONS, GAUSS_NEWTON_STAGNATION
-        try:
-            return self.newton.solve()
-        finally:
-            self.contact.set_gauss_newton(False)
-            s.max_iterations, s.stagnation = keep
 
     def _start_iterate(self, predict, h: float, x_saved: np.ndarray) -> None:
         """Newton start of a sliding sub-step: the translation prediction if its residual is lower

@@ -43,7 +43,6 @@ class SlidingSpec:
     element: str = "Q1P0"
     contact: str = "mortar"  # "nts" or "surface" (periodic samples; driver.fe.contact.Contact)
     contact_frame: str = "slave"  # "master": every node's frame is the road's normal (Contact(frame=))
-    gauss_newton: bool = False  # contact = "surface": Gauss-Newton contact tangent (Contact(gauss_newton=))
     h_contact: float = 0.0  # contact-face element size; 0: from the surface (see mesh_size)
     elements_per_wavelength: int = 16
     grading: float = 1.15  # growth ratio of element height away from the contact face
