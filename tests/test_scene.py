@@ -221,6 +221,6 @@ def test_tangential_penalty_reaches_the_run_specs():
     assert parse().numerics.tangential_penalty == 0.1
     assert SlidingSpec.tangential_penalty == DEFAULT_TANGENTIAL_FRACTION == 0.1  # one default
     t = dataclasses.replace(load_scene("thermal_macro"), numerics=s.numerics)
-    spec, _ = macro_inputs(t, load_compound("m3"), load_road("r1").thermal, 0.3, 10.0, 293.15, 0.9)
+    spec, _ = macro_inputs(t, load_compound("m3"), load_road("r1"), 0.3, 10.0, 293.15, 0.9)
     assert spec.tangential_penalty == 0.02
     assert "tangential_penalty" in error_of(scene_text("[numerics]\ntangential_penalty = 0.0\n"))

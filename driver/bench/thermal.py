@@ -1,6 +1,6 @@
 """Benchmark: the thermal macro scale (thesis 8.4.1, 8.5.1).
 
-    rubberfriction bench thermal [--part mesh|velocities|road|all] [--out DIR]
+    rubberfriction bench thermal [--part mesh|velocities|road|bulk|all] [--out DIR]
 
 ``mesh``: the macro mesh study of thesis 8.4.1 on the shipped scene ``thermal_macro`` (20 x 8 mm
 block, p = 0.3 MPa, v = 1 m/s, 10 mm of sliding, mu(T_s) of the scene, kappa = 1, h_c = 1e6) with
@@ -21,6 +21,14 @@ contact and their differences from the rigid road (in %; T_R, which may be close
 a block whose trailing edge lifts, in K).  Run it with ``--edge-radius 1`` (thesis 8.5.1): with
 the square edge the corner's hot spot is not steady, and a deflection of 0.1 um moves T_C by
 10 % (measured after 10 mm; 0.2 % after 3 mm) -- that is the corner, not the road.
+
+``bulk``: the rubber bulk temperature study of thesis 8.5.2 (hyperelastic m2, 20 x 7 mm block with
+a 1 mm rounded leading edge, p = 0.3 MPa, v = 0.5 m/s, T0 = 20 degC, kappa = 1, h_c = 1e6, road r1,
+flat; mu = 1.0 stated, the magnitude of thesis fig. 8.14 a): ``--slides`` slides of ``--slide`` mm
+(thesis: 350 mm per experiment, which it computed as seven 50 mm runs) with a 35 s pause (block
+lifted) after each but the last, thermocouples at the back of the block (x = 2 mm) 1, 2 and 4 mm
+above the face: their temperatures at the end of each slide and pause, and the wall time per
+sliding step (the Eulerian road costs the same per step whatever the slide length).
 """
 
 from __future__ import annotations
@@ -34,7 +42,7 @@ import numpy as np
 
 from rubberfriction.driver.multiscale.scene import load_scene
 from rubberfriction.driver.multiscale.thermal_scene import friction_of
-from rubberfriction.driver.thermal.macro import ThermalSettings, flat_road_spec, run_thermal_macro
+from rubberfriction.driver.thermal.macro import ThermalSettings, flat_road_spec, run_thermal_macro, run_thermal_slides
 from rubberfriction.forms.material_files import load_compound, load_road
 
 #: mu per velocity (mm/s) for the 8.5.1 set-up: the magnitude of thesis fig. 8.11 a (stated values)
@@ -43,7 +51,8 @@ FIRST_LAYERS = (0.04, 0.02, 0.01)
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--part", choices=("mesh", "velocities", "road", "all"), default="all")
+    p.add_argument("--part", choices=("mesh", "velocities", "road", "bulk", "all"), default="all")
+    p.add_argument("--slides", type=int, default=2, help="bulk: slides of --slide mm with 35 s pauses")
     p.add_argument("--velocity", type=float, default=1000.0, help="mm/s, mesh study")
     p.add_argument("--slide", type=float, default=10.0, help="sliding distance, mm")
     p.add_argument("--edge-radius", type=float, default=0.0,
@@ -83,7 +92,7 @@ def _row(res, wall: float, T0: float) -> dict:
 
 
 def run(args: argparse.Namespace) -> int:
-    parts = ("mesh", "velocities", "road") if args.part == "all" else (args.part,)
+    parts = ("mesh", "velocities", "road", "bulk") if args.part == "all" else (args.part,)
     ok = True
     if "mesh" in parts:
         scene = load_scene("thermal_macro")
@@ -129,6 +138,8 @@ def run(args: argparse.Namespace) -> int:
                   flush=True)
     if "road" in parts:
         ok &= _road_study(args)
+    if "bulk" in parts:
+        ok &= _bulk_study(args)
     return 0 if ok else 1
 
 
@@ -173,3 +184,34 @@ def main(argv: list[str] | None = None) -> int:
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     add_arguments(ap)
     return run(ap.parse_args(argv))
+
+
+def _bulk_study(args: argparse.Namespace) -> bool:
+    """Thesis 8.5.2: repeated slides with pauses, bulk thermocouples (see the module doc)."""
+    comp = dataclasses.replace(load_compound("m2"), prony=None)  # thermo-hyperelastic, as the thesis
+    road = load_road("r1").thermal
+    T0, v, mu = 293.15, 500.0, 1.0
+    probes = ((2.0, 1.0), (2.0, 2.0), (2.0, 4.0))
+    spec = flat_road_spec(comp, pressure=0.3, velocity=v, friction=mu, block_length=20.0, block_height=7.0,
+                          slide_distance=args.slide, h_contact=0.25, T0=T0, edge_radius=1.0)
+    settings = ThermalSettings(road=road, T0=T0, kappa=1.0, h_c=1.0e6, road_depth=10.0, road_ahead=2.0,
+                               road_behind=20.0, first_layer=0.01, probes=probes)
+    print(f"thesis 8.5.2 set-up: m2 (hyperelastic), 20 x 7 mm, edge radius 1 mm, p 0.3 MPa, v {v / 1e3:g} m/s, "
+          f"mu {mu} (stated), {args.slides} slides of {args.slide:g} mm, 35 s pauses; thermocouples at x = 2 mm, "
+          f"z = {', '.join(f'{z:g}' for _, z in probes)} mm", flush=True)
+    wall = time.perf_counter()
+    res = run_thermal_slides(spec, comp.thermal, settings, pauses=(35.0,) * (args.slides - 1))
+    wall = time.perf_counter() - wall
+    h = res.history
+    steps = sum(len(r.series.get("t", [])) for r in res.slides)
+    print(f"{'event':>14} {'t s':>8} " + " ".join(f"{'T(z=' + format(z, 'g') + ')-T0':>11}" for _, z in probes)
+          + f" {'surface-T0':>10}")
+    ends = [i for i in range(len(h["t"])) if i + 1 == len(h["t"]) or h["slide"][i + 1] != h["slide"][i]]
+    for i in ends:
+        what = f"end of slide {int(h['slide'][i])}" if h["slide"][i] > 0 else "end of pause"
+        print(f"{what:>14} {h['t'][i]:>8.2f} " + " ".join(f"{h[f'probe_{j}'][i] - T0:>11.3f}"
+                                                          for j in range(len(probes)))
+              + f" {h['T_surface'][i] - T0:>10.3f}")
+    print(f"{'ok' if res.ok else 'failed'}: {steps} sliding steps in {wall:.0f} s "
+          f"({1e3 * wall / max(steps, 1):.0f} ms per step incl. compression and pauses)", flush=True)
+    return res.ok
