@@ -99,3 +99,15 @@ def test_block_on_the_rough_road_heats_and_keeps_the_heat_balance():
     assert s["T_contact"][-1] > T0 + 1.0
     assert np.mean(s["mu"][len(s["mu"]) // 2:]) > 1.02 * 0.3
     assert np.all(s["road_sink"] < 0.0)
+
+
+def test_shipped_rough_thermal_scene_builds_its_macro_road():
+    """The shipped scene thermal_rough: an elastic r1 road shaped by the default road's macro band
+    (rms height of the band ~1 mm: the road is rough on the block's scale)."""
+    from rubberfriction.driver.multiscale.scene import load_scene
+
+    scene = load_scene("thermal_rough")
+    [(_, compound)], road = _materials(scene)
+    spec, settings = macro_inputs(scene, compound, road, 0.3, 1000.0, T0, 0.3)
+    assert settings.road_elastic == (road.E, road.nu)
+    assert 0.5 < float(np.std(spec.surface_h)) < 2.0
