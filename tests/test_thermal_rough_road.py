@@ -103,11 +103,11 @@ def test_block_on_the_rough_road_heats_and_keeps_the_heat_balance():
 
 def test_shipped_rough_thermal_scene_builds_its_macro_road():
     """The shipped scene thermal_rough: an elastic r1 road shaped by the default road's macro band
-    (rms height of the band ~1 mm: the road is rough on the block's scale)."""
+    (its first 69 mm: rms height 0.46 mm, rough on the block's scale)."""
     from rubberfriction.driver.multiscale.scene import load_scene
 
     scene = load_scene("thermal_rough")
     [(_, compound)], road = _materials(scene)
     spec, settings = macro_inputs(scene, compound, road, 0.3, 1000.0, T0, 0.3)
     assert settings.road_elastic == (road.E, road.nu)
-    assert 0.5 < float(np.std(spec.surface_h)) < 2.0
+    assert 0.2 < float(np.std(spec.surface_h)) < 2.0
