@@ -200,7 +200,11 @@ def _bulk_study(args: argparse.Namespace) -> bool:
           f"mu {mu} (stated), {args.slides} slides of {args.slide:g} mm, 35 s pauses; thermocouples at x = 2 mm, "
           f"z = {', '.join(f'{z:g}' for _, z in probes)} mm", flush=True)
     wall = time.perf_counter()
-    res = run_thermal_slides(spec, comp.thermal, settings, pauses=(35.0,) * (args.slides - 1))
+    def progress(slide: int, k: int, n: int) -> None:
+        if k == n or k % max(1, n // 10) == 0:
+            print(f"  slide {slide}: step {k}/{n}, {time.perf_counter() - wall:.0f} s", flush=True)
+
+    res = run_thermal_slides(spec, comp.thermal, settings, pauses=(35.0,) * (args.slides - 1), progress=progress)
     wall = time.perf_counter() - wall
     h = res.history
     steps = sum(len(r.series.get("t", [])) for r in res.slides)

@@ -312,13 +312,14 @@ def _bilinear_map(xs: np.ndarray, zs: np.ndarray, x: np.ndarray, z: np.ndarray) 
 def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSettings, *,
                       observers=(), wall_limit: float = 0.0,
                       initial_block: np.ndarray | None = None,
-                      coupler: ThermalCoupler | None = None) -> ThermalMacroResult:
+                      coupler: ThermalCoupler | None = None, progress=None) -> ThermalMacroResult:
     """One thermomechanical macro run (see the module doc).  The spec must be non-periodic
     (period = 0: a finite block over a road longer than the slide).  Bulk and contact start at
     ``settings.T0``; then the heat field sets the contact temperature and, with
     ``settings.bulk_wlf``, the WLF shift of every cell (stats ``bulk_wlf``, ``bulk_T_max``).
     ``coupler``: a ThermalCoupler of these settings made by the caller (observers after it may
-    read its heat problem, as the thermal loop does); default: a new one."""
+    read its heat problem, as the thermal loop does); default: a new one.  ``progress(k, n)``: called
+    after sliding step k of n (long slides)."""
     V.instance("rubber thermal data", rubber, Thermal)
     if spec.period > 0:
         raise V.InputError("thermal macro run: the block must be finite (period = 0)")
@@ -327,7 +328,8 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSetti
         spec = replace(spec, temperature=float(settings.T0))
     if coupler is None:
         coupler = ThermalCoupler(rubber, settings, initial_block)
-    run = SlidingRun(spec, block_mesh, sliding_contact, observers=(coupler, *observers), wall_limit=wall_limit)
+    run = SlidingRun(spec, block_mesh, sliding_contact, progress=progress, observers=(coupler, *observers),
+                     wall_limit=wall_limit)
     res = run.run()
     out = ThermalMacroResult(res)
     if coupler.error is not None:
@@ -371,17 +373,19 @@ class ThermalSlidesResult:
 
 def run_thermal_slides(spec: SlidingSpec, rubber: Thermal, settings: ThermalSettings,
                        pauses: tuple[float, ...] = (), *, pause_steps: int = 40,
-                       wall_limit: float = 0.0) -> ThermalSlidesResult:
+                       wall_limit: float = 0.0, progress=None) -> ThermalSlidesResult:
     """Slides of ``spec`` one after another with a pause (s) between two (len(pauses) + 1 slides),
     as the bulk study of thesis 8.5.2: the block is lifted during a pause (no contact, conduction
     only, top at T0) and keeps its temperature field into the next slide; the road under it is
     fresh at T0 each slide (as the thesis resets the road).  Pause steps grow geometrically (the
     surface cools fastest first).  History times count sliding and pauses (the compression before
-    each slide is not counted).  Stops at the first failed slide."""
+    each slide is not counted).  Stops at the first failed slide.  ``progress(slide, k, n)``: called
+    after sliding step k of n of a slide."""
     pauses = tuple(V.nonnegative("pause", p, "s") for p in pauses)
     slides, rows, carried, t_global = [], [], None, 0.0
     for i in range(len(pauses) + 1):
-        res = run_thermal_macro(spec, rubber, settings, wall_limit=wall_limit, initial_block=carried)
+        res = run_thermal_macro(spec, rubber, settings, wall_limit=wall_limit, initial_block=carried,
+                                progress=None if progress is None else (lambda k, n, i=i: progress(i + 1, k, n)))
         slides.append(res)
         if not res.ok or res.heat is None:
             break
