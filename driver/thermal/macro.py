@@ -272,6 +272,7 @@ class ThermalCoupler:
         n, p, w = st["normal"], st["pressure"], st["weight"]
         tangent = np.column_stack([n[:, 1], -n[:, 0]])
         f_slave = w[:, None] * (-p[:, None] * n + st["tangential_traction"][:, None] * tangent)
+        f_slave[~st["active"]] = 0.0  # open or unpaired nodes carry nothing (their frame may be undefined)
         d = run.contact.slave.dofs
         x = run.contact.slave.X[:, 0] + run.sp.w.x.array[d[:, 0]]
         self.road.deflect(x, -f_slave)
