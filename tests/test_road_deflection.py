@@ -4,9 +4,7 @@ criterion and tolerance."""
 
 from __future__ import annotations
 
-import sys
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,8 +13,7 @@ from rubberfriction.driver.thermal.macro import run_thermal_macro
 from rubberfriction.driver.thermal.road_deflection import ElasticRoad
 from rubberfriction.forms.material_files import load_road
 
-sys.path.insert(0, str(Path(__file__).parent))
-from test_thermal_macro import COMPOUND, SETTINGS, _spec  # noqa: E402  (the same 4 x 2 mm block)
+from test_thermal_macro import COMPOUND, SETTINGS, _spec  # the same 4 x 2 mm block
 
 R1 = load_road("r1")
 
