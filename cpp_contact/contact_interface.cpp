@@ -705,6 +705,7 @@ void ContactInterface::scatter_pair(const PairIntegrals& pi, const PairSlots& ps
 // end node penetrates and its neighbour lifts, the end segment tilts by 5-15 degrees, and
 // p_A n_A + t_T tau_A then puts part of the pressure into F_x and part of the friction into F_z
 // (the 20 x 8 mm block of verify sliding-block slid at 0.966 mu, and the bias grows under refinement).
+// set_master_frame(true) gives every node the master's frame (README: "Master frame for every node").
 NodalKinematics ContactInterface::nodal_kinematics(int A, const Stencil& L, const NodalIntegrals& a, const double* u,
                                                    double T_ref) const {
   const int ns = slave_.num_nodes();
