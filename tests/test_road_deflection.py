@@ -31,7 +31,7 @@ def test_uniform_pressure_gives_the_oedometer_settlement():
     uniform pressure p sinks by p d (1 + nu)(1 - 2 nu) / ((1 - nu) E) (uniaxial strain), with no
     horizontal displacement.  Q1 holds the linear field exactly: 1e-9 relative on a graded mesh."""
     E, nu, d, p = R1.E, R1.nu, 10.0, 0.3
-    road = ElasticRoad(-5.0, 15.0, d, h_x=0.25, E=E, nu=nu, first_layer=0.01, grading=1.2)
+    road = ElasticRoad(-5.0, 15.0, d, R1, h_x=0.25, first_layer=0.01, grading=1.2)
     u = road.deflect(road.x_surface, _uniform_loads(road, p))
     exact = -p * d * (1 + nu) * (1 - 2 * nu) / ((1 - nu) * E)
     np.testing.assert_allclose(u[:, 1], exact, rtol=1e-9)
@@ -41,7 +41,7 @@ def test_uniform_pressure_gives_the_oedometer_settlement():
 def test_point_loads_keep_force_and_moment():
     """Point forces between surface nodes are split linearly: the nodal loads have the same sum
     and the same first moment about x = 0 (1e-12); a force off the road is refused."""
-    road = ElasticRoad(0.0, 4.0, 2.0, h_x=0.5, E=100.0, nu=0.3)
+    road = ElasticRoad(0.0, 4.0, 2.0, replace(R1, E=100.0, nu=0.3), h_x=0.5)
     rng = np.random.default_rng(1)
     x = rng.uniform(0.0, 4.0, 30)
     f = rng.normal(size=(30, 2))
@@ -70,7 +70,7 @@ def _run(elastic):
 
 @pytest.fixture(scope="module")
 def roads():
-    return {"rigid": _run(None), "r1": _run((R1.E, R1.nu)), "soft": _run((R1.E / 100.0, R1.nu))}
+    return {"rigid": _run(None), "r1": _run(R1), "soft": _run(replace(R1, E=R1.E / 100.0))}
 
 
 def test_elastic_road_changes_mu_and_temperature_by_less_than_one_percent(roads):

@@ -96,11 +96,8 @@ def run(args: argparse.Namespace) -> int:
     parts = ("mesh", "velocities", "road", "bulk") if args.part == "all" else (args.part,)
     ok = True
     if "mesh" in parts:
-        scene = load_scene("thermal_macro")
-        comp = load_compound(scene.conditions.compound_paths[0])
-        road = load_road(scene.thermal.road).thermal
-        T0 = scene.conditions.T0
-        law = friction_of(scene)
+        scene, comp, r, T0, law = _thermal_macro_case()
+        road = r.thermal
         print(f"thermal macro mesh study (thesis 8.4.1): block {scene.thermal.block_length} x "
               f"{scene.thermal.block_height} mm, edge radius {args.edge_radius:g} mm, p 0.3 MPa, "
               f"v {args.velocity:g} mm/s, slide {args.slide} mm, mu(T_s) of the scene thermal_macro")
@@ -144,21 +141,24 @@ def run(args: argparse.Namespace) -> int:
     return 0 if ok else 1
 
 
+def _thermal_macro_case():
+    """The shipped scene thermal_macro's inputs: scene, compound, road material, T0 (K), mu(T_s) law."""
+    scene = load_scene("thermal_macro")
+    return (scene, load_compound(scene.conditions.compound_paths[0]), load_road(scene.thermal.road),
+            scene.conditions.T0, friction_of(scene))
+
+
 def _road_study(args: argparse.Namespace) -> bool:
     """Rigid against elastic road, side by side (see the module doc)."""
-    scene = load_scene("thermal_macro")
-    comp = load_compound(scene.conditions.compound_paths[0])
-    r1 = load_road(scene.thermal.road)
-    T0 = scene.conditions.T0
-    law = friction_of(scene)
+    scene, comp, r1, T0, law = _thermal_macro_case()
     print(f"road mechanics: block {scene.thermal.block_length} x {scene.thermal.block_height} mm, edge radius "
           f"{args.edge_radius:g} mm, p 0.3 MPa, v {args.velocity:g} mm/s, slide {args.slide} mm, mu(T_s) of "
           f"thermal_macro, road {r1.name} (E {r1.E:g} MPa, nu {r1.nu:g}); differences from the rigid road")
     print(f"{'road':>16} {'mu':>8} {'T_C-T0':>8} {'T_R-T0':>8} {'T_max-T0':>8} {'sink um':>8} "
           f"{'d mu %':>7} {'d T_C %':>7} {'d T_max %':>9} {'d T_R K':>8} {'wall s':>7}")
     ok, base = True, None
-    for label, elastic in (("rigid", None), (f"{r1.name} elastic", (r1.E, r1.nu)),
-                           ("E/100 elastic", (r1.E / 100.0, r1.nu))):
+    for label, elastic in (("rigid", None), (f"{r1.name} elastic", r1),
+                           ("E/100 elastic", dataclasses.replace(r1, E=r1.E / 100.0))):
         res, wall = _macro(comp, r1.thermal, length=scene.thermal.block_length,
                            height=scene.thermal.block_height, pressure=0.3, velocity=args.velocity, friction=law,
                            slide=args.slide, first_layer=0.01, T0=T0, edge_radius=args.edge_radius,

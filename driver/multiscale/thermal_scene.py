@@ -125,7 +125,7 @@ def macro_inputs(scene: Scene, compound, road: Road, pressure: float, velocity: 
     settings = ThermalSettings(road=road.thermal, T0=T0, kappa=t.kappa, h_c=t.h_c, road_depth=t.road_depth,
                                road_ahead=t.road_ahead, road_behind=t.road_behind, first_layer=t.first_layer,
                                grading=t.grading, probes=t.probes, bulk_wlf=t.bulk_wlf,
-                               road_elastic=(road.E, road.nu) if t.road_mechanics == "elastic" else None)
+                               road_elastic=road if t.road_mechanics == "elastic" else None)
     return spec, settings
 
 

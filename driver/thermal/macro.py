@@ -51,7 +51,7 @@ from rubberfriction.driver.sliding.run import SlidingRun
 from rubberfriction.driver.sliding.spec import SlidingResult, SlidingSpec
 from rubberfriction.driver.thermal.conduction import FIRST_LAYER, HeatGeometry, TwoBodyHeat, geometric_steps
 from rubberfriction.driver.thermal.road_deflection import ElasticRoad
-from rubberfriction.forms.compound import Thermal
+from rubberfriction.forms.compound import Road, Thermal
 
 
 @dataclass(frozen=True)
@@ -62,8 +62,9 @@ class ThermalSettings:
     element height and growth ratio, and probe points (x, z) in the block frame (mm).
     bulk_wlf: the rubber's relaxation times follow the current temperature cell by cell (WLF,
     eqs. 3.33, 3.37) where the compound is viscoelastic with WLF data; False keeps the bulk at T0.
-    road_elastic: (E, nu) of a linear elastic road whose deflection under the contact forces
-    moves the road surface each step (``road_deflection``); None: a rigid road (thesis 8.4.1).
+    road_elastic: the road material (its E and nu) of a linear elastic road whose deflection under
+    the contact forces moves the road surface each step (``road_deflection``); None: a rigid road
+    (thesis 8.4.1).
     Defaults: thesis 8.3.1 (kappa = 1, h_c = 1e6)."""
 
     road: Thermal
@@ -77,7 +78,7 @@ class ThermalSettings:
     grading: float = 1.2
     probes: tuple[tuple[float, float], ...] = ()
     bulk_wlf: bool = True
-    road_elastic: tuple[float, float] | None = None  # (E MPa, nu): elastic road (road_deflection); None: rigid
+    road_elastic: Road | None = None  # elastic road of this material (road_deflection); None: rigid
 
     def __post_init__(self) -> None:
         V.instance("thermal.road", self.road, Thermal)
@@ -90,11 +91,7 @@ class ThermalSettings:
             V.positive(f"thermal.{name}", getattr(self, name), "mm")
         for name in ("road_ahead", "road_behind"):
             V.nonnegative(f"thermal.{name}", getattr(self, name), "mm")
-        if self.road_elastic is not None:
-            E, nu = self.road_elastic
-            V.positive("thermal.road_elastic E", E, "MPa")
-            if not -1.0 < V.real("thermal.road_elastic nu", nu) < 0.5:
-                raise V.InputError(f"thermal.road_elastic nu = {nu!r}: expected -1 < nu < 0.5")
+        V.instance("thermal.road_elastic", self.road_elastic, Road, optional=True)
 
 
 @dataclass
@@ -256,14 +253,13 @@ class ThermalCoupler:
         """The elastic road (``road_deflection``) under the block and the road's master polyline
         refined to h_x / 2 (the deflection needs vertices to move); loaded by the compressed state."""
         s = self.settings
-        E, nu = s.road_elastic
         margin = s.road_depth  # the clamped ends stay a road depth away from the block
         self.road = ElasticRoad(self.x0 - s.road_behind - margin, self.x0 + length + s.road_ahead + margin,
-                                s.road_depth, h_x=h_x, E=E, nu=nu, first_layer=s.first_layer, grading=s.grading)
+                                s.road_depth, s.road_elastic, h_x=h_x, first_layer=s.first_layer,
+                                grading=s.grading)
         m = run.contact.master
         x = np.union1d(m.vertices[:, 0], np.arange(m.vertices[0, 0], m.vertices[-1, 0], 0.5 * h_x))
         self.master_base = np.column_stack([x, np.interp(x, m.vertices[:, 0], m.vertices[:, 1])])
-        self.master_period = float(m.period)
         self._deflect_road(run, run.contact.state(), run.t_start)
 
     def _deflect_road(self, run, st: dict, t: float) -> None:
@@ -285,7 +281,7 @@ class ThermalCoupler:
         offset = -float(run.spec.velocity) * (t + float(run.dt_slide) - float(run.t_start))
         base = self.master_base
         moved = base + self.road.at(base[:, 0] + offset)
-        run.contact.set_rigid_master(RigidMaster(moved, self.master_period))
+        run.contact.set_rigid_master(RigidMaster(moved, run.contact.master.period))
 
     def _update_bulk(self, run) -> None:
         """Cell temperatures of the mechanical block from the heat field (WLF shift per cell)."""

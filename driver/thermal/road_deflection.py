@@ -26,20 +26,21 @@ from mpi4py import MPI
 
 from rubberfriction import validation as V
 from rubberfriction.forms import jit
+from rubberfriction.forms.compound import Road
 from rubberfriction.forms.linear_elastic import plane_strain_stiffness
 from rubberfriction.meshes.common import LEFT, OPPOSITE, RIGHT
 from rubberfriction.meshes.road import road_body
 
 
 class ElasticRoad:
-    """Plane-strain elastic road [x_lo, x_hi] x [-depth, 0] (mm, block frame), bottom clamped, ends
-    held in x (rollers), top loaded by nodal forces; E in MPa."""
+    """Plane-strain elastic road [x_lo, x_hi] x [-depth, 0] (mm, block frame) of the material
+    ``road`` (its E and nu), bottom clamped, ends held in x (rollers), top loaded by nodal forces."""
 
-    def __init__(self, x_lo: float, x_hi: float, depth: float, *, h_x: float, E: float, nu: float,
+    def __init__(self, x_lo: float, x_hi: float, depth: float, road: Road, *, h_x: float,
                  first_layer: float = 0.01, grading: float = 1.2) -> None:
         if not x_hi > x_lo:
             raise V.InputError(f"elastic road: x range [{x_lo!r}, {x_hi!r}] mm is empty")
-        self.E, self.nu = V.positive("road E", E, "MPa"), float(nu)
+        V.instance("elastic road material", road, Road)
         body = road_body(x_hi - x_lo, depth, h_surface=h_x, first_layer=first_layer, grading=grading,
                          comm=MPI.COMM_SELF)
         mesh = body.mesh
@@ -47,7 +48,7 @@ class ElasticRoad:
         self.depth = float(depth)
         self.V = fem.VectorFunctionSpace(mesh, ("Lagrange", 1))
         u, v = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
-        A = assemble_matrix(jit.form(plane_strain_stiffness(u, v, self.E, self.nu)))
+        A = assemble_matrix(jit.form(plane_strain_stiffness(u, v, road.lame_lambda, road.mu)))
         A.assemble()
         ai, aj, av = A.getValuesCSR()
         n = len(ai) - 1
