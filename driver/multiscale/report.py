@@ -186,6 +186,7 @@ def sample_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
                              "window_drift": o.value("window_drift"),
                              "mu_error": o.value("mu_error"),
                              "converged": o.value("converged"),
+                             "stabilisation_share": o.value("stabilisation_share"),
                              "wall_time_s": o.wall_time, "reused": o.reused, "key": o.key})
     return rows
 
@@ -250,6 +251,32 @@ def stationarity_line(points: Sequence[PointResult]) -> str:
         lab = t.label
         text += (f"; largest |window drift| {100 * d:.2f} % ({lab.get('branch')} "
                  f"{lab.get('scale_name')} sample {lab.get('sample')}, {lab.get('point')})")
+    return text
+
+
+#: stabilisation share (SlidingResult.stabilisation_share) above which the summary warns
+STABILISATION_TOL = 0.01
+
+
+def stabilisation_line(points: Sequence[PointResult]) -> str:
+    """How much of the successful runs' friction the viscous stabilisation of failing sub-steps
+    carries (``driver.fe.stabilisation``): runs with stabilised sub-steps in their window, the
+    count above STABILISATION_TOL and the largest share, with its run.  "" when none."""
+    runs = [(o.value("stabilisation_share"), t) for r in points for rs in r.runs.values()
+            for t, o in rs if o.ok]
+    used = [(x, t) for x, t in runs if math.isfinite(x) and x > 0.0]
+    if not used:
+        return ""
+    x, t = max(used, key=lambda xt: xt[0])
+    lab = t.label
+    above = sum(y > STABILISATION_TOL for y, _ in used)
+    text = (f"  stabilisation (thesis 6.3.3): {len(used)} of {len(runs)} runs have stabilised "
+            f"sub-steps in their window, largest share of the friction work {100 * x:.2g} % "
+            f"({lab.get('branch')} {lab.get('scale_name')} sample {lab.get('sample')}, "
+            f"{lab.get('point')})")
+    if above:
+        text += (f"; {above} above {100 * STABILISATION_TOL:.0f} %: there the dashpots carry "
+                 "a visible part of mu")
     return text
 
 
@@ -346,6 +373,9 @@ def summary_text(result: Any) -> str:
     balance = energy_balance_line(result.points)
     if balance:
         lines.append(balance)
+    stabilised = stabilisation_line(result.points)
+    if stabilised:
+        lines.append(stabilised)
     used = attempts_used(result.points)
     if used.get("closed form"):
         lines.append(f"  model only what a run requires: {used['closed form']} frictionless "

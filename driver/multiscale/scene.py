@@ -201,6 +201,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
                        "stabilisation, no checkerboard mode in confined cells)",
                        choices=("Q1P0", "Q1P0s", "Q1")),
         "max_cutbacks": Key("int", 8, "step halvings before a step counts as failed", minimum=0),
+        "stabilisation": Key("float", 0.1, "viscous stabilisation beta of a sub-step that still "
+                             "fails after 3 cut-backs (thesis 6.3.3; tried x1, x10, x100; its "
+                             "share of mu is in samples.csv); 0: off", minimum=0.0),
         "penalty_alpha": Key("float", 100.0, "normal penalty c_N = alpha |E*(omega)| / h_contact: "
                              "contact compliance ~1/alpha of an element's; lower is faster on "
                              "steep surfaces and softer (more contact area)", above=0.0),
@@ -416,6 +419,7 @@ class NumericsConfig:
     contact: str
     element: str
     max_cutbacks: int
+    stabilisation: float
     penalty_alpha: float
     tangential_penalty: float
     master_points_per_wavelength: int

@@ -80,7 +80,8 @@ class SpecBuilder:
                            grading=num.grading, compression_steps=num.compression_steps,
                            window_start=window, converge_tol=tol, steady_state=steady,
                            shortcut=num.shortcut,
-                           max_cutbacks=num.max_cutbacks, penalty_alpha=num.penalty_alpha,
+                           max_cutbacks=num.max_cutbacks, stabilisation=num.stabilisation,
+                           penalty_alpha=num.penalty_alpha,
                            tangential_penalty=num.tangential_penalty)
         # contact element size: the shortest wavelength of the sample / elements_per_wavelength;
         # the shortest wavelength is the band's short edge (thesis 6.5.1), else (or if shorter)
@@ -121,6 +122,11 @@ def find_key(store: Store, prefix: str) -> str:
     return hits[0]
 
 
+#: SlidingSpec fields whose default changed the computation when they were added: a run file
+#: written before holds no value for them and was computed with this one
+BEFORE_FIELD: dict[str, Any] = {"stabilisation": 0.0}
+
+
 def stored_spec(stored: StoredRun) -> SlidingSpec:
     """The SlidingSpec of a stored run, rebuilt from its run file: the surface arrays, the scalar
     inputs, the compound loaded again by its name, a constant (or no) friction coefficient.
@@ -137,7 +143,9 @@ def stored_spec(stored: StoredRun) -> SlidingSpec:
     for f in dataclasses.fields(SlidingSpec):
         v = image.get(f.name)
         if f.name not in image and f.name not in ("surface_x", "surface_h", "compound"):
-            continue  # a field added after the run: its default (what the run computed with)
+            if f.name in BEFORE_FIELD:  # a field added after the run: what the run computed with
+                kw[f.name] = BEFORE_FIELD[f.name]
+            continue  # otherwise its default is what the run computed with
         if f.name in ("surface_x", "surface_h"):
             kw[f.name] = np.asarray(stored.inputs[f.name], dtype=float)
         elif f.name == "compound":

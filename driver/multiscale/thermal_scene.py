@@ -114,7 +114,8 @@ def macro_inputs(scene: Scene, compound, road: Road, pressure: float, velocity: 
                           slide_distance=t.slide_distance, h_contact=t.h_contact, T0=T0,
                           step_per_element=t.step_per_element, element=num.element, contact=num.contact,
                           grading=num.grading, compression_steps=num.compression_steps,
-                          max_cutbacks=num.max_cutbacks, penalty_alpha=num.penalty_alpha,
+                          max_cutbacks=num.max_cutbacks, stabilisation=num.stabilisation,
+                          penalty_alpha=num.penalty_alpha,
                           tangential_penalty=num.tangential_penalty,
                           edge_radius=t.edge_radius)
     if t.road_surface == "macro":

@@ -47,6 +47,8 @@ SERIES_UNITS: dict[str, str] = {
     "viscous_energy": "mJ/mm",
     "friction_energy": "mJ/mm",
     "mean_pressure": "MPa",
+    "stabilisation_energy": "mJ/mm",
+    "stabilisation_impulse": "N s/mm",
     "mu_force": "1",
 }
 

@@ -20,7 +20,10 @@ Micro cell: periodic boundary conditions x_r - x_l = X_r - X_l on the left/right
 with the periodic master, so the cell slides over many periods.  Macro block: non-periodic.
 
 Failure handling: a step that does not converge (or inverts an element) is retried with half the
-step (cut-back), steps grow again after easy successes; when the step gets too small the run starts
+step (cut-back), steps grow again after easy successes; a sub-step that still fails after
+STABILISE_AFTER cut-backs (or at the last one) is retried with viscous stabilisation
+(``driver.fe.stabilisation``, thesis 6.3.3: dashpots resisting the motion within the sub-step,
+their work and force reported as ``stabilisation_share``); when the step gets too small the run starts
 again with the next fallback (`SlidingRun.attempts`): a softer tangential penalty (frictional
 runs), node-to-segment contact, smaller sliding steps, then contact elements twice as short.  A
 run that still fails returns `status="failed"` with the reason of the attempt that got furthest
@@ -49,6 +52,7 @@ import ufl
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
 from rubberfriction.driver.fe.newton import NewtonSettings, NewtonSolver
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
+from rubberfriction.driver.fe.stabilisation import ViscousStabilisation
 from rubberfriction.driver.sliding import shortcut
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
 from rubberfriction.driver.sliding.outputs import DissipationByDepth
@@ -57,6 +61,8 @@ from rubberfriction.driver.sliding.temperature import check_layers, layer_levels
 from rubberfriction.driver.sliding.spec import (
     MESH_REFINEMENT,
     SOFT_TANGENT,
+    STABILISATION_LADDER,
+    STABILISE_AFTER,
     SlidingResult,
     SlidingSpec,
     default_h_contact,
@@ -153,6 +159,7 @@ class SlidingRun:
         # that raises is reported with a warning and dropped for the rest of the run: outputs never
         # fail a run.
         self.observers = list(observers)
+        self.stabilise_after = STABILISE_AFTER  # cut-backs before a sub-step is stabilised
         self._mesh_factory = mesh_factory
         self._contact_factory = contact_factory
 
@@ -210,7 +217,9 @@ class SlidingRun:
         self.cmap = ConstraintMap(spec)
         self.contact = self._contact_factory(self.sp, s, contact_formulation)
         self.fext = np.zeros(nfull)
-        self.problem = self.sp.nonlinear_problem(self.cmap, hooks=[self.contact.hook],
+        self.stabiliser = ViscousStabilisation(d, nfull)  # inactive until a sub-step needs it
+        self._stabilised_x = np.isin(self.stabiliser.dofs, d[:, 0])  # its x-dofs (net force)
+        self.problem = self.sp.nonlinear_problem(self.cmap, hooks=[self.contact.hook, self.stabiliser],
                                                  extra_couplings=self.contact.couplings(),
                                                  external_force=self.fext)
         self.force_scale = s.pressure * L
@@ -260,6 +269,10 @@ class SlidingRun:
             ok, reason = res.converged, res.reason
             if ok and self._inverted():
                 ok, reason = False, "element inversion (det F <= 0)"
+            floor = dt * 0.5**self.spec.max_cutbacks * (1.0 - 1e-9)
+            if not ok and self.spec.stabilisation > 0.0 and (cutbacks >= self.stabilise_after
+                                                             or 0.5 * h < floor):
+                ok, res = self._stabilised_solve(h, x_saved, predict)
             if ok:
                 self.step_energy += self.sp.commit_step()
                 self.contact.commit()
@@ -276,13 +289,42 @@ class SlidingRun:
             cutbacks += 1
             self.cutbacks += 1
             h *= 0.5
-            if h < dt * 0.5**self.spec.max_cutbacks * (1.0 - 1e-9):
+            if h < floor:
                 if adaptive:
                     self._h_next = dt
                 return False, reason, cutbacks
             if adaptive:
                 self._h_next = h
         return True, "", cutbacks
+
+    def _stabilised_solve(self, h: float, x_saved: np.ndarray, predict) -> tuple[bool, object]:
+        """The failed sub-step again with viscous stabilisation (driver.fe.stabilisation), beta
+        up the ladder spec.stabilisation x STABILISATION_LADDER until Newton converges; the
+        dashpots' work and net x-force are added to the step's (series ``stabilisation_energy``,
+        ``stabilisation_impulse``).  The load of the sub-step is already applied."""
+        pb, damper = self.problem, self.stabiliser
+        res = None
+        for factor in STABILISATION_LADDER:
+            self.sp.w.x.array[:] = x_saved
+            damper.deactivate()
+            pb.constraints.set_prescribed(self.sp.w.x.array)
+            pb.assemble(need_vector=False)
+            damper.activate(self.spec.stabilisation * factor, pb.A.getDiagonal().array, x_saved)
+            if predict is not None:
+                self._start_iterate(predict, h, x_saved)
+            res = self.newton.solve()
+            self.newton_iterations += res.iterations
+            if res.converged and not self._inverted():
+                x = self.sp.w.x.array
+                fx = float(np.sum(damper.forces(x)[self._stabilised_x]))
+                self.step_stabilisation_energy += damper.energy(x)
+                self.step_stabilisation_impulse += fx * h
+                self.stabilised_steps += 1
+                damper.deactivate()
+                return True, res
+        damper.deactivate()
+        self.sp.w.x.array[:] = x_saved
+        return False, res
 
     def _start_iterate(self, predict, h: float, x_saved: np.ndarray) -> None:
         """Newton start of a sliding sub-step: the translation prediction if its residual is lower
@@ -444,6 +486,8 @@ class SlidingRun:
         self.compression_contact = float("nan")
         self._detF = None
         self.step_energy = self.step_friction_energy = 0.0
+        self.step_stabilisation_energy = self.step_stabilisation_impulse = 0.0
+        self.stabilised_steps = 0
         try:
             self.build(formulation)
         except (ValueError, RuntimeError) as err:
@@ -510,6 +554,7 @@ class SlidingRun:
         self.converged = float("nan")
         for k in range(1, nsteps + 1):
             self.step_energy = self.step_friction_energy = 0.0
+            self.step_stabilisation_energy = self.step_stabilisation_impulse = 0.0
 
             def load(tk):
                 self.fext[:] = keep
@@ -522,7 +567,8 @@ class SlidingRun:
             t += dt_slide
             st = self.contact.state()
             rows.append((t, s.velocity * (t - t_s), st["Fx"], st["Fz"], st["contact_length"],
-                         self.step_energy, self.step_friction_energy, st["mean_pressure"]))
+                         self.step_energy, self.step_friction_energy, st["mean_pressure"],
+                         self.step_stabilisation_energy, self.step_stabilisation_impulse))
             self._notify("on_step", k, t)
             if self.progress:
                 self.progress(k, nsteps)
@@ -548,7 +594,8 @@ class SlidingRun:
                 "cpu_attempt": time.process_time() - self._cpu_start}
 
     def _result(self, rows, distance, status, reason, t) -> SlidingResult:
-        cols = ["t", "s", "Fx", "Fz", "contact_length", "viscous_energy", "friction_energy", "mean_pressure"]
+        cols = ["t", "s", "Fx", "Fz", "contact_length", "viscous_energy", "friction_energy", "mean_pressure",
+                "stabilisation_energy", "stabilisation_impulse"]
         arr = np.array(rows, dtype=float).reshape(-1, len(cols))
         series = {c: arr[:, i] for i, c in enumerate(cols)}
         res = SlidingResult(status, reason=reason, t_reached=t, series=series)
@@ -556,6 +603,7 @@ class SlidingRun:
         res.stats = {"cutbacks": self.cutbacks, "newton_iterations": self.newton_iterations,
                      "predictor_used": self.predictor_used,
                      "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size),
+                     "stabilised_steps": self.stabilised_steps,
                      "window_start": lo, "window_end": hi,
                      "compression_contact_fraction": self.compression_contact, **self._cpu_split()}
         if len(rows) == 0:
@@ -572,6 +620,7 @@ class SlidingRun:
             res.mean_pressure = float(np.mean(series["mean_pressure"][win]))
             res.contact_fraction = float(np.mean(series["contact_length"][win]) / self.L)
             res.window_drift = window_drift(series["s"], series["mu_force"], lo, hi)
+            res.stabilisation_share = stabilisation_share(series, win, ds, self.spec.velocity)
             self._stationarity(res, series)
         return res
 
@@ -596,6 +645,19 @@ class SlidingRun:
             res.mu_error = 0.5 * abs(res.window_drift)
         if spec.period > 0:
             res.stats["periods"] = round(float(series["s"][-1] / spec.period), 6)
+
+
+def stabilisation_share(series: dict[str, np.ndarray], win: np.ndarray, ds: np.ndarray,
+                        velocity: float) -> float:
+    """What the stabilising dashpots carry of a window's friction (driver.fe.stabilisation): the
+    larger of their work and of the work equivalent of their net x-force (impulse sum F_x,d dt
+    times v) over the friction work sum |F_x| ds.  0 without stabilised sub-steps."""
+    work = float(np.sum(np.abs(series["Fx"][win]) * ds))
+    if not work > 0.0:
+        return math.nan
+    energy = float(np.sum(series["stabilisation_energy"][win]))
+    impulse = abs(float(np.sum(series["stabilisation_impulse"][win]))) * velocity
+    return max(energy, impulse) / work
 
 
 def run_sliding(spec: SlidingSpec, progress=None, observers=(),

@@ -70,6 +70,9 @@ class SlidingSpec:
     # fe.contact.DEFAULT_TANGENTIAL_FRACTION (not imported: this module stays free of PETSc)
     tangential_penalty: float = 0.1
     max_cutbacks: int = 8
+    # viscous stabilisation of a sub-step that fails after STABILISE_AFTER cut-backs (or at the
+    # last one): beta of driver.fe.stabilisation, tried as beta x STABILISATION_LADDER; 0: off
+    stabilisation: float = 0.1
 
 
 @dataclass
@@ -85,6 +88,9 @@ class SlidingResult:
     window_drift: float = float("nan")  # (2nd half - 1st half) / mean of the window's mu
     mu_error: float = float("nan")  # estimated |window mean - steady mu| / mu (window.py)
     converged: float = float("nan")  # converged rule: 1 reached, 0 budget exhausted; fixed: nan
+    # the larger of the stabilising dashpots' share of the window's friction work and of its mean
+    # friction force (0: no stabilised sub-step in the window; driver.fe.stabilisation)
+    stabilisation_share: float = float("nan")
     dissipation_by_depth: tuple[np.ndarray, np.ndarray] | None = None
     stats: dict[str, float] = field(default_factory=dict)
 
@@ -158,6 +164,12 @@ MESH_REFINEMENT = 2
 #: friction does not depend on c_T (full slip: t_T = mu p); the stick phase gets a tangential
 #: contact compliance of h / (0.01 alpha E) per unit length, ~1 % of a macro block's shear compliance.
 SOFT_TANGENT = 0.1
+
+#: cut-backs of a sliding or compression step before a failing sub-step is retried with the
+#: viscous stabilisation (a sub-step at the cut-back floor is always retried)
+STABILISE_AFTER = 3
+#: the stabilisation's beta ladder, in units of SlidingSpec.stabilisation
+STABILISATION_LADDER = (1.0, 10.0, 100.0)
 
 
 def has_friction(spec: SlidingSpec) -> bool:
