@@ -38,6 +38,7 @@ and its average (7.4), dissipation by depth.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 import warnings
@@ -63,6 +64,8 @@ from rubberfriction.driver.sliding.spec import (
     SOFT_TANGENT,
     STABILISATION_LADDER,
     STABILISE_AFTER,
+    STABILISED_ITERATIONS,
+    STABILISED_STAGNATION,
     SlidingResult,
     SlidingSpec,
     default_h_contact,
@@ -302,6 +305,16 @@ class SlidingRun:
         up the ladder spec.stabilisation x STABILISATION_LADDER until Newton converges; the
         dashpots' work and net x-force are added to the step's (series ``stabilisation_energy``,
         ``stabilisation_impulse``).  The load of the sub-step is already applied."""
+        plain = self.newton.settings
+        self.newton.settings = dataclasses.replace(plain, max_iterations=STABILISED_ITERATIONS,
+                                                   stagnation=STABILISED_STAGNATION)
+        try:
+            return self._stabilised_ladder(h, x_saved, predict)
+        finally:
+            self.newton.settings = plain
+            self.stabiliser.deactivate()
+
+    def _stabilised_ladder(self, h: float, x_saved: np.ndarray, predict) -> tuple[bool, object]:
         pb, damper = self.problem, self.stabiliser
         res = None
         for factor in STABILISATION_LADDER:
@@ -320,9 +333,7 @@ class SlidingRun:
                 self.step_stabilisation_energy += damper.energy(x)
                 self.step_stabilisation_impulse += fx * h
                 self.stabilised_steps += 1
-                damper.deactivate()
                 return True, res
-        damper.deactivate()
         self.sp.w.x.array[:] = x_saved
         return False, res
 
