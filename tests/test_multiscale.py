@@ -516,3 +516,30 @@ def test_samples_and_summary_report_the_energy_balance(tmp_path: Path):
     n_off = sum(r["sample"] == 1 for r in rows)
     assert f"{n_off} of {len(rows)} runs beyond {100 * ENERGY_BALANCE_TOL:.0f} %" in line
     assert "largest 50 %" in line and "sample 1" in line and "not energy-consistent" in line
+
+
+def test_samples_and_summary_report_the_stabilisation_share(tmp_path: Path):
+    """stabilisation_share per run goes through the store into samples.csv; the summary counts the
+    runs with stabilised sub-steps and those above STABILISATION_TOL and names the largest.  The
+    toy runner's sample 1 has a share of 2 %, sample 0 none; without any, no line."""
+    from rubberfriction.driver.multiscale.report import STABILISATION_TOL, sample_rows, stabilisation_line
+
+    sets = scales_with_distinct_samples(2)
+
+    def runner(spec: SlidingSpec) -> SlidingResult:
+        res = toy(spec)
+        res.stabilisation_share = 0.02 if _slope(spec) > 0.011 else 0.0
+        return res
+
+    casc = RoughCascade("t", Point("tread_default", 0.3, 100.0), sets, make_spec, k=1, j=2)
+    run(CampaignPlanner([casc]), Store(tmp_path / "s"), runner)
+    rows = sample_rows([casc.result])
+    for r in rows:
+        assert r["stabilisation_share"] == (0.02 if r["sample"] == 1 else 0.0)
+    n = sum(r["sample"] == 1 for r in rows)
+    line = stabilisation_line([casc.result])
+    assert f"{n} of {len(rows)} runs have stabilised sub-steps" in line and "2 %" in line
+    assert f"{n} above {100 * STABILISATION_TOL:.0f} %" in line and "sample 1" in line
+    casc0 = RoughCascade("t", Point("tread_default", 0.3, 10.0), sets, make_spec, k=1, j=2)
+    run(CampaignPlanner([casc0]), Store(tmp_path / "s0"), toy)
+    assert stabilisation_line([casc0.result]) == ""

@@ -5,10 +5,11 @@ automatic stabilization" (section 6.3.3).  Automatic stabilisation adds viscous 
 the motion within a step.  Here, for one sub-step from the converged state u_n, the residual
 becomes
 
-    R_s(u) = R(u) + beta D (u - u_n),    D = diag(dR/du) at u_n on the displacement dofs,
+    R_s(u) = R(u) + beta D (u - u_n),    D = diag(dR/du) at u_n,
 
-a dashpot of coefficient beta D h per dof (h the sub-step length) or, equally, a proximal term:
-R_s = 0 is the stationarity of Pi(u) + beta/2 |u - u_n|_D^2 where R = dPi/du.  It is what the
+on the dofs the caller chooses (a sliding run leaves out its loaded top row, whose reaction is
+the load): a dashpot of coefficient beta D h per dof (h the sub-step length) or, equally, a
+proximal term: R_s = 0 is the stationarity of Pi(u) + beta/2 |u - u_n|_D^2 where R = dPi/du.  It is what the
 failing lowest-scale runs need: there, a contact-boundary node of the mortar penalty problem has
 no equilibrium at the step (its own pressure opens its weighted gap faster than the penalty
 closes it, README "Lowest-scale failures"), and the dashpot stiffens the structure's response to

@@ -48,11 +48,13 @@ from rubberfriction.driver.multiscale.results import (
     SpecFactory,
 )
 from rubberfriction.driver.multiscale.statistics import (
+    STABILISATION_TOL,
     SampleStats,
     first_line,
     friction_average,
     mean_contact_pressure,
     outcome_stats,
+    overstabilised,
     sample_stats,
     unconverged,
     usable,
@@ -164,12 +166,17 @@ class RoughCascade:
     def _flag(self, sc: ScaleResult, stats: SampleStats, what: str,
               outcomes: list[Outcome]) -> None:
         n_unconv = unconverged(outcomes)
-        if stats.n_failed > n_unconv:
-            sc.notes.append(f"{what}: {stats.n_failed - n_unconv} of {stats.n_total} samples "
-                            "failed")
+        n_stab = sum(overstabilised(o) and o.value("converged") != 0.0 for o in outcomes)
+        if stats.n_failed > n_unconv + n_stab:
+            sc.notes.append(f"{what}: {stats.n_failed - n_unconv - n_stab} of {stats.n_total} "
+                            "samples failed")
         if n_unconv:
             sc.notes.append(f"{what}: {n_unconv} of {stats.n_total} samples did not reach a "
                             "stationary window within their sliding budget (not averaged)")
+        if n_stab:
+            sc.notes.append(f"{what}: {n_stab} of {stats.n_total} samples carried more than "
+                            f"{100 * STABILISATION_TOL:.0f} % of their friction work by "
+                            "stabilisation (not averaged)")
         if stats.failed_fraction > self.max_failed:
             sc.flagged = True
 

@@ -51,7 +51,7 @@ from rubberfriction.driver.adhesion.area import relative_area_ci95
 from rubberfriction.driver.multiscale import baseline
 from rubberfriction.driver.multiscale.results import PointResult
 from rubberfriction.driver.multiscale.separated import _law_from_dict
-from rubberfriction.driver.multiscale.statistics import SampleCountStudy, SampleStats
+from rubberfriction.driver.multiscale.statistics import STABILISATION_TOL, SampleCountStudy, SampleStats
 from rubberfriction.driver.runtime.store import Outcome
 
 
@@ -254,10 +254,6 @@ def stationarity_line(points: Sequence[PointResult]) -> str:
     return text
 
 
-#: stabilisation share (SlidingResult.stabilisation_share) above which the summary warns
-STABILISATION_TOL = 0.01
-
-
 def stabilisation_line(points: Sequence[PointResult]) -> str:
     """How much of the successful runs' friction the viscous stabilisation of failing sub-steps
     carries (``driver.fe.stabilisation``): runs with stabilised sub-steps in their window, the
@@ -275,8 +271,7 @@ def stabilisation_line(points: Sequence[PointResult]) -> str:
             f"({lab.get('branch')} {lab.get('scale_name')} sample {lab.get('sample')}, "
             f"{lab.get('point')})")
     if above:
-        text += (f"; {above} above {100 * STABILISATION_TOL:.0f} %: there the dashpots carry "
-                 "a visible part of mu")
+        text += (f"; {above} above {100 * STABILISATION_TOL:.0f} %, not averaged")
     return text
 
 

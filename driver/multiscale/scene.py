@@ -202,7 +202,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
                        choices=("Q1P0", "Q1P0s", "Q1")),
         "max_cutbacks": Key("int", 8, "step halvings before a step counts as failed", minimum=0),
         "stabilisation": Key("float", 0.1, "viscous stabilisation beta of a sub-step that still "
-                             "fails after 3 cut-backs (thesis 6.3.3; tried x1, x10, x100; its "
+                             "fails after a cut-back (thesis 6.3.3; tried x1, x10, x100; its "
                              "share of mu is in samples.csv); 0: off", minimum=0.0),
         "penalty_alpha": Key("float", 100.0, "normal penalty c_N = alpha |E*(omega)| / h_contact: "
                              "contact compliance ~1/alpha of an element's; lower is faster on "

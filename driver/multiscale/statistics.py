@@ -55,10 +55,21 @@ def sample_stats(values: Sequence[float]) -> SampleStats:
     return SampleStats(tuple(float(x) for x in v), mean, std, ci, n, int(v.size - n))
 
 
+#: a run whose stabilising dashpots carry more than this share of its window's friction work
+#: (``SlidingResult.stabilisation_share``, driver.fe.stabilisation) is not averaged
+STABILISATION_TOL = 0.01
+
+
+def overstabilised(outcome: Outcome) -> bool:
+    """A successful run whose stabilisation carries more than STABILISATION_TOL of its friction."""
+    return outcome.ok and outcome.value("stabilisation_share") > STABILISATION_TOL
+
+
 def usable(outcome: Outcome) -> bool:
-    """A run whose values enter averages: it succeeded and, under the converged time
-    homogenisation, reached a stationary window (an unconverged run is never averaged)."""
-    return outcome.ok and outcome.value("converged") != 0.0
+    """A run whose values enter averages: it succeeded, under the converged time homogenisation
+    reached a stationary window (an unconverged run is never averaged), and its stabilisation
+    carries at most STABILISATION_TOL of its friction."""
+    return outcome.ok and outcome.value("converged") != 0.0 and not overstabilised(outcome)
 
 
 def unconverged(outcomes: Sequence[Outcome]) -> int:

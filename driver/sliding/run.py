@@ -220,7 +220,8 @@ class SlidingRun:
         self.cmap = ConstraintMap(spec)
         self.contact = self._contact_factory(self.sp, s, contact_formulation)
         self.fext = np.zeros(nfull)
-        self.stabiliser = ViscousStabilisation(d, nfull)  # inactive until a sub-step needs it
+        # inactive until a sub-step needs it; not on the top row: its reaction is the load
+        self.stabiliser = ViscousStabilisation(np.delete(d, self.top, axis=0), nfull)
         self._stabilised_x = np.isin(self.stabiliser.dofs, d[:, 0])  # its x-dofs (net force)
         self.problem = self.sp.nonlinear_problem(self.cmap, hooks=[self.contact.hook, self.stabiliser],
                                                  extra_couplings=self.contact.couplings(),
@@ -585,8 +586,9 @@ class SlidingRun:
                 self.progress(k, nsteps)
             if per_period and k % per_period == 0:  # a whole period ends here
                 if s.converge_tol > 0:
-                    means = period_means(np.array([r[1] for r in rows]),
-                                         np.array([-r[2] / r[3] for r in rows]), L)
+                    arr = np.array([r[1:4] for r in rows])
+                    with np.errstate(divide="ignore", invalid="ignore"):  # no load: mu is NaN
+                        means = period_means(arr[:, 0], -arr[:, 1] / arr[:, 2], L)
                     self.converged = float(is_converged(means, s.converge_tol, s.window_periods))
                     if self.converged:
                         break
