@@ -483,11 +483,14 @@ def test_progress_line_shows_the_runs_in_flight_on_a_tty_and_in_plain_lines(monk
     p.running(task, dict(info, step=90, after="mortar", cutbacks=1))
     assert "step 90/240, 1 cut-back," in tty.getvalue() and "(after mortar failed)" in \
         tty.getvalue()
+    clock.now = 2.0
+    p.running(task, dict(info, step=91, stabilised=4))
+    assert "step 91/240, 3 cut-backs, 4 stabilised, ~" in tty.getvalue()
     p.update(task, SimpleNamespace(status="failed", reused=False, wall_time=5.0,
                                    failure="timeout", reason="wall-time limit of 600 s\nmore"))
     assert "\r\x1b[Kfailed: micro2 down #0 v=100: wall-time limit of 600 s\n" in tty.getvalue()
     p.finish()
-    assert tty.getvalue().endswith("1 failed, 1 stopped by the wall clock) in 1s\n")
+    assert tty.getvalue().endswith("1 failed, 1 stopped by the wall clock) in 2s\n")
 
     plain = io.StringIO()
     q = Progress(stream=plain, min_interval=1.0, plain_interval=30.0, clock=clock, tty=False)
@@ -557,10 +560,10 @@ def test_step_reporter_says_where_a_sliding_run_is():
     assert got[-1]["phase"] == "sliding" and got[-1]["distance"] == 0.0
     assert math.isnan(got[-1]["left"])
     clock.now = 15.0
-    run.cutbacks = 3
+    run.cutbacks, run.stabilised_steps = 3, 2
     rep.on_step(run, 4, 2.0)  # 2 mm/s x 1 s = 2 mm of 4 in 10 s: 10 s left
     assert got[-1] == {"phase": "sliding", "step": 4, "steps": 8, "distance": 2.0,
-                       "slide_distance": 4.0, "cutbacks": 3, "after": "", "left": 10.0}
+                       "slide_distance": 4.0, "cutbacks": 3, "stabilised": 2, "after": "", "left": 10.0}
     failed = SimpleNamespace(ok=False, stats={"attempt": "mortar", "cutbacks": 9})
     rep.on_finish(run, failed)
     assert got[-1] == {"phase": "set-up", "after": "mortar", "cutbacks": 9}

@@ -197,7 +197,9 @@ def describe(label: Mapping[str, Any], info: Mapping[str, Any], left: float) -> 
     if info.get("phase") == "sliding":
         text += (f"{info.get('distance', 0.0):.3g}/{info.get('slide_distance', 0.0):.3g} mm, "
                  f"step {info.get('step', 0)}/{info.get('steps', 0)}, "
-                 f"{_count(int(info.get('cutbacks', 0)), 'cut-back')}, ~{format_seconds(left)}")
+                 f"{_count(int(info.get('cutbacks', 0)), 'cut-back')}, "
+                 + (f"{int(info['stabilised'])} stabilised, " if info.get("stabilised") else "")
+                 + f"~{format_seconds(left)}")
     else:
         text += str(info.get("phase") or "set-up")
     if info.get("after"):

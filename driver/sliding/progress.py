@@ -9,6 +9,7 @@
     step, steps     converged sliding steps of this attempt and their planned number
     distance        sliding distance done (mm) and slide_distance, the whole distance
     cutbacks        step halvings of this attempt so far
+    stabilised      sub-steps of this attempt solved with viscous stabilisation so far
     after           the attempt that failed before this one ("" for the first attempt)
     left            estimated wall seconds left of this attempt: its sliding rate so far
                     times the distance left (NaN before the first step)
@@ -59,4 +60,6 @@ class StepReporter:
         left = max(elapsed * (1.0 - done) / done, 0.0) if done > 0 else math.nan
         self.report({"phase": "sliding", "step": int(k), "steps": int(run.n_slide_steps),
                      "distance": distance, "slide_distance": total,
-                     "cutbacks": int(run.cutbacks), "after": self.after, "left": left})
+                     "cutbacks": int(run.cutbacks),
+                     "stabilised": int(getattr(run, "stabilised_steps", 0)),
+                     "after": self.after, "left": left})
