@@ -550,3 +550,22 @@ def test_samples_and_summary_report_the_stabilisation_share(tmp_path: Path):
     casc0 = RoughCascade("t", Point("tread_default", 0.3, 10.0), sets, make_spec, k=1, j=2)
     run(CampaignPlanner([casc0]), Store(tmp_path / "s0"), toy)
     assert stabilisation_line([casc0.result]) == ""
+
+
+def test_a_point_without_usable_samples_says_why(tmp_path: Path):
+    """Every friction sample of the last scale succeeded but is left out (stabilisation share
+    above the tolerance): the point fails, and its reason names the share of each sample instead
+    of a failure that did not happen."""
+    sets = scales_with_distinct_samples(2)
+
+    def runner(spec: SlidingSpec) -> SlidingResult:
+        res = toy(spec)
+        if spec.friction is None and spec.period == pytest.approx(sets[-1].samples[0].period):
+            res.stabilisation_share = 0.2
+        return res
+
+    casc = RoughCascade("t", Point("tread_default", 0.3, 100.0), sets, make_spec, k=1, j=2)
+    run(CampaignPlanner([casc]), Store(tmp_path / "s"), runner)
+    assert casc.result.status == "failed"
+    assert casc.result.reason.startswith(f"scale {sets[-1].name}: no usable friction sample of 2 (")
+    assert casc.result.reason.count("stabilisation carried 20 % of the friction work (tolerance 5 %)") == 2

@@ -40,7 +40,7 @@ class ScriptedNewton:
 
 def scripted_run(newton: ScriptedNewton, max_cutbacks: int = 8) -> SlidingRun:
     run = SlidingRun.__new__(SlidingRun)
-    run.spec = SimpleNamespace(max_cutbacks=max_cutbacks)
+    run.spec = SimpleNamespace(max_cutbacks=max_cutbacks, stabilisation=0.0)
     run.sp = SimpleNamespace(w=SimpleNamespace(x=SimpleNamespace(array=np.zeros(3))),
                              prepare_step=lambda h: setattr(newton, "h", h),
                              commit_step=lambda: 0.0)

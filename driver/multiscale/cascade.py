@@ -50,7 +50,6 @@ from rubberfriction.driver.multiscale.results import (
 from rubberfriction.driver.multiscale.statistics import (
     STABILISATION_TOL,
     SampleStats,
-    first_line,
     friction_average,
     mean_contact_pressure,
     outcome_stats,
@@ -58,6 +57,7 @@ from rubberfriction.driver.multiscale.statistics import (
     sample_stats,
     unconverged,
     usable,
+    why_unusable,
 )
 from rubberfriction.driver.runtime.farm import Task
 from rubberfriction.driver.runtime.progress import Stage
@@ -191,8 +191,8 @@ class RoughCascade:
         sc.contact = outcome_stats(outcomes, "contact_fraction")
         self._flag(sc, st, "pressure branch", outcomes)
         if st.n_used == 0:
-            return self._fail(f"scale {sc.name}: all {st.n_total} pressure samples failed "
-                              f"({first_line(outcomes[0].reason)})")
+            return self._fail(f"scale {sc.name}: no usable pressure sample of {st.n_total} "
+                              f"({'; '.join(why_unusable(o) for o in outcomes)})")
         if i + 1 < self.n:
             nxt = self.result.scales[i + 1]
             nxt.pressure, nxt.pressure_spread = st.mean, st
@@ -229,8 +229,8 @@ class RoughCascade:
                                        for o in outcomes])
         self._flag(sc, st, "friction branch", outcomes)
         if st.n_used == 0:
-            return self._fail(f"scale {sc.name}: all {st.n_total} friction samples failed "
-                              f"({first_line(outcomes[0].reason)})")
+            return self._fail(f"scale {sc.name}: no usable friction sample of {st.n_total} "
+                              f"({'; '.join(why_unusable(o) for o in outcomes)})")
         if i == 0:
             self._finish()
         else:

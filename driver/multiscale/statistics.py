@@ -91,6 +91,18 @@ def first_line(reason: str) -> str:
     return reason.splitlines()[0] if reason else "no reason"
 
 
+def why_unusable(outcome: Outcome) -> str:
+    """Why a run does not enter averages: its failure, or why a successful run is left out."""
+    if not outcome.ok:
+        return first_line(outcome.reason)
+    if outcome.value("converged") == 0.0:
+        return "no stationary window within the sliding budget"
+    if overstabilised(outcome):
+        return (f"stabilisation carried {100 * outcome.value('stabilisation_share'):.2g} % of the "
+                f"friction work (tolerance {100 * STABILISATION_TOL:.0f} %)")
+    return "usable"
+
+
 def mean_contact_pressure(outcomes: Sequence[Outcome]) -> SampleStats:
     """Pressure passed to the next scale, eq. (6.12), from each sample's eq. (6.11) value."""
     return outcome_stats(outcomes, "mean_pressure")
