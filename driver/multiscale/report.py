@@ -212,6 +212,13 @@ def energy_balance(o: Outcome) -> float:
     return me / mf - 1.0
 
 
+def which_run(task: Any) -> str:
+    """A run of a campaign in the summary's words: branch, scale, sample and point."""
+    lab = task.label
+    return (f"{lab.get('branch')} {lab.get('scale_name')} sample {lab.get('sample')}, "
+            f"{lab.get('point')}")
+
+
 def energy_balance_line(points: Sequence[PointResult]) -> str:
     """How far the successful runs' dissipated energy is from their friction work (see
     :func:`energy_balance`): the count beyond ENERGY_BALANCE_TOL and the largest, with its run."""
@@ -220,12 +227,10 @@ def energy_balance_line(points: Sequence[PointResult]) -> str:
     if not runs:
         return ""
     b, t = max(runs, key=lambda bt: bt[0])
-    lab = t.label
     off = sum(x > ENERGY_BALANCE_TOL for x, _ in runs)
     text = (f"  energy balance (mu_energy / mu_force - 1, 0 in a steady state): {off} of "
             f"{len(runs)} runs beyond {100 * ENERGY_BALANCE_TOL:.0f} %, largest {100 * b:.3g} % "
-            f"({lab.get('branch')} {lab.get('scale_name')} sample {lab.get('sample')}, "
-            f"{lab.get('point')})")
+            f"({which_run(t)})")
     if off:
         text += ("; there the dissipation density (exact at small strain) overestimates, and "
                  "mu_energy, the dissipation by depth and the scales' dissipation are not "
@@ -248,9 +253,7 @@ def stationarity_line(points: Sequence[PointResult]) -> str:
         text += f", {unconv} unconverged within their budget (not averaged)"
     if drifts:
         d, t = max(drifts, key=lambda dt: dt[0])
-        lab = t.label
-        text += (f"; largest |window drift| {100 * d:.2f} % ({lab.get('branch')} "
-                 f"{lab.get('scale_name')} sample {lab.get('sample')}, {lab.get('point')})")
+        text += f"; largest |window drift| {100 * d:.2f} % ({which_run(t)})"
     return text
 
 
@@ -264,12 +267,10 @@ def stabilisation_line(points: Sequence[PointResult]) -> str:
     if not used:
         return ""
     x, t = max(used, key=lambda xt: xt[0])
-    lab = t.label
     above = sum(y > STABILISATION_TOL for y, _ in used)
     text = (f"  stabilisation (thesis 6.3.3): {len(used)} of {len(runs)} runs have stabilised "
             f"sub-steps in their window, largest share of the friction work {100 * x:.2g} % "
-            f"({lab.get('branch')} {lab.get('scale_name')} sample {lab.get('sample')}, "
-            f"{lab.get('point')})")
+            f"({which_run(t)})")
     if above:
         text += (f"; {above} above {100 * STABILISATION_TOL:.0f} %, not averaged")
     return text
