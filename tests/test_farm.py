@@ -563,7 +563,8 @@ def test_step_reporter_says_where_a_sliding_run_is():
     run.cutbacks, run.stabilised_steps = 3, 2
     rep.on_step(run, 4, 2.0)  # 2 mm/s x 1 s = 2 mm of 4 in 10 s: 10 s left
     assert got[-1] == {"phase": "sliding", "step": 4, "steps": 8, "distance": 2.0,
-                       "slide_distance": 4.0, "cutbacks": 3, "stabilised": 2, "after": "", "left": 10.0}
+                       "slide_distance": 4.0, "cutbacks": 3, "stabilised": 2, "after": "",
+                       "left": 10.0}
     failed = SimpleNamespace(ok=False, stats={"attempt": "mortar", "cutbacks": 9})
     rep.on_finish(run, failed)
     assert got[-1] == {"phase": "set-up", "after": "mortar", "cutbacks": 9}

@@ -99,7 +99,8 @@ def test_reported_share_bounds_the_change_of_mu(beta):
     assert forced.stats["stabilised_steps"] >= forced.stats["steps"]
     share = forced.stabilisation_share
     assert share > 0.1
-    assert abs(forced.mu_force - plain.mu_force) <= share * forced.mu_force, (forced.mu_force, plain.mu_force, share)
+    change = abs(forced.mu_force - plain.mu_force)
+    assert change <= share * forced.mu_force, (forced.mu_force, plain.mu_force, share)
 
 
 def test_failing_micro2_input_slides_with_stabilisation():
@@ -112,7 +113,8 @@ def test_failing_micro2_input_slides_with_stabilisation():
                                 steady_state=False)
     results = {}
     for beta in (0.0, 0.1):
-        run = SlidingRun(dataclasses.replace(short, stabilisation=beta), block_mesh, sliding_contact)
+        spec = dataclasses.replace(short, stabilisation=beta)
+        run = SlidingRun(spec, block_mesh, sliding_contact)
         first = run.attempts()[0]
         run.attempts = lambda first=first: [first]
         results[beta] = run.run()
@@ -121,3 +123,9 @@ def test_failing_micro2_input_slides_with_stabilisation():
     assert ok.ok, ok.reason
     assert ok.stats["stabilised_steps"] > 0
     assert 0.0 <= ok.stabilisation_share < 1e-3
+
+
+@pytest.mark.parametrize("beta", [-0.1, float("nan"), float("inf")])
+def test_bad_stabilisation_is_refused_naming_the_field(beta):
+    with pytest.raises(ValueError, match=r"stabilisation = .*expected beta >= 0"):
+        SlidingRun(sinusoid_spec(beta), block_mesh, sliding_contact)

@@ -9,12 +9,13 @@ becomes
 
 on the dofs the caller chooses (a sliding run leaves out its loaded top row, whose reaction is
 the load): a dashpot of coefficient beta D h per dof (h the sub-step length) or, equally, a
-proximal term: R_s = 0 is the stationarity of Pi(u) + beta/2 |u - u_n|_D^2 where R = dPi/du.  It is what the
-failing lowest-scale runs need: there, a contact-boundary node of the mortar penalty problem has
-no equilibrium at the step (its own pressure opens its weighted gap faster than the penalty
-closes it, README "Lowest-scale failures"), and the dashpot stiffens the structure's response to
-that node's force until an equilibrium exists.  beta is dimensionless: the damping force on a dof
-is beta times its diagonal stiffness times its motion within the sub-step.
+proximal term: R_s = 0 is the stationarity of Pi(u) + beta/2 |u - u_n|_D^2 where R = dPi/du.
+It is what the failing lowest-scale runs need: there, a contact-boundary node of the mortar
+penalty problem has no equilibrium at the step (its own pressure opens its weighted gap faster
+than the penalty closes it, README "Lowest-scale failures"), and the dashpot stiffens the
+structure's response to that node's force until an equilibrium exists.  beta is dimensionless:
+the damping force on a dof is beta times its diagonal stiffness times its motion within the
+sub-step.
 
 The stabilisation is not free: the dashpot dissipates
 

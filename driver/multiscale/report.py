@@ -51,7 +51,11 @@ from rubberfriction.driver.adhesion.area import relative_area_ci95
 from rubberfriction.driver.multiscale import baseline
 from rubberfriction.driver.multiscale.results import PointResult
 from rubberfriction.driver.multiscale.separated import _law_from_dict
-from rubberfriction.driver.multiscale.statistics import STABILISATION_TOL, SampleCountStudy, SampleStats
+from rubberfriction.driver.multiscale.statistics import (
+    STABILISATION_TOL,
+    SampleCountStudy,
+    SampleStats,
+)
 from rubberfriction.driver.runtime.store import Outcome
 
 

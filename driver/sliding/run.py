@@ -23,8 +23,8 @@ Failure handling: a step that does not converge (or inverts an element) is retri
 step (cut-back), steps grow again after easy successes; a sub-step that still fails after
 STABILISE_AFTER cut-backs (or at the last one) is retried with viscous stabilisation
 (``driver.fe.stabilisation``, thesis 6.3.3: dashpots resisting the motion within the sub-step,
-their work and force reported as ``stabilisation_share``); when the step gets too small the run starts
-again with the next fallback (`SlidingRun.attempts`): a softer tangential penalty (frictional
+their work and force reported as ``stabilisation_share``); when the step gets too small the run
+starts again with the next fallback (`SlidingRun.attempts`): a softer tangential penalty (frictional
 runs), node-to-segment contact, smaller sliding steps, then contact elements twice as short.  A
 run that still fails returns `status="failed"` with the reason of the attempt that got furthest
 and the time reached (stats ``attempts`` lists every failed attempt's reason, also on a run that
@@ -144,6 +144,8 @@ class SlidingRun:
             raise ValueError(f"edge_radius = {spec.edge_radius!r} mm: expected >= 0")
         if spec.edge_radius > 0.0 and spec.period > 0:
             raise ValueError("edge_radius: a periodic cell has no edges; round only a finite block (period = 0)")
+        if not (np.isfinite(spec.stabilisation) and spec.stabilisation >= 0.0):
+            raise ValueError(f"stabilisation = {spec.stabilisation!r}: expected beta >= 0 (0: off)")
         self.base_spec = spec
         self.spec = spec  # the current attempt's spec (base_spec, or a refined copy)
         # wall_limit > 0: seconds after which the run stops with a structured failure (failure
@@ -223,7 +225,8 @@ class SlidingRun:
         # inactive until a sub-step needs it; not on the top row: its reaction is the load
         self.stabiliser = ViscousStabilisation(np.delete(d, self.top, axis=0), nfull)
         self._stabilised_x = np.isin(self.stabiliser.dofs, d[:, 0])  # its x-dofs (net force)
-        self.problem = self.sp.nonlinear_problem(self.cmap, hooks=[self.contact.hook, self.stabiliser],
+        self.problem = self.sp.nonlinear_problem(self.cmap,
+                                                 hooks=[self.contact.hook, self.stabiliser],
                                                  extra_couplings=self.contact.couplings(),
                                                  external_force=self.fext)
         self.force_scale = s.pressure * L
@@ -317,13 +320,15 @@ class SlidingRun:
 
     def _stabilised_ladder(self, h: float, x_saved: np.ndarray, predict) -> tuple[bool, object]:
         pb, damper = self.problem, self.stabiliser
+        self.sp.w.x.array[:] = x_saved
+        damper.deactivate()
+        pb.constraints.set_prescribed(self.sp.w.x.array)
+        pb.assemble(need_vector=False)
+        diagonal = pb.A.getDiagonal().array.copy()  # of the tangent at u_n, for every rung
         res = None
         for factor in STABILISATION_LADDER:
             self.sp.w.x.array[:] = x_saved
-            damper.deactivate()
-            pb.constraints.set_prescribed(self.sp.w.x.array)
-            pb.assemble(need_vector=False)
-            damper.activate(self.spec.stabilisation * factor, pb.A.getDiagonal().array, x_saved)
+            damper.activate(self.spec.stabilisation * factor, diagonal, x_saved)
             if predict is not None:
                 self._start_iterate(predict, h, x_saved)
             res = self.newton.solve()
@@ -607,8 +612,8 @@ class SlidingRun:
                 "cpu_attempt": time.process_time() - self._cpu_start}
 
     def _result(self, rows, distance, status, reason, t) -> SlidingResult:
-        cols = ["t", "s", "Fx", "Fz", "contact_length", "viscous_energy", "friction_energy", "mean_pressure",
-                "stabilisation_energy", "stabilisation_impulse"]
+        cols = ["t", "s", "Fx", "Fz", "contact_length", "viscous_energy", "friction_energy",
+                "mean_pressure", "stabilisation_energy", "stabilisation_impulse"]
         arr = np.array(rows, dtype=float).reshape(-1, len(cols))
         series = {c: arr[:, i] for i, c in enumerate(cols)}
         res = SlidingResult(status, reason=reason, t_reached=t, series=series)
