@@ -204,6 +204,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "stabilisation": Key("float", 0.1, "viscous stabilisation beta of a sub-step that still "
                              "fails after a cut-back (thesis 6.3.3; tried x1, x10, x100; its "
                              "share of mu is in samples.csv); 0: off", minimum=0.0),
+        "min_jacobian": Key("float", 0.01, "a converged state with det F at most this at a "
+                            "quadrature point (a collapsed element) is refused like an inverted "
+                            "one: cut back, stabilise, fall back; 0: inversion only",
+                            minimum=0.0, maximum=0.5),
         "penalty_alpha": Key("float", 100.0, "normal penalty c_N = alpha |E*(omega)| / h_contact: "
                              "contact compliance ~1/alpha of an element's; lower is faster on "
                              "steep surfaces and softer (more contact area)", above=0.0),
@@ -420,6 +424,7 @@ class NumericsConfig:
     element: str
     max_cutbacks: int
     stabilisation: float
+    min_jacobian: float
     penalty_alpha: float
     tangential_penalty: float
     master_points_per_wavelength: int

@@ -81,6 +81,7 @@ class SpecBuilder:
                            window_start=window, converge_tol=tol, steady_state=steady,
                            shortcut=num.shortcut,
                            max_cutbacks=num.max_cutbacks, stabilisation=num.stabilisation,
+                           min_jacobian=num.min_jacobian,
                            penalty_alpha=num.penalty_alpha,
                            tangential_penalty=num.tangential_penalty)
         # contact element size: the shortest wavelength of the sample / elements_per_wavelength;
@@ -124,7 +125,7 @@ def find_key(store: Store, prefix: str) -> str:
 
 #: SlidingSpec fields whose default changed the computation when they were added: a run file
 #: written before holds no value for them and was computed with this one
-BEFORE_FIELD: dict[str, Any] = {"stabilisation": 0.0}
+BEFORE_FIELD: dict[str, Any] = {"stabilisation": 0.0, "min_jacobian": 0.0}
 
 
 def stored_spec(stored: StoredRun) -> SlidingSpec:

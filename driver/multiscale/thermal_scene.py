@@ -115,6 +115,7 @@ def macro_inputs(scene: Scene, compound, road: Road, pressure: float, velocity: 
                           step_per_element=t.step_per_element, element=num.element, contact=num.contact,
                           grading=num.grading, compression_steps=num.compression_steps,
                           max_cutbacks=num.max_cutbacks, stabilisation=num.stabilisation,
+                           min_jacobian=num.min_jacobian,
                           penalty_alpha=num.penalty_alpha,
                           tangential_penalty=num.tangential_penalty,
                           edge_radius=t.edge_radius)

@@ -146,6 +146,8 @@ class SlidingRun:
             raise ValueError("edge_radius: a periodic cell has no edges; round only a finite block (period = 0)")
         if not (np.isfinite(spec.stabilisation) and spec.stabilisation >= 0.0):
             raise ValueError(f"stabilisation = {spec.stabilisation!r}: expected beta >= 0 (0: off)")
+        if not 0.0 <= spec.min_jacobian < 1.0:
+            raise ValueError(f"min_jacobian = {spec.min_jacobian!r}: expected 0 <= det F limit < 1")
         self.base_spec = spec
         self.spec = spec  # the current attempt's spec (base_spec, or a refined copy)
         # wall_limit > 0: seconds after which the run stops with a structured failure (failure
@@ -166,6 +168,7 @@ class SlidingRun:
         self.observers = list(observers)
         self.stabilise_after = STABILISE_AFTER  # cut-backs before a sub-step is stabilised
         self._mesh_factory = mesh_factory
+        self._detF = None  # det F at the quadrature points, compiled on first use per attempt
         self._contact_factory = contact_factory
 
     # --- set-up ------------------------------------------------------------------------------
@@ -275,12 +278,13 @@ class SlidingRun:
             self.newton_iterations += res.iterations
             ok, reason = res.converged, res.reason
             if ok and self._inverted():
-                ok, reason = False, "element inversion (det F <= 0)"
+                ok, reason = False, self._bad_element_reason()
             floor = dt * 0.5**self.spec.max_cutbacks * (1.0 - 1e-9)
             if not ok and self.spec.stabilisation > 0.0 and (cutbacks >= self.stabilise_after
                                                              or 0.5 * h < floor):
                 ok, res = self._stabilised_solve(h, x_saved, predict)
             if ok:
+                self.min_det_F = min(self.min_det_F, getattr(self, "_det_F", math.inf))
                 self.step_energy += self.sp.commit_step()
                 self.contact.commit()
                 self.step_friction_energy += float(self.contact.state().get("dissipation", 0.0))
@@ -402,12 +406,21 @@ class SlidingRun:
                 self.observers.remove(obs)
 
     def _inverted(self) -> bool:
+        """Whether the iterate has an inverted or collapsed element: a quadrature point with
+        det F <= spec.min_jacobian (its value is kept in ``_det_F``, for the reason text)."""
         if self._detF is None:
             u, _ = self.sp.split()
             self._detF = jit.expression(ufl.det(deformation_gradient(u)), self.sp.rule.points)
             ncell = self.mesh.topology.index_map(2).size_local
             self._cells = np.arange(ncell, dtype=np.int32)
-        return bool(self._detF.eval(self._cells).min() <= 0.0)
+        self._det_F = float(self._detF.eval(self._cells).min())
+        return self._det_F <= self.spec.min_jacobian
+
+    def _bad_element_reason(self) -> str:
+        j = getattr(self, "_det_F", math.nan)
+        if not j > 0.0:
+            return "element inversion (det F <= 0)"
+        return f"element collapse (det F = {j:.3g} <= min_jacobian {self.spec.min_jacobian:g})"
 
     def _top_reaction(self) -> float:
         """Vertical force the tied top edge carries (internal force sum at its u_z dofs)."""
@@ -505,6 +518,7 @@ class SlidingRun:
         self.step_energy = self.step_friction_energy = 0.0
         self.step_stabilisation_energy = self.step_stabilisation_impulse = 0.0
         self.stabilised_steps = 0
+        self.min_det_F = math.inf
         try:
             self.build(formulation)
         except (ValueError, RuntimeError) as err:
@@ -622,6 +636,7 @@ class SlidingRun:
                      "predictor_used": self.predictor_used,
                      "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size),
                      "stabilised_steps": self.stabilised_steps,
+                     "min_det_F": self.min_det_F if math.isfinite(self.min_det_F) else math.nan,
                      "window_start": lo, "window_end": hi,
                      "compression_contact_fraction": self.compression_contact, **self._cpu_split()}
         if len(rows) == 0:
