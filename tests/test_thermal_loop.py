@@ -177,6 +177,10 @@ def test_coupled_scene_writes_mu_with_and_without_flash_temperature(tmp_path: Pa
     rows = list(csv.DictReader(open(folder / "loop_results.csv")))
     assert len(rows) == 1 and rows[0]["status"] == "ok"
     assert float(rows[0]["mu_flash"]) < float(rows[0]["mu_isothermal"])
+    # the macro run's stabilisation is reported: a share only where sub-steps were stabilised
+    stabilised = float(rows[0]["macro_stabilised_steps"])
+    share = float(rows[0]["macro_stabilisation_share"])
+    assert stabilised >= 0 and (share == 0.0 if stabilised == 0 else share > 0.0)
     point = folder / "tread_default_p0.3_v1000"
     intervals = list(csv.DictReader(open(point / "intervals.csv")))
     assert [float(r["s"]) for r in intervals] == pytest.approx([4.0, 8.0])

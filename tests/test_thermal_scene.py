@@ -129,6 +129,10 @@ def test_small_thermal_scene_end_to_end(tmp_path):
     rows = list(csv.DictReader(open(out / "thermal" / "thermal_results.csv")))
     assert len(rows) == 1 and rows[0]["status"] == "ok"
     assert 0.0 <= float(rows[0]["mu_error"]) < 0.05  # the window average states how steady it is
+    # the viscous stabilisation is reported: no stabilised sub-step, no share; the block is whole
+    stabilised, share = float(rows[0]["stabilised_steps"]), float(rows[0]["stabilisation_share"])
+    assert stabilised >= 0 and (share == 0.0 if stabilised == 0 else share > 0.0)
+    assert 0.5 < float(rows[0]["min_det_F"]) <= 1.0 + 1e-9
     T0 = 293.15
     assert float(rows[0]["T_contact"]) > T0 + 1.0
     run = out / "thermal" / "tread_default_p0.3_v1000"

@@ -10,7 +10,8 @@ temperatures) and ``thermal/``:
   change, beside Persson's line-roughness theory with and without its flash temperature;
 * ``loop_results.csv`` -- one row per point: mu without flash temperature (the isothermal
   cascade plus mu_const) and with it (mu_const + the lower scales' mu at the end of the slide),
-  their relative difference, the final surface temperature of the profile (eq. 8.1), wall time;
+  their relative difference, the final surface temperature of the profile (eq. 8.1), the macro
+  run's stabilised sub-steps and the dashpots' share of its friction work, wall time;
 * ``<point>/intervals.csv`` -- per homogenisation point: s, t, the mu used before it and the mu
   the cascade returned, the per-scale mu, the profile's surface value and spread, the partition
   temperatures and the cascade's wall time;
@@ -180,7 +181,15 @@ def _row(name: str, p: float, v: float, res, T0: float) -> dict:
     return {"compound": name, "pressure": p, "velocity": v, "mode": mode, "status": "ok" if res.ok else "failed",
             "mu_isothermal": iso, "mu_flash": res.mu, "change": res.mu / iso - 1.0 if iso else math.nan,
             "mu_const": res.settings.mu_const, "points": points, "T_surface": T_s, "T_surface_std": T_std,
-            "wall": res.wall, "notes": " | ".join(res.notes)}
+            **_macro_stabilisation(res.macro), "wall": res.wall, "notes": " | ".join(res.notes)}
+
+
+def _macro_stabilisation(macro) -> dict:
+    """The macro run's stabilised sub-steps and the dashpots' share of its friction work."""
+    if macro is None:
+        return {"macro_stabilised_steps": math.nan, "macro_stabilisation_share": math.nan}
+    return {"macro_stabilised_steps": float(macro.sliding.stats.get("stabilised_steps", math.nan)),
+            "macro_stabilisation_share": float(macro.sliding.stabilisation_share)}
 
 
 def _write_rows(path: Path, rows: list[dict]) -> None:

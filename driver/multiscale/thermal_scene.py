@@ -8,7 +8,9 @@ Outputs under ``<output>/thermal/``:
   estimate mu_error (half the relative drift of mu over the window, the fixed-window rule of the
   isothermal runs; the contact temperature keeps rising in a finite slide), end values of
   the contact temperature T_C, the hottest rubber surface node, the road behind the block T_R,
-  the largest temperature change per step (the staggered scheme's lag), wall time;
+  the largest temperature change per step (the staggered scheme's lag), wall time, the sub-steps
+  solved with the viscous stabilisation and the dashpots' share of the friction work (above 5 %
+  the stabilisation, not the rubber, carries a visible part of mu), the smallest det F;
 * ``<run>/series.csv`` -- per sliding step: t, s, mu, T_contact, T_max, T_road_behind, heat in
   block and road, frictional energy, probes;
 * ``<run>/interface.csv`` -- the final profile along the block: x, T_block, pressure, frictional
@@ -71,6 +73,11 @@ class ThermalRunSummary:
     cpu_heat: float = math.nan
     cpu_contact: float = math.nan
     mu_error: float = math.nan  # half the window drift of mu: how far from steady the average may be
+    # sub-steps solved with the viscous stabilisation and the dashpots' share of the window's
+    # friction work (driver.fe.stabilisation); smallest det F of the accepted states
+    stabilised_steps: float = math.nan
+    stabilisation_share: float = math.nan
+    min_det_F: float = math.nan
 
     @property
     def ok(self) -> bool:
@@ -202,7 +209,8 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False, comm=None) -> list[T
                   f"(+- {100 * summary.mu_error:.2g} % from the window drift)  T_C "
                   f"{summary.T_contact - T0:+.3g} K  T_R {summary.T_road_behind - T0:+.3g} K  ({wall:.1f} s, "
                   f"{summary.steps:.0f} steps, {summary.cutbacks:.0f} cut-backs, {summary.newton_iterations:.0f} "
-                  f"Newton iterations, heat {summary.cpu_heat:.1f} s CPU)", flush=True)
+                  f"Newton iterations, heat {summary.cpu_heat:.1f} s CPU{_stabilised(summary)})",
+                  flush=True)
     if size > 1:
         parts = comm.gather(summaries, root=0)
         if rank != 0:
@@ -215,6 +223,14 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False, comm=None) -> list[T
     return summaries
 
 
+def _stabilised(s: ThermalRunSummary) -> str:
+    """', N stabilised sub-steps (share x % of the friction work)' where there were any."""
+    if not s.stabilised_steps > 0:
+        return ""
+    share = 100 * s.stabilisation_share
+    return f", {s.stabilised_steps:.0f} stabilised sub-steps (share {share:.2g} %)"
+
+
 def _summarise(name, p, v, res: ThermalMacroResult, wall: float, folder: Path) -> ThermalRunSummary:
     s = res.series
     end = (lambda k: float(s[k][-1])) if s and len(s["t"]) else (lambda k: math.nan)
@@ -225,12 +241,17 @@ def _summarise(name, p, v, res: ThermalMacroResult, wall: float, folder: Path) -
                              end("T_max"), end("T_road_behind"), float(res.stats.get("max_step_dT", math.nan)),
                              wall, folder, float(st.get("steps", math.nan)), float(st.get("cutbacks", math.nan)),
                              float(st.get("newton_iterations", math.nan)), float(res.stats.get("cpu_heat", math.nan)),
-                             float(st.get("cpu_contact", math.nan)), float(res.sliding.mu_error))
+                             float(st.get("cpu_contact", math.nan)), float(res.sliding.mu_error),
+                             float(st.get("stabilised_steps", math.nan)),
+                             float(res.sliding.stabilisation_share),
+                             float(st.get("min_det_F", math.nan)))
 
 
 def write_summary(path: Path, rows: list[ThermalRunSummary]) -> None:
     cols = ["compound", "pressure", "velocity", "status", "mu_force", "mu_error", "T_contact", "T_max", "T_road_behind",
-            "max_step_dT", "wall", "steps", "cutbacks", "newton_iterations", "cpu_heat", "cpu_contact", "reason"]
+            "max_step_dT", "wall", "steps", "cutbacks", "newton_iterations", "cpu_heat",
+            "cpu_contact",
+            "stabilised_steps", "stabilisation_share", "min_det_F", "reason"]
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(cols)
