@@ -191,6 +191,7 @@ def sample_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
                              "mu_error": o.value("mu_error"),
                              "converged": o.value("converged"),
                              "stabilisation_share": o.value("stabilisation_share"),
+                             "min_det_F": o.value("min_det_F"),
                              "wall_time_s": o.wall_time, "reused": o.reused, "key": o.key})
     return rows
 

@@ -630,13 +630,14 @@ class SlidingRun:
                 "mean_pressure", "stabilisation_energy", "stabilisation_impulse"]
         arr = np.array(rows, dtype=float).reshape(-1, len(cols))
         series = {c: arr[:, i] for i, c in enumerate(cols)}
-        res = SlidingResult(status, reason=reason, t_reached=t, series=series)
+        res = SlidingResult(status, reason=reason, t_reached=t, series=series,
+                            min_det_F=self.min_det_F if math.isfinite(self.min_det_F) else math.nan)
         lo, hi = self._window(series["s"], distance)
         res.stats = {"cutbacks": self.cutbacks, "newton_iterations": self.newton_iterations,
                      "predictor_used": self.predictor_used,
                      "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size),
                      "stabilised_steps": self.stabilised_steps,
-                     "min_det_F": self.min_det_F if math.isfinite(self.min_det_F) else math.nan,
+                     "min_det_F": res.min_det_F,
                      "window_start": lo, "window_end": hi,
                      "compression_contact_fraction": self.compression_contact, **self._cpu_split()}
         if len(rows) == 0:

@@ -97,6 +97,9 @@ class SlidingResult:
     # the larger of the stabilising dashpots' share of the window's friction work and of its mean
     # friction force (0: no stabilised sub-step in the window; driver.fe.stabilisation)
     stabilisation_share: float = float("nan")
+    # smallest det F at a quadrature point over the accepted states (how distorted the mesh got;
+    # SlidingSpec.min_jacobian refuses states at or below the limit)
+    min_det_F: float = float("nan")
     dissipation_by_depth: tuple[np.ndarray, np.ndarray] | None = None
     stats: dict[str, float] = field(default_factory=dict)
 
