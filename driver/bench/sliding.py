@@ -16,8 +16,13 @@
    process (the run's ``cpu_*`` stats: robust to other jobs on the machine) of the attempt that
    gave the result, per Newton iteration.  ``--compare-jit`` repeats the run with the forms
    compiled by dolfinx's default flags (``forms/jit.py``) and prints the ratio per part.
+4. Linear solvers (``--part linear-solvers``): the same lowest-scale run, and the first micro1
+   sample at a tenth of the pressure, with each LU package of the Newton solves
+   (``driver.fe.newton.LINEAR_SOLVERS``: PETSc's checked pivot-free LU, MUMPS), side by side and
+   repeated (A B A B: the machine is shared): wall time, CPU of the linear solves, Newton
+   iterations, mu_force and the pivot-free solves that fell back to MUMPS, and the ratios.
 
-    rubberfriction bench sliding [--part accuracy|stability|both|iterations] [--quick]
+    rubberfriction bench sliding [--part accuracy|stability|both|iterations|linear-solvers] [--quick]
                                  [--wall-limit S] [--penalty-alpha A] [--element E] [--json FILE]
                                  [--pressure P] [--velocity V] [--slide-fraction F] [--compare-jit]
 """
@@ -36,7 +41,8 @@ from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
 from rubberfriction.driver.multiscale.scene import load_scene
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
-from rubberfriction.driver.sliding.run import run_sliding
+from rubberfriction.driver.fe.newton import LINEAR_SOLVERS
+from rubberfriction.driver.sliding.run import SlidingRun, block_mesh, run_sliding, sliding_contact
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.surfaces import default_road
 from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
@@ -104,17 +110,54 @@ def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str
     return rows
 
 
-def lowest_scale_spec(pressure: float, velocity: float, slide_fraction: float) -> SlidingSpec:
-    """The first micro2 (lowest-scale) sample of the default scene, built as its campaign builds
-    friction runs (``SpecBuilder``: band-limited master, element size, quick settings), slid over
-    ``slide_fraction`` of its period."""
+def lowest_scale_spec(pressure: float, velocity: float, slide_fraction: float,
+                      scale: int = -1) -> SlidingSpec:
+    """The first micro2 (lowest-scale; or ``scale``) sample of the default scene, built as its
+    campaign builds friction runs (``SpecBuilder``: band-limited master, element size, quick
+    settings), slid over ``slide_fraction`` of its period."""
     scene = load_scene("default")
     scales = build_scales(scene, scene.samples.friction)
     compound = scene.conditions.compounds[0]
+    k = scale % len(scales.sets)
     spec = SpecBuilder(scene, load_compounds(scene))(
-        Point(compound, pressure, velocity), len(scales.sets) - 1, scales.sets[-1].samples[0],
-        pressure, None, "up")
+        Point(compound, pressure, velocity), k, scales.sets[k].samples[0], pressure, None, "up")
     return dataclasses.replace(spec, slide_distance=slide_fraction * spec.period)
+
+
+def linear_solvers(pressure: float, velocity: float, slide_fraction: float,
+                   repeats: int = 2) -> list[dict]:
+    """Each LU package on the micro2 and micro1 runs, interleaved (module docstring, part 4)."""
+    cases = [("micro2", lowest_scale_spec(pressure, velocity, slide_fraction)),
+             ("micro1", lowest_scale_spec(0.1 * pressure, velocity, slide_fraction, scale=-2))]
+    rows = []
+    for name, spec in cases:
+        print(f"{name}: period {spec.period:g} mm, h_contact {spec.h_contact:g} mm, "
+              f"p {spec.pressure:g} MPa, v {velocity:g} mm/s, slide {spec.slide_distance:g} mm")
+        for rep in range(repeats):
+            for solver in LINEAR_SOLVERS:
+                t0 = time.perf_counter()
+                r = SlidingRun(spec, block_mesh, sliding_contact, linear_solver=solver).run()
+                wall = time.perf_counter() - t0
+                st = r.stats
+                row = {"case": name, "solver": solver, "repeat": rep, "status": r.status,
+                       "wall_s": wall, "cpu_linear_s": float(st.get("cpu_linear", np.nan)),
+                       "newton_iterations": int(st.get("newton_iterations", 0)),
+                       "dofs": float(st.get("dofs", np.nan)), "mu_force": r.mu_force,
+                       "lu_fallbacks": int(st.get("lu_fallbacks", 0))}
+                rows.append(row)
+                its = max(row["newton_iterations"], 1)
+                print(f"  {solver:6s} #{rep}: {r.status}, {row['dofs']:.0f} dofs, {its} Newton "
+                      f"iterations, linear {1e3 * row['cpu_linear_s'] / its:.2f} ms/it, wall "
+                      f"{wall:.1f} s, mu_force {r.mu_force:.10g}, fallbacks {row['lu_fallbacks']}",
+                      flush=True)
+        mine = [r for r in rows if r["case"] == name]
+        ref, new = ([r for r in mine if r["solver"] == s] for s in ("mumps", "petsc"))
+        lin = sum(r["cpu_linear_s"] for r in ref) / max(sum(r["cpu_linear_s"] for r in new), 1e-300)
+        wall = sum(r["wall_s"] for r in ref) / max(sum(r["wall_s"] for r in new), 1e-300)
+        dmu = max(abs(a["mu_force"] - b["mu_force"]) for a, b in zip(ref, new))
+        print(f"  {name}: mumps / petsc: linear solves x{lin:.2f}, wall x{wall:.2f}; "
+              f"|mu_force difference| {dmu:.2e}")
+    return rows
 
 
 #: (label, stats key) of the CPU split of one attempt; the rest is cpu_attempt minus their sum
@@ -190,7 +233,8 @@ def _number(minimum: float, strict: bool):
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="rubberfriction bench sliding", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--part", choices=["accuracy", "stability", "both", "iterations"],
+    ap.add_argument("--part", choices=["accuracy", "stability", "both", "iterations",
+                                       "linear-solvers"],
                     default="both")
     ap.add_argument("--quick", action="store_true", help="fewer levels (a smoke run)")
     ap.add_argument("--wall-limit", type=_number(0.0, strict=False), default=300.0,
@@ -213,6 +257,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--compare-jit", action="store_true",
                     help="iterations: repeat with dolfinx's default compiler flags, print ratios")
     a = ap.parse_args(argv)
+    if a.part == "linear-solvers":
+        rows = linear_solvers(a.pressure, a.velocity, a.slide_fraction, repeats=1 if a.quick else 2)
+        if a.json:
+            with open(a.json, "w") as f:
+                json.dump({"linear_solvers": rows}, f, indent=1, default=float)
+        return 0
     if a.part == "iterations":
         out = iterations(a.pressure, a.velocity, a.slide_fraction, a.compare_jit, a.element)
         if a.json:

@@ -3,7 +3,11 @@
 The system is assembled in the full space of a dolfinx function (bulk forms by dolfinx, then any
 number of *hooks* that add into the same PETSc matrix and vector, e.g. the C++ mortar contact),
 condensed with the constraint prolongation P (``constraints.py``) to  P^T A P du_r = -P^T R,
-and solved with a direct LU factorisation (MUMPS).  Convention: R(u) = F_int - F_ext, so hooks add
+and solved with a direct LU factorisation: PETSc's own (nested-dissection ordering, no pivoting),
+each solve checked by its residual, or MUMPS (threshold pivoting), which a solver turns to for good
+when a pivot-free solve fails or misses ``LU_CHECK``.  On the sliding runs' reduced systems
+(1 500-3 100 unknowns) PETSc's LU factorises 1.7-3.6 times faster than MUMPS, whose analysis and
+scaling cost more than the small fronts (``bench sliding --part linear-solvers``).  Convention: R(u) = F_int - F_ext, so hooks add
 dPi/du into the vector and its derivative into the matrix.
 
 The matrix sparsity is the bulk form's pattern plus every coupling a hook declares up front
@@ -75,7 +79,7 @@ class NewtonSettings:
     # them (active-set cycling in penalty contact); for callers that can cut the step back, which
     # is then cheaper than the remaining iterations (sliding runs use 8); 0 = never
     stagnation: int = 0
-    linear_solver: str = "mumps"
+    linear_solver: str = "petsc"  # see LINEAR_SOLVERS
 
 
 @dataclass
@@ -95,6 +99,13 @@ class NewtonResult:
 
 #: the parts of NewtonResult.cpu
 CPU_PARTS = ("bulk", "hooks", "condense", "linear")
+
+#: LU packages of NewtonSettings.linear_solver: "petsc" (PETSc's LU without pivoting, every
+#: solve checked, MUMPS after a failure), "mumps" (MUMPS with threshold pivoting, unchecked)
+LINEAR_SOLVERS = ("petsc", "mumps")
+#: relative residual ||A x - b|| / ||b|| a pivot-free solve must reach, else the solver turns to
+#: MUMPS (an inexact Newton direction this close converges like the exact one down to ~1e-12)
+LU_CHECK = 1e-6
 
 
 class ConstrainedNonlinearProblem:
@@ -225,6 +236,10 @@ class NewtonSolver:
         self.force_scale = float(force_scale)
         self.on_iteration = on_iteration
         self.cpu_linear = 0.0  # CPU seconds of all linear solves of this solver
+        if self.settings.linear_solver not in LINEAR_SOLVERS:
+            raise ValueError(f"linear_solver = {self.settings.linear_solver!r}: expected one of "
+                             f"{LINEAR_SOLVERS}")
+        self.lu_fallbacks = 0  # pivot-free solves that failed (the solver then uses MUMPS)
         self.reset()
 
     def reset(self) -> None:
@@ -234,8 +249,12 @@ class NewtonSolver:
         self.ksp.setType("preonly")
         pc = self.ksp.getPC()
         pc.setType("lu")
-        pc.setFactorSolverType(self.settings.linear_solver)
+        self._package = "mumps" if self.lu_fallbacks else self.settings.linear_solver
+        pc.setFactorSolverType(self._package)
+        if self._package == "petsc":
+            pc.setFactorOrdering("nd")
         self._operator: PETSc.Mat | None = None  # the reduced matrix this factorisation is for
+        self._check: PETSc.Vec | None = None
 
     def _linear_solve(self) -> None:
         """dur = -Ar^-1 br.  A new reduced matrix (new constraints, new pattern) gets a new LU
@@ -247,7 +266,30 @@ class NewtonSolver:
             self.ksp.setOperators(pb.Ar)
             self._operator = pb.Ar
         pb.br.scale(-1.0)
-        self.ksp.solve(pb.br, pb.dur)
+        if self._package != "petsc":
+            self.ksp.solve(pb.br, pb.dur)
+            return
+        try:
+            self.ksp.solve(pb.br, pb.dur)
+            ok = self.ksp.getConvergedReason() >= 0 and self._solve_error() <= LU_CHECK
+        except PETSc.Error:  # a zero pivot
+            ok = False
+        if not ok:
+            self.lu_fallbacks += 1
+            self.reset()
+            self.ksp.setOperators(pb.Ar)
+            self._operator = pb.Ar
+            self.ksp.solve(pb.br, pb.dur)
+
+    def _solve_error(self) -> float:
+        """||Ar dur - br|| / ||br|| of the last solve (NaN-safe: a non-finite one is inf)."""
+        pb = self.problem
+        if self._check is None:
+            self._check = pb.br.duplicate()
+        pb.Ar.mult(pb.dur, self._check)
+        self._check.axpy(-1.0, pb.br)
+        err = self._check.norm() / max(pb.br.norm(), 1e-300)
+        return err if np.isfinite(err) else np.inf
 
     def solve(self) -> NewtonResult:
         res = NewtonResult(False, 0)

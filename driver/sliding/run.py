@@ -51,7 +51,7 @@ import numpy as np
 import ufl
 
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.fe.newton import NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.newton import LINEAR_SOLVERS, NewtonSettings, NewtonSolver
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.fe.stabilisation import ViscousStabilisation
 from rubberfriction.driver.sliding import shortcut
@@ -138,7 +138,7 @@ class SlidingRun:
     """Set-up and time loop of one sliding run; `run()` returns a SlidingResult."""
 
     def __init__(self, spec: SlidingSpec, mesh_factory=None, contact_factory=None, progress=None,
-                 observers=(), wall_limit: float = 0.0):
+                 observers=(), wall_limit: float = 0.0, linear_solver: str = "petsc"):
         check_layers(spec.temperature_layers, spec.compound)  # bad input raises here
         if not (np.isfinite(spec.edge_radius) and spec.edge_radius >= 0.0):
             raise ValueError(f"edge_radius = {spec.edge_radius!r} mm: expected >= 0")
@@ -156,6 +156,11 @@ class SlidingRun:
         if not (np.isfinite(self.wall_limit) and self.wall_limit >= 0.0):
             raise ValueError(f"wall_limit: expected seconds >= 0 (0: no limit), got {wall_limit!r}")
         self._deadline = float("inf")
+        # LU package of the Newton solves (driver.fe.newton.LINEAR_SOLVERS): the results agree to
+        # round-off, so it is a machine choice, not part of the spec
+        if linear_solver not in LINEAR_SOLVERS:
+            raise ValueError(f"linear_solver = {linear_solver!r}: expected one of {LINEAR_SOLVERS}")
+        self.linear_solver = linear_solver
         self.t_planned = 0.0  # model time of the current attempt's whole load history
         self.progress = progress
         # observers: objects with optional on_start(run), on_step(run, k, t), on_finish(run,
@@ -240,7 +245,8 @@ class SlidingRun:
         # stagnation: cycling active sets are cut back after 8 iterations instead of 25
         self.newton = NewtonSolver(self.problem, NewtonSettings(rtol=1e-8, atol=1e-12 * self.force_scale,
                                                                 backtrack_growth=1.0,
-                                                                stagnation=8),
+                                                                stagnation=8,
+                                                                linear_solver=self.linear_solver),
                                    force_scale=self.force_scale)
 
     def _switch_to_force_control(self) -> None:
@@ -637,6 +643,7 @@ class SlidingRun:
                      "predictor_used": self.predictor_used,
                      "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size),
                      "stabilised_steps": self.stabilised_steps,
+                     "lu_fallbacks": self.newton.lu_fallbacks,
                      "min_det_F": res.min_det_F,
                      "window_start": lo, "window_end": hi,
                      "compression_contact_fraction": self.compression_contact, **self._cpu_split()}

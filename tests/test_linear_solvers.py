@@ -1,0 +1,110 @@
+"""The Newton solver's LU packages (driver.fe.newton.LINEAR_SOLVERS).
+
+PETSc's own LU does not pivot: the solver checks every solve's relative residual against
+``LU_CHECK`` and turns to MUMPS (threshold pivoting) for good when a solve fails or misses it.
+
+* a well-conditioned system: the pivot-free solve is the exact solution (1e-12), no fallback;
+* a zero pivot in the natural order ([[0, 1], [1, 0]]): PETSc's LU stops, MUMPS solves it, and
+  the solver stays with MUMPS;
+* a tiny pivot ([[1e-20, 1], [1, 1]]): the pivot-free LU returns a wrong answer without an
+  error (growth 1e20); the residual check catches it and MUMPS solves it within 1e-12;
+* an unknown package is refused naming the field;
+* the packages agree on a real sliding run to 1e-9 of mu (``bench sliding --part linear-solvers``
+  measures their speed).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from petsc4py import PETSc
+
+from rubberfriction.driver.fe.newton import LU_CHECK, NewtonSettings, NewtonSolver
+from rubberfriction.driver.sliding.run import SlidingRun, block_mesh, sliding_contact
+from rubberfriction.driver.sliding.spec import SlidingSpec
+from rubberfriction.forms.material_files import load_compound
+
+
+def linear_problem(A: np.ndarray, b: np.ndarray) -> SimpleNamespace:
+    """The reduced system attributes NewtonSolver._linear_solve uses: Ar du = -br."""
+    n = len(b)
+    Ar = PETSc.Mat().createAIJ([n, n], nnz=n)
+    for i in range(n):
+        for j in range(n):
+            Ar.setValue(i, j, A[i, j])
+    Ar.assemble()
+    br = PETSc.Vec().createSeq(n)
+    br.array[:] = -b  # the solver solves Ar dur = -br
+    return SimpleNamespace(Ar=Ar, br=br, dur=PETSc.Vec().createSeq(n))
+
+
+def solve(solver: NewtonSolver, A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    solver.problem = linear_problem(A, b)
+    solver._linear_solve()
+    return solver.problem.dur.array.copy()
+
+
+def test_a_well_conditioned_system_needs_no_fallback():
+    rng = np.random.default_rng(1)
+    A = rng.normal(size=(6, 6)) + 6.0 * np.eye(6)
+    b = rng.normal(size=6)
+    s = NewtonSolver(None, NewtonSettings(linear_solver="petsc"))
+    np.testing.assert_allclose(solve(s, A, b), np.linalg.solve(A, b), rtol=0, atol=1e-12)
+    assert s.lu_fallbacks == 0 and s._package == "petsc"
+
+
+def test_a_zero_pivot_falls_back_to_mumps_for_good():
+    A, b = np.array([[0.0, 1.0], [1.0, 0.0]]), np.array([2.0, 3.0])
+    s = NewtonSolver(None, NewtonSettings(linear_solver="petsc"))
+    np.testing.assert_allclose(solve(s, A, b), [3.0, 2.0], rtol=0, atol=1e-12)
+    assert s.lu_fallbacks == 1 and s._package == "mumps"
+    np.testing.assert_allclose(solve(s, np.eye(2), b), b, atol=1e-12)  # stays with MUMPS
+    assert s.lu_fallbacks == 1 and s._package == "mumps"
+
+
+def test_a_tiny_pivot_is_caught_by_the_residual_check():
+    A, b = np.array([[1e-20, 1.0], [1.0, 1.0]]), np.array([1.0, 2.0])
+    exact = np.linalg.solve(A, b)
+    # what the pivot-free LU alone gives: a wrong answer, no error
+    ksp = PETSc.KSP().create(PETSc.COMM_SELF)
+    ksp.setType("preonly")
+    ksp.getPC().setType("lu")
+    ksp.getPC().setFactorSolverType("petsc")
+    pb = linear_problem(A, b)
+    ksp.setOperators(pb.Ar)
+    x = pb.dur.duplicate()
+    rhs = pb.br.copy()
+    rhs.scale(-1.0)
+    ksp.solve(rhs, x)
+    r = np.linalg.norm(A @ x.array - b) / np.linalg.norm(b)
+    assert r > LU_CHECK  # the check has something to catch
+    s = NewtonSolver(None, NewtonSettings(linear_solver="petsc"))
+    np.testing.assert_allclose(solve(s, A, b), exact, rtol=1e-12)
+    assert s.lu_fallbacks == 1
+
+
+def test_an_unknown_package_is_refused():
+    with pytest.raises(ValueError, match="linear_solver = 'umfpack'"):
+        NewtonSolver(None, NewtonSettings(linear_solver="umfpack"))
+    spec = SlidingSpec(surface_x=np.linspace(0, 1, 9)[:-1], surface_h=np.zeros(8), period=1.0,
+                       pressure=0.1, velocity=10.0, compound=load_compound("tread_default"))
+    with pytest.raises(ValueError, match="linear_solver = 'lu'"):
+        SlidingRun(spec, block_mesh, sliding_contact, linear_solver="lu")
+
+
+def test_both_packages_give_the_same_sliding_run():
+    """The full-contact viscoelastic sinusoid (1 mm, 2 um, 0.1 MPa, 10 mm/s), a quarter period:
+    same Newton iterations, mu within 1e-9."""
+    x = np.linspace(0.0, 1.0, 129)[:-1]
+    spec = SlidingSpec(surface_x=x, surface_h=0.002 * np.cos(2.0 * np.pi * x), period=1.0,
+                       pressure=0.1, velocity=10.0, compound=load_compound("tread_default"),
+                       h_contact=1.0 / 16, slide_distance=0.25, step_length=0.5 / 16)
+    res = {s: SlidingRun(dataclasses.replace(spec), block_mesh, sliding_contact,
+                         linear_solver=s).run() for s in ("petsc", "mumps")}
+    assert all(r.ok for r in res.values())
+    assert res["petsc"].stats["newton_iterations"] == res["mumps"].stats["newton_iterations"]
+    assert res["petsc"].stats["lu_fallbacks"] == 0
+    assert res["petsc"].mu_force == pytest.approx(res["mumps"].mu_force, rel=1e-9)
