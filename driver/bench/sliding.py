@@ -11,7 +11,7 @@
 3. Iterations (``--part iterations``, not in ``both``): where the CPU time of one Newton iteration
    of a lowest-scale run goes.  The first micro2 sample of the default scene (0.04-0.003 mm band,
    built as the campaign builds it) at ``--pressure`` and ``--velocity``, slid over
-   ``--slide-fraction`` of its period: bulk forms, contact, P^T A P, linear solve (MUMPS numeric
+   ``--slide-fraction`` of its period: bulk forms, contact, P^T A P, linear solve (numeric
    LU + triangular solves), history update, the rest (Python, set-up); CPU seconds of this
    process (the run's ``cpu_*`` stats: robust to other jobs on the machine) of the attempt that
    gave the result, per Newton iteration.  ``--compare-jit`` repeats the run with the forms

@@ -6,8 +6,9 @@ condensed with the constraint prolongation P (``constraints.py``) to  P^T A P du
 and solved with a direct LU factorisation: PETSc's own (nested-dissection ordering, no pivoting),
 each solve checked by its residual, or MUMPS (threshold pivoting), which a solver turns to for good
 when a pivot-free solve fails or misses ``LU_CHECK``.  On the sliding runs' reduced systems
-(1 500-3 100 unknowns) PETSc's LU factorises 1.7-3.6 times faster than MUMPS, whose analysis and
-scaling cost more than the small fronts (``bench sliding --part linear-solvers``).  Convention: R(u) = F_int - F_ext, so hooks add
+(1 500-3 300 unknowns) the linear solves are 1.3-1.9 times faster with PETSc's LU than with MUMPS,
+whose analysis and scaling cost more than the small fronts (``bench sliding --part
+linear-solvers``).  Convention: R(u) = F_int - F_ext, so hooks add
 dPi/du into the vector and its derivative into the matrix.
 
 The matrix sparsity is the bulk form's pattern plus every coupling a hook declares up front
@@ -15,9 +16,9 @@ The matrix sparsity is the bulk form's pattern plus every coupling a hook declar
 
 What is reused, and why the pattern is fixed: A keeps its pattern for the life of the problem (new
 nonzeros are an error), so P^T A P keeps its pattern while the constraints stay (``MatPtAP`` with
-MAT_REUSE_MATRIX: its symbolic product is computed once per constraint set), and PETSc's LU keeps
-the symbolic factorisation (MUMPS analysis: ordering, scaling, tree) as long as it is handed the
-same reduced matrix with an unchanged nonzero state; only the numeric factorisation is redone,
+MAT_REUSE_MATRIX: its symbolic product is computed once per constraint set), and the LU keeps
+its symbolic factorisation (the ordering and fill; for MUMPS its analysis: ordering, scaling,
+tree) as long as it is handed the same reduced matrix with an unchanged nonzero state; only the numeric factorisation is redone,
 as Newton needs (a reused numeric factor would be a modified Newton method, other iterates).
 :meth:`ConstrainedNonlinearProblem.set_constraints` makes a new reduced matrix; the solver notices
 the new object and starts a new factorisation (symbolic included) by itself.
