@@ -19,7 +19,8 @@ nonzeros are an error), so P^T A P keeps its pattern while the constraints stay 
 MAT_REUSE_MATRIX: its symbolic product is computed once per constraint set), and the LU keeps
 its symbolic factorisation (the ordering and fill; for MUMPS its analysis: ordering, scaling,
 tree) as long as it is handed the same reduced matrix with an unchanged nonzero state; only the
-numeric factorisation is redone, as Newton needs (a reused numeric factor would be a modified Newton method, other iterates).
+numeric factorisation is redone, as Newton needs (a reused numeric factor would be a modified
+Newton method, other iterates).
 :meth:`ConstrainedNonlinearProblem.set_constraints` makes a new reduced matrix; the solver notices
 the new object and starts a new factorisation (symbolic included) by itself.
 
