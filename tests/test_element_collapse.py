@@ -5,7 +5,9 @@ element can squeeze it to zero area at every quadrature point while the solve st
 (measured on the default scene's micro2 run at 29 MPa: det F 1e-14).  Its second Piola-Kirchhoff
 history then grows like 1 / det F^2 (6e13 MPa there) and the next sub-step of another length
 starts at residuals of 1e12.  A state with det F <= min_jacobian at a quadrature point is
-therefore not accepted.
+therefore not accepted.  The default limit 1e-3 lies below what runs that converge with a
+consistent mu reach (0.0036 and 0.0095 on the default scene's micro1 and micro2 runs) and above
+what the collapsed one did (1e-5 .. 1e-14).
 
 * det F of a homogeneous vertical squeeze F = diag(1, s) is s at every quadrature point: the check
   reads s exactly and names the cause (collapse against the limit, inversion at s <= 0).
@@ -52,7 +54,7 @@ def built():
     return run
 
 
-@pytest.mark.parametrize("s", [1.0, 0.5, 0.02])
+@pytest.mark.parametrize("s", [1.0, 0.5, 0.005])
 def test_a_squeezed_but_whole_block_is_accepted(built, s):
     squeezed(built, s)
     assert not built._inverted()
@@ -60,10 +62,10 @@ def test_a_squeezed_but_whole_block_is_accepted(built, s):
 
 
 def test_a_collapsed_block_is_refused_naming_the_cause(built):
-    squeezed(built, 0.005)
+    squeezed(built, 5e-4)
     assert built._inverted()
-    assert built._det_F == pytest.approx(0.005, rel=1e-10)
-    assert built._bad_element_reason() == "element collapse (det F = 0.005 <= min_jacobian 0.01)"
+    assert built._det_F == pytest.approx(5e-4, rel=1e-10)
+    assert built._bad_element_reason() == "element collapse (det F = 0.0005 <= min_jacobian 0.001)"
     squeezed(built, -0.2)
     assert built._inverted()
     assert built._bad_element_reason() == "element inversion (det F <= 0)"

@@ -204,7 +204,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "stabilisation": Key("float", 0.1, "viscous stabilisation beta of a sub-step that still "
                              "fails after a cut-back (thesis 6.3.3; tried x1, x10, x100; its "
                              "share of mu is in samples.csv); 0: off", minimum=0.0),
-        "min_jacobian": Key("float", 0.01, "a converged state with det F at most this at a "
+        "min_jacobian": Key("float", 1e-3, "a converged state with det F at most this at a "
                             "quadrature point (a collapsed element) is refused like an inverted "
                             "one: cut back, stabilise, fall back; 0: inversion only",
                             minimum=0.0, maximum=0.5),
