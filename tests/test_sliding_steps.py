@@ -49,7 +49,7 @@ def scripted_run(newton: ScriptedNewton, max_cutbacks: int = 8) -> SlidingRun:
     run.newton, run._inverted = newton, lambda: False
     run.newton_iterations = run.cutbacks = run._easy = 0
     run.step_energy = run.step_friction_energy = 0.0
-    run.min_det_F = float("inf")
+    run.min_det_F, run._iterate_det_F = float("inf"), float("nan")
     run._deadline, run._h_next = float("inf"), 1.0
     return run
 

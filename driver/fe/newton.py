@@ -260,13 +260,13 @@ class NewtonSolver:
 
     def _linear_solve(self) -> None:
         """dur = -Ar^-1 br.  A new reduced matrix (new constraints, new pattern) gets a new LU
-        (symbolic factorisation included); the same one only a numeric refactorisation."""
+        (symbolic factorisation included); the same one only a numeric refactorisation.  A
+        pivot-free solve that fails or misses LU_CHECK is done again with MUMPS."""
         pb = self.problem
         if pb.Ar is not self._operator:
             if self._operator is not None:
                 self.reset()
-            self.ksp.setOperators(pb.Ar)
-            self._operator = pb.Ar
+            self._bind()
         pb.br.scale(-1.0)
         if self._package != "petsc":
             self.ksp.solve(pb.br, pb.dur)
@@ -278,10 +278,14 @@ class NewtonSolver:
             ok = False
         if not ok:
             self.lu_fallbacks += 1
-            self.reset()
-            self.ksp.setOperators(pb.Ar)
-            self._operator = pb.Ar
+            self.reset()  # MUMPS from now on
+            self._bind()
             self.ksp.solve(pb.br, pb.dur)
+
+    def _bind(self) -> None:
+        """Factorise the problem's current reduced matrix from the next solve on."""
+        self.ksp.setOperators(self.problem.Ar)
+        self._operator = self.problem.Ar
 
     def _solve_error(self) -> float:
         """||Ar dur - br|| / ||br|| of the last solve (NaN-safe: a non-finite one is inf)."""

@@ -122,7 +122,7 @@ def macro_inputs(scene: Scene, compound, road: Road, pressure: float, velocity: 
                           step_per_element=t.step_per_element, element=num.element, contact=num.contact,
                           grading=num.grading, compression_steps=num.compression_steps,
                           max_cutbacks=num.max_cutbacks, stabilisation=num.stabilisation,
-                           min_jacobian=num.min_jacobian,
+                          min_jacobian=num.min_jacobian,
                           penalty_alpha=num.penalty_alpha,
                           tangential_penalty=num.tangential_penalty,
                           edge_radius=t.edge_radius)
@@ -244,7 +244,7 @@ def _summarise(name, p, v, res: ThermalMacroResult, wall: float, folder: Path) -
                              float(st.get("cpu_contact", math.nan)), float(res.sliding.mu_error),
                              float(st.get("stabilised_steps", math.nan)),
                              float(res.sliding.stabilisation_share),
-                             float(st.get("min_det_F", math.nan)))
+                             float(res.sliding.min_det_F))
 
 
 def write_summary(path: Path, rows: list[ThermalRunSummary]) -> None:

@@ -174,6 +174,7 @@ class SlidingRun:
         self.stabilise_after = STABILISE_AFTER  # cut-backs before a sub-step is stabilised
         self._mesh_factory = mesh_factory
         self._detF = None  # det F at the quadrature points, compiled on first use per attempt
+        self._iterate_det_F = math.nan  # its smallest value at the last checked iterate
         self._contact_factory = contact_factory
 
     # --- set-up ------------------------------------------------------------------------------
@@ -290,7 +291,7 @@ class SlidingRun:
                                                              or 0.5 * h < floor):
                 ok, res = self._stabilised_solve(h, x_saved, predict)
             if ok:
-                self.min_det_F = min(self.min_det_F, getattr(self, "_det_F", math.inf))
+                self.min_det_F = min(self.min_det_F, self._iterate_det_F)
                 self.step_energy += self.sp.commit_step()
                 self.contact.commit()
                 self.step_friction_energy += float(self.contact.state().get("dissipation", 0.0))
@@ -413,17 +414,17 @@ class SlidingRun:
 
     def _inverted(self) -> bool:
         """Whether the iterate has an inverted or collapsed element: a quadrature point with
-        det F <= spec.min_jacobian (its value is kept in ``_det_F``, for the reason text)."""
+        det F <= spec.min_jacobian (the smallest value is kept for the reason text)."""
         if self._detF is None:
             u, _ = self.sp.split()
             self._detF = jit.expression(ufl.det(deformation_gradient(u)), self.sp.rule.points)
             ncell = self.mesh.topology.index_map(2).size_local
             self._cells = np.arange(ncell, dtype=np.int32)
-        self._det_F = float(self._detF.eval(self._cells).min())
-        return self._det_F <= self.spec.min_jacobian
+        self._iterate_det_F = float(self._detF.eval(self._cells).min())
+        return self._iterate_det_F <= self.spec.min_jacobian
 
     def _bad_element_reason(self) -> str:
-        j = getattr(self, "_det_F", math.nan)
+        j = self._iterate_det_F
         if not j > 0.0:
             return "element inversion (det F <= 0)"
         return f"element collapse (det F = {j:.3g} <= min_jacobian {self.spec.min_jacobian:g})"
@@ -644,7 +645,6 @@ class SlidingRun:
                      "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size),
                      "stabilised_steps": self.stabilised_steps,
                      "lu_fallbacks": self.newton.lu_fallbacks,
-                     "min_det_F": res.min_det_F,
                      "window_start": lo, "window_end": hi,
                      "compression_contact_fraction": self.compression_contact, **self._cpu_split()}
         if len(rows) == 0:
