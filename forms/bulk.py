@@ -11,7 +11,10 @@ displacement-only element or J p C^-1 with an independent pressure p (mixed elem
 Residual in the reference configuration (eq. 3.85) with the perturbed-Lagrangian constraint of the
 mixed element (eq. 3.61), which stays well posed as K -> infinity:
 
-    R(u, p; v, q) = int (F S) : grad(v) dV + int (J - 1 - p/K) q dV
+    R(u, p; v, q) = int (F S) : grad(v) dV + int (g(J) - p/K) q dV
+
+with g(J) = J - 1 for the thesis' quadratic volumetric energy (the form above with J - 1) and
+g = ln J for the logarithmic one (``hyperelastic.py``); S_vol = p J g'(J) C^-1.
 
 External loads (tractions) and contact are added by the caller.  The stabilised Q1P0 element
 adds :func:`pressure_jump_stabilisation` to the constraint equation.
@@ -29,6 +32,7 @@ from rubberfriction.forms.hyperelastic import (
     fictitious_stress,
     isochoric_stress,
     pressure_stress,
+    volumetric_measure,
     volumetric_stress,
 )
 from rubberfriction.forms.kinematics import deformation_gradient, embed_gradient
@@ -49,7 +53,8 @@ def second_piola(u: Any, p: Any, material: MooneyRivlinLike, history: Any = None
         return equilibrium_stress(F, material)
     Sbar = fictitious_stress(F, material)
     S = isochoric_stress(F, Sbar)
-    S = S + (pressure_stress(F, p) if p is not None else volumetric_stress(F, material.D1))
+    S = S + (pressure_stress(F, p, material.volumetric) if p is not None
+             else volumetric_stress(F, material))
     if history is not None:
         S = S + viscous_stress(F, Sbar, history.Hstar, history.beta)
     return S
@@ -57,12 +62,14 @@ def second_piola(u: Any, p: Any, material: MooneyRivlinLike, history: Any = None
 
 def bulk_residual(u: Any, p: Any, v: Any, q: Any, material: MooneyRivlinLike, dx: Any,
                   history: Any = None) -> Any:
-    """Residual form of eq. (3.85) plus, for a mixed element (p, q given), eq. (3.61)."""
+    """Residual form of eq. (3.85) plus, for a mixed element (p, q given), eq. (3.61) with
+    g(J) in place of J - 1 (module docstring)."""
     F = deformation_gradient(u)
     R = ufl.inner(F * second_piola(u, p, material, history), embed_gradient(v)) * dx
     if p is not None:
         K = 2.0 / material.D1
-        R += (ufl.det(F) - 1.0 - p / K) * q * dx
+        g, _ = volumetric_measure(ufl.det(F), material.volumetric)
+        R += (g - p / K) * q * dx
     return R
 
 

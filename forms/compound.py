@@ -46,6 +46,8 @@ def _as_output(x: Any) -> float | np.ndarray:
 # --------------------------------------------------------------------------------------------
 
 MR_FORMS = ("split", "feap")
+#: volumetric energies of the split form, Psi_vol = K/2 g(J)^2 (``forms/hyperelastic.py``)
+VOLUMETRIC_FORMS = ("quadratic", "logarithmic")
 
 
 @dataclass(frozen=True)
@@ -75,6 +77,12 @@ class MooneyRivlin:
     constants are stored as C10, C01, D1 in both forms; ``form`` only tells the finite-element
     forms which strain energy to build.
 
+    ``volumetric`` (split form only) chooses the volumetric energy with the same small-strain K:
+    ``"quadratic"`` is (J - 1)^2 / D1 above (eq. 3.78, the default); ``"logarithmic"`` is
+    (ln J)^2 / D1, whose pressure grows without bound as J -> 0 where the quadratic one cannot
+    exceed K (``forms/hyperelastic.py``).  It matters where the rubber's hydrostatic pressure
+    approaches K: the lowest scales of a rough-road cascade.
+
     Interpretation: these constants describe the LONG-TERM (equilibrium) response; the thesis
     fits them to quasi-static tests (ch. 3.3.3).  Validation: C10 > 0, C01 >= 0 (C01 = 0 is
     neo-Hooke; negative C01 is rejected as a sufficient condition for stability), D1 > 0.
@@ -84,6 +92,7 @@ class MooneyRivlin:
     C01: float
     D1: float
     form: str = "split"
+    volumetric: str = "quadratic"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "C10", V.positive("MooneyRivlin.C10", self.C10, "MPa"))
@@ -91,6 +100,12 @@ class MooneyRivlin:
         object.__setattr__(self, "D1", V.positive("MooneyRivlin.D1", self.D1, "1/MPa"))
         if self.form not in MR_FORMS:
             raise ValueError(f"MooneyRivlin.form = {self.form!r}: expected one of {MR_FORMS}")
+        if self.volumetric not in VOLUMETRIC_FORMS:
+            raise ValueError(f"MooneyRivlin.volumetric = {self.volumetric!r}: expected one of "
+                             f"{VOLUMETRIC_FORMS}")
+        if self.form == "feap" and self.volumetric != "quadratic":
+            raise ValueError("MooneyRivlin.volumetric applies to the split form; the feap form "
+                             "(eq. 3.53) has its own volumetric term")
 
     @classmethod
     def neo_hooke(cls, mu: float, K: float, form: str = "split") -> MooneyRivlin:
@@ -453,7 +468,8 @@ def _compound_summary_lines(c: Compound) -> list[str]:
     mr = c.hyperelastic
     lines = [f"compound {c.name}: {c.description}".rstrip(": "), f"  source: {c.source}",
              f"  Mooney-Rivlin ({mr.form}, long-term/equilibrium): C10 = {mr.C10:g} MPa, "
-             f"C01 = {mr.C01:g} MPa, D1 = {mr.D1:g} 1/MPa",
+             f"C01 = {mr.C01:g} MPa, D1 = {mr.D1:g} 1/MPa"
+             + (f", {mr.volumetric} volumetric energy" if mr.form == "split" else ""),
              f"    mu = 2(C10+C01) = {mr.mu:.4g} MPa, K = 2/D1 = {mr.K:.4g} MPa, "
              f"E_inf = {c.E_inf:.4g} MPa, nu_inf = {mr.nu:.4f}"]
     if mr.form == "feap":

@@ -15,6 +15,18 @@ Three strain-energy forms, all written for the 3x3 plane-strain deformation grad
   shear modulus mu = 2 (C10 + C01) and bulk modulus K = 2/D1 of the split form.
 * neo-Hooke is the split form with C01 = 0.
 
+The volumetric energy of the split form is Psi_vol = K/2 g(J)^2 with K = 2/D1 (``volumetric``,
+:func:`volumetric_measure`):
+
+* ``"quadratic"``: g = J - 1, i.e. (J - 1)^2 / D1, eq. (3.58)/(3.78), the ABAQUS form the thesis'
+  D1 were fitted for.  Its hydrostatic Cauchy pressure -K (J - 1) is bounded by K as J -> 0: under
+  a compressive pressure above K there is no equilibrium and the material collapses to zero volume
+  (and its bulk modulus K J falls with pressure).
+* ``"logarithmic"``: g = ln J (Hencky), pressure -K ln(J) / J, unbounded as J -> 0 (bulk
+  modulus K (1 - ln J) / J, rising with pressure like a real solid's, dK/dp = 2 at J = 1).
+
+Both have the same small-strain bulk modulus K; they differ at second order in J - 1.
+
 The stress measure is the second Piola-Kirchhoff stress S.  For the split form the isochoric part
 is returned through the *fictitious* stress Sbar = 2 dPsi_iso/dCbar, because finite linear
 viscoelasticity (eqs. 3.73-3.78, ``viscoelastic.py``) convolves exactly this quantity.
@@ -34,6 +46,7 @@ class MooneyRivlinLike(Protocol):
     C01: float
     D1: float
     form: str
+    volumetric: str
 
 
 def invariants(C) -> tuple:
@@ -67,17 +80,30 @@ def isochoric_stress(F, Sbar) -> ufl.core.expr.Expr:
     return ufl.det(F) ** (-2.0 / 3.0) * dev(Sbar, C)
 
 
-def volumetric_stress(F, D1: float) -> ufl.core.expr.Expr:
-    """S_vol = J dPsi_vol/dJ C^-1 with Psi_vol = (J - 1)^2 / D1, eq. (3.78)."""
-    C = F.T * F
-    J = ufl.det(F)
-    return J * (2.0 / D1) * (J - 1.0) * ufl.inv(C)
+def volumetric_measure(J, volumetric: str) -> tuple:
+    """g(J) and J g'(J) of Psi_vol = K/2 g(J)^2 (module docstring): J - 1 and J for
+    ``"quadratic"`` (eq. 3.78), ln J and 1 for ``"logarithmic"``."""
+    if volumetric == "quadratic":
+        return J - 1.0, J
+    if volumetric == "logarithmic":
+        return ufl.ln(J), 1.0
+    raise ValueError(f"volumetric energy: got {volumetric!r}, expected 'quadratic' or "
+                     "'logarithmic'")
 
 
-def pressure_stress(F, p) -> ufl.core.expr.Expr:
-    """Volumetric stress of the mixed formulation: S = J p C^-1 with the independent pressure p."""
+def volumetric_stress(F, mat: MooneyRivlinLike) -> ufl.core.expr.Expr:
+    """S_vol = J dPsi_vol/dJ C^-1 = K g(J) J g'(J) C^-1, K = 2/D1 (eq. 3.78 for g = J - 1)."""
     C = F.T * F
-    return ufl.det(F) * p * ufl.inv(C)
+    g, Jdg = volumetric_measure(ufl.det(F), mat.volumetric)
+    return (2.0 / mat.D1) * g * Jdg * ufl.inv(C)
+
+
+def pressure_stress(F, p, volumetric: str = "quadratic") -> ufl.core.expr.Expr:
+    """Volumetric stress of the mixed formulation with the independent pressure p = K g(J):
+    S = p J g'(J) C^-1 (J p C^-1 for the quadratic energy, p C^-1 for the logarithmic one)."""
+    C = F.T * F
+    _, Jdg = volumetric_measure(ufl.det(F), volumetric)
+    return Jdg * p * ufl.inv(C)
 
 
 def feap_stress(F, mat: MooneyRivlinLike) -> ufl.core.expr.Expr:
@@ -102,4 +128,4 @@ def equilibrium_stress(F, mat: MooneyRivlinLike) -> ufl.core.expr.Expr:
         return feap_stress(F, mat)
     if mat.form != "split":
         raise ValueError(f"hyperelastic form: got {mat.form!r}, expected 'split' or 'feap'")
-    return isochoric_stress(F, fictitious_stress(F, mat)) + volumetric_stress(F, mat.D1)
+    return isochoric_stress(F, fictitious_stress(F, mat)) + volumetric_stress(F, mat)

@@ -102,7 +102,8 @@ COMPOUND_KEYS = {"kind", "name", "description", "source", "units", "hyperelastic
 def load_compound(name_or_path: str | Path, _seen: tuple[Path, ...] = ()) -> Compound:
     """Load a compound from a TOML file (``forms/data/<name>.toml`` for a bare name).
 
-    Sections: ``[units]`` (required), ``[hyperelastic]`` (Mooney-Rivlin C10, C01, D1, form),
+    Sections: ``[units]`` (required), ``[hyperelastic]`` (Mooney-Rivlin C10, C01, D1, form,
+    volumetric),
     ``[prony]``, ``[wlf]``, ``[thermal]``.  The Prony series is given in one of three ways:
 
     * inline: ``gamma = [...]``, ``tau = [...]`` (tau in s at the WLF reference temperature);
@@ -137,10 +138,16 @@ def load_compound(name_or_path: str | Path, _seen: tuple[Path, ...] = ()) -> Com
 
 
 def _load_hyperelastic(path: Path, table: Any) -> MooneyRivlin:
-    t = V.table(f"{path} [hyperelastic]", table, {"model", "form", "C10", "C01", "D1", "note"}, {"model", "C10", "C01", "D1"})
+    t = V.table(f"{path} [hyperelastic]", table,
+                {"model", "form", "C10", "C01", "D1", "volumetric", "note"},
+                {"model", "C10", "C01", "D1"})
     if t["model"] != "mooney_rivlin":
         raise ValueError(f"{path} [hyperelastic].model = {t['model']!r}: expected 'mooney_rivlin'")
-    return MooneyRivlin(t["C10"], t["C01"], t["D1"], t.get("form", "split"))
+    try:
+        return MooneyRivlin(t["C10"], t["C01"], t["D1"], t.get("form", "split"),
+                            t.get("volumetric", "quadratic"))
+    except ValueError as err:
+        raise ValueError(f"{path} [hyperelastic]: {err}") from None
 
 
 def _load_wlf(path: Path, table: Any, T_unit: str,

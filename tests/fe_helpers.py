@@ -41,17 +41,20 @@ def cauchy_at_points(sp) -> np.ndarray:
     return evaluate_at_points(vector_from_tensor3(sigma), sp.mesh, sp.rule, cells).reshape(-1, 3, 3)
 
 
-def mooney_rivlin_cauchy(F: np.ndarray, C10: float, C01: float, D1: float) -> np.ndarray:
+def mooney_rivlin_cauchy(F: np.ndarray, C10: float, C01: float, D1: float,
+                         volumetric: str = "quadratic") -> np.ndarray:
     """Closed-form Cauchy stress of the split Mooney-Rivlin energy (3.58), independent of UFL.
 
-    sigma = (2/J) dev[(C10 + C01 I1bar) bbar - C01 bbar^2] + 2 (J - 1)/D1 * 1.
+    sigma = (2/J) dev[(C10 + C01 I1bar) bbar - C01 bbar^2] + 2 (J - 1)/D1 * 1, or with the
+    logarithmic volumetric energy (ln J)^2 / D1 the last term 2 ln(J) / (J D1) * 1.
     """
     J = np.linalg.det(F)
     bbar = J ** (-2.0 / 3.0) * F @ F.T
     I1 = np.trace(bbar)
     s = (C10 + C01 * I1) * bbar - C01 * bbar @ bbar
     s = s - np.trace(s) / 3.0 * np.eye(3)
-    return 2.0 / J * s + 2.0 * (J - 1.0) / D1 * np.eye(3)
+    vol = {"quadratic": J - 1.0, "logarithmic": np.log(J) / J}[volumetric]
+    return 2.0 / J * s + 2.0 * vol / D1 * np.eye(3)
 
 
 def plane_strain_compression(E: float, nu: float, q: float) -> tuple[float, float]:

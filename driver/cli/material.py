@@ -191,6 +191,7 @@ def write_compound_toml(args: argparse.Namespace, fit, base: M.Compound) -> Path
             f'Mooney-Rivlin/WLF/thermal: {base.name}"\n\n'
             + _units_block(base.thermal is not None)
             + f'\n[hyperelastic]\nmodel = "mooney_rivlin"\nform = "{mr.form}"\n'
+              f'volumetric = "{mr.volumetric}"\n'
               f"C10 = {mr.C10!r}  # MPa\nC01 = {mr.C01!r}  # MPa\nD1 = {mr.D1!r}  # 1/MPa\n"
             + "\n[prony]  # gamma_k = E_k/E0, tau_k in s at T_ref\n" + prony_toml(series)
             + _wlf_block(base.wlf) + _thermal_block(base.thermal))

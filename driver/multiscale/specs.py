@@ -126,6 +126,19 @@ def find_key(store: Store, prefix: str) -> str:
 #: SlidingSpec fields whose default changed the computation when they were added: a run file
 #: written before holds no value for them and was computed with this one
 BEFORE_FIELD: dict[str, Any] = {"stabilisation": 0.0, "min_jacobian": 0.0}
+#: the same for fields of the compound's Mooney-Rivlin spring
+BEFORE_HYPERELASTIC: dict[str, Any] = {"volumetric": "quadratic"}
+
+
+def _before_fields(compound: Any, image: dict) -> Any:
+    """``compound`` with the Mooney-Rivlin fields a run file written before them does not hold set
+    to what that run computed with (``BEFORE_HYPERELASTIC``)."""
+    hyper = image.get("hyperelastic", {})
+    missing = {k: v for k, v in BEFORE_HYPERELASTIC.items() if k not in hyper}
+    if not missing:
+        return compound
+    return dataclasses.replace(
+        compound, hyperelastic=dataclasses.replace(compound.hyperelastic, **missing))
 
 
 def stored_spec(stored: StoredRun) -> SlidingSpec:
@@ -152,7 +165,7 @@ def stored_spec(stored: StoredRun) -> SlidingSpec:
         elif f.name == "compound":
             name = str(stored.inputs.get("compound"))
             try:
-                kw["compound"] = load_compound(name)
+                kw["compound"] = _before_fields(load_compound(name), v)
             except ValueError as err:
                 raise ValueError(f"run {key[:12]}: compound {name!r}: {err}") from None
         elif f.name == "friction":
@@ -168,6 +181,8 @@ def stored_spec(stored: StoredRun) -> SlidingSpec:
             kw[f.name] = v
     spec = SlidingSpec(**kw)
     rebuilt = canonical(spec)
+    for name, value in BEFORE_HYPERELASTIC.items():  # what a run file from before computed with
+        image["compound"]["hyperelastic"].setdefault(name, value)
     differ = sorted(k for k in image if rebuilt.get(k) != image[k])
     if differ:
         hint = (" (the compound file changed since the run)" if differ == ["compound"] else "")

@@ -658,7 +658,8 @@ class SlidingRun:
             res.mu_force = float(np.sum(series["mu_force"][win] * ds) / ds.sum())
             energy = (series["viscous_energy"] + series["friction_energy"])[win].sum()
             res.mu_energy = float(energy / (np.mean(Fz[win]) * ds.sum()))
-            res.mean_pressure = float(np.mean(series["mean_pressure"][win]))
+            res.mean_pressure = pooled_contact_pressure(series["mean_pressure"][win],
+                                                        series["contact_length"][win])
             res.contact_fraction = float(np.mean(series["contact_length"][win]) / self.L)
             res.window_drift = window_drift(series["s"], series["mu_force"], lo, hi)
             res.stabilisation_share = stabilisation_share(series, win, ds, self.spec.velocity)
@@ -686,6 +687,16 @@ class SlidingRun:
             res.mu_error = 0.5 * abs(res.window_drift)
         if spec.period > 0:
             res.stats["periods"] = round(float(series["s"][-1] / spec.period), 6)
+
+
+def pooled_contact_pressure(step_pressure: np.ndarray, contact_length: np.ndarray) -> float:
+    """Eq. (6.11): the contact pressures of all contact nodes of all time steps, each weighted by
+    its contact area, averaged: sum_t p_t A_t / sum_t A_t with a step's area-weighted mean
+    pressure p_t over its contact length A_t.  (The mean of the p_t would weigh a step with a
+    small contact patch, whose pressure is high, as much as one with a large patch.)  NaN
+    without contact."""
+    area = float(np.sum(contact_length))
+    return float(np.sum(step_pressure * contact_length) / area) if area > 0.0 else math.nan
 
 
 def stabilisation_share(series: dict[str, np.ndarray], win: np.ndarray, ds: np.ndarray,
