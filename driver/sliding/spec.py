@@ -52,7 +52,8 @@ class SlidingSpec:
     compression_steps: int = 10
     window_start: float = 1.0 / 3.0  # fraction of the sliding distance before averaging (run-in)
     # converged time homogenisation (driver.sliding.window): > 0 slides whole periods of a
-    # periodic cell until the mean mu of the last two differ by at most this (relative);
+    # periodic cell until the mean mu of the window's periods and the one before differ by at
+    # most this (relative; driver.sliding.window.is_converged);
     # slide_distance is then the budget.  0: the fixed window above (thesis 6.2.3)
     converge_tol: float = 0.0
     window_periods: int = 2  # converged rule: periods averaged (after at least one run-in period)
@@ -91,7 +92,7 @@ class SlidingResult:
     series: dict[str, np.ndarray] = field(default_factory=dict)
     mu_force: float = float("nan")
     mu_energy: float = float("nan")
-    mean_pressure: float = float("nan")  # eq. (6.11)
+    mean_pressure: float = float("nan")  # eq. (6.11), pooled over the window (run.py)
     contact_fraction: float = float("nan")  # time-averaged contact length / block length (7.4)
     window_drift: float = float("nan")  # (2nd half - 1st half) / mean of the window's mu
     mu_error: float = float("nan")  # estimated |window mean - steady mu| / mu (window.py)
