@@ -466,13 +466,20 @@ def run_summary(result, spec) -> dict:
             "step_length", "window_start")
     spec_d = {k: getattr(spec, k) for k in keys}
     spec_d["compound"] = getattr(spec.compound, "name", str(spec.compound))
+    hyper = getattr(spec.compound, "hyperelastic", None)
+    if hyper is not None:
+        spec_d["volumetric"] = hyper.volumetric
     spec_d["friction"] = spec.friction if isinstance(spec.friction, (int, float, type(None))) \
         else type(spec.friction).__name__
     return _finite({
         "status": result.status, "reason": result.reason, "t_reached": result.t_reached,
         "mu_force": result.mu_force, "mu_energy": result.mu_energy,
         "mean_pressure": result.mean_pressure, "contact_fraction": result.contact_fraction,
-        "window_mm": [spec.window_start * distance, distance],
+        "window_drift": result.window_drift, "mu_error": result.mu_error,
+        "converged": result.converged, "stabilisation_share": result.stabilisation_share,
+        "min_det_F": result.min_det_F,
+        "window_mm": [result.stats.get("window_start", spec.window_start * distance),
+                      result.stats.get("window_end", distance)],
         "steps": len(result.series.get("t", [])),
         "stats": dict(result.stats), "spec": spec_d,
         "units": {"mean_pressure": "MPa", "t_reached": "s", "window_mm": "mm"},
