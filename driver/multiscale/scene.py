@@ -168,13 +168,14 @@ SCHEMA: dict[str, dict[str, Key]] = {
                        minimum=1.0, maximum=3.0),
         "window": Key("str", "converged",
                       "time homogenisation of every run (eq. 6.2; driver.sliding.window): "
-                      "converged = slide whole block lengths until the mean mu of the last three "
-                      "agree within convergence_tol and average the last two (a run that cannot "
+                      "converged = slide whole block lengths until the mean mu of the last w >= 2 "
+                      "and of the w before agree within convergence_tol and average the last w "
+                      "(a run that cannot "
                       "within max_slide_periods is marked unconverged and not averaged); fixed = "
                       "slide slide_periods block lengths and average after window_start "
                       "(thesis 6.2.3)", choices=("converged", "fixed")),
         "convergence_tol": Key("float", 0.01, "window = converged: largest relative change of "
-                               "the period mean of mu over the last three periods", above=0.0,
+                               "the mean mu of the last w periods against the w before", above=0.0,
                                maximum=0.5),
         "max_slide_periods": Key("float", 12.0, "window = converged: sliding budget in block "
                                  "lengths (at least a run-in period and the two averaged)",

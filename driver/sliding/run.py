@@ -76,7 +76,7 @@ from rubberfriction.driver.sliding.spec import (
 )
 from rubberfriction.driver.sliding.window import (
     error_estimate,
-    is_converged,
+    converged_window,
     period_means,
     step_lengths,
     window_drift,
@@ -175,6 +175,8 @@ class SlidingRun:
         self._mesh_factory = mesh_factory
         self._detF = None  # det F at the quadrature points, compiled on first use per attempt
         self._iterate_det_F = math.nan  # its smallest value at the last checked iterate
+        self.converged = math.nan  # converged window rule: 1 stationary, 0 not (yet)
+        self.window_used = 0  # periods averaged once stationary (driver.sliding.window)
         self._contact_factory = contact_factory
 
     # --- set-up ------------------------------------------------------------------------------
@@ -590,6 +592,7 @@ class SlidingRun:
         history = self.sp.history if s.steady_state else None
         start = history.snapshot() if history is not None else None
         self.converged = float("nan")
+        self.window_used = 0  # periods averaged once converged (driver.sliding.window)
         for k in range(1, nsteps + 1):
             self.step_energy = self.step_friction_energy = 0.0
             self.step_stabilisation_energy = self.step_stabilisation_impulse = 0.0
@@ -615,7 +618,8 @@ class SlidingRun:
                     arr = np.array([r[1:4] for r in rows])
                     with np.errstate(divide="ignore", invalid="ignore"):  # no load: mu is NaN
                         means = period_means(arr[:, 0], -arr[:, 1] / arr[:, 2], L)
-                    self.converged = float(is_converged(means, s.converge_tol, s.window_periods))
+                    self.window_used = converged_window(means, s.converge_tol, s.window_periods)
+                    self.converged = float(self.window_used > 0)
                     if self.converged:
                         break
                 if history is not None and k < nsteps:
@@ -671,7 +675,8 @@ class SlidingRun:
         spec = self.spec
         if spec.converge_tol > 0 and spec.period > 0:
             end = spec.period * math.floor(float(np.max(s_done, initial=0.0)) / spec.period + 1e-9)
-            return max(0.0, end - spec.window_periods * spec.period), end
+            w = self.window_used or spec.window_periods
+            return max(0.0, end - w * spec.period), end
         return spec.window_start * distance, distance
 
     def _stationarity(self, res: SlidingResult, series: dict[str, np.ndarray]) -> None:
@@ -681,7 +686,7 @@ class SlidingRun:
         if spec.converge_tol > 0 and spec.period > 0:
             means = period_means(series["s"], series["mu_force"], spec.period)
             res.converged = 1.0 if self.converged == 1.0 else 0.0
-            res.mu_error = error_estimate(means, spec.window_periods)
+            res.mu_error = error_estimate(means, self.window_used or spec.window_periods)
             res.stats["period_mu"] = [float(m) for m in means]
         else:
             res.mu_error = 0.5 * abs(res.window_drift)

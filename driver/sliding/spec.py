@@ -52,11 +52,11 @@ class SlidingSpec:
     compression_steps: int = 10
     window_start: float = 1.0 / 3.0  # fraction of the sliding distance before averaging (run-in)
     # converged time homogenisation (driver.sliding.window): > 0 slides whole periods of a
-    # periodic cell until the mean mu of the window's periods and the one before differ by at
-    # most this (relative; driver.sliding.window.is_converged);
+    # periodic cell until the mean mu of its last w periods and of the w before differ by at
+    # most this (relative; driver.sliding.window.converged_window);
     # slide_distance is then the budget.  0: the fixed window above (thesis 6.2.3)
     converge_tol: float = 0.0
-    window_periods: int = 2  # converged rule: periods averaged (after at least one run-in period)
+    window_periods: int = 2  # converged rule: fewest periods averaged (window.converged_window)
     # periodic extrapolation of the Prony histories at the end of every period of a periodic
     # cell (forms.viscoelastic.ViscoelasticHistory.extrapolate_periodic): the static part of the
     # load is relaxed at once instead of creeping for tau_max / T periods

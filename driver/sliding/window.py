@@ -6,8 +6,9 @@ Two rules:
 * fixed (thesis 6.2.3): the window is the sliding distance after ``window_start`` of a fixed
   distance (the thesis includes the micro run-in on purpose in its two-sine case);
 * converged (periodic cells): the run slides whole periods of the cell (length L) and stops when
-  the mean mu of the window's periods (the last ``window_periods``) and of the period before
-  them differ by at most a relative tolerance; the window is averaged.  A run that does not get there within its distance budget is
+  the mean mu of its last w periods and that of the w before differ by at most a relative
+  tolerance (:func:`converged_window`, w >= ``window_periods``, as small as passes); the last w
+  periods are averaged.  A run that does not get there within its distance budget is
   marked unconverged and never averaged silently.
 
 Whatever the rule, every result says how stationary its window is: the window drift, the mean of
@@ -55,19 +56,24 @@ def window_drift(s: np.ndarray, mu: np.ndarray, lo: float, hi: float) -> float:
 MU_FLOOR = 1e-5
 
 
-def is_converged(means: np.ndarray, tol: float, window_periods: int) -> bool:
-    """The means of the window's ``window_periods`` periods and of the period before it differ
-    by at most ``tol`` relative to their mean (or to MU_FLOOR).
+def converged_window(means: np.ndarray, tol: float, window_periods: int) -> int:
+    """The number w of last periods to average, 0 while the period means are not stationary.
 
-    Two agreeing periods are not enough: micro runs rise to a plateau of two periods after the
-    run-in and then fall by a factor of two or three (default road, micro2 at 10 mm/s: period
-    means 0.48, 1.047, 1.055, then falling; 0.33, 0.762, 0.748, 0.28, ...), which the former
-    two-period rule took for a steady state."""
-    n = max(window_periods, 1) + 1
-    if means.size < n:
-        return False
-    last = means[-n:]
-    return bool(np.ptp(last) <= tol * max(abs(float(np.mean(last))), MU_FLOOR))
+    Stationary: the mean of the last w periods and that of the w before them differ by at most
+    ``tol`` relative to their mean (or to MU_FLOOR), for the smallest w >= ``window_periods``
+    that the periods allow (2 w <= their number).  Comparing blocks rather than single periods
+    tells noise from a trend: noise averages down as the blocks grow, a trend separates them
+    further.  Needed on the default road's micro runs, whose period means scatter by +-3 %
+    (stabilised sub-steps, active-set changes) and which rise to a plateau of two periods after
+    the run-in before falling by a factor of two or three (micro2 at 10 mm/s: 0.48, 1.047,
+    1.055, where the sample slid on settles at 0.24-0.28; 0.33, 0.762, 0.748, 0.28, ...), which
+    the former rule (the last two periods within tol) took for a steady state."""
+    n = means.size
+    for w in range(max(window_periods, 1), n // 2 + 1):
+        a, b = float(np.mean(means[-w:])), float(np.mean(means[-2 * w:-w]))
+        if abs(a - b) <= tol * max(abs(0.5 * (a + b)), MU_FLOOR):
+            return w
+    return 0
 
 
 def error_estimate(means: np.ndarray, window_periods: int) -> float:
