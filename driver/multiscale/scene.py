@@ -178,8 +178,8 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                "the mean mu of the last w periods against the w before", above=0.0,
                                maximum=0.5),
         "max_slide_periods": Key("float", 12.0, "window = converged: sliding budget in block "
-                                 "lengths (at least a run-in period and the two averaged)",
-                                 minimum=3.0),
+                                 "lengths (at least a run-in period and two blocks of two)",
+                                 minimum=5.0),
         "steady_state": Key("bool", True, "periodic extrapolation of the Prony histories at the "
                             "end of every period of a cell (forms.viscoelastic."
                             "ViscoelasticHistory.extrapolate_periodic): the static part of the "
