@@ -124,8 +124,8 @@ def test_a_static_load_is_relaxed_by_the_jump() -> None:
 def test_converged_window_of_the_viscoelastic_sinusoid_meets_the_closed_form() -> None:
     """Full-contact sinusoid (``verify viscoelastic-sinusoid``): mu = (k h0)^2 Im E*(kv) / (4 p0)
     (closed form evaluated here).  With the converged window and the periodic steady state the
-    run stops once two periods agree within 1 %, its window is stationary (drift < 0.1 %) and
-    mu is within 1 % of the closed form."""
+    run stops once its last two periods agree with the two before within 1 % (the run-in period
+    aside), its window is stationary (drift < 0.1 %) and mu is within 1 % of the closed form."""
     compound = load_compound("tread_default")
     out = simulate(compound, amplitude=0.002, pressure=0.1, velocity=10.0, periods=8,
                    converge_tol=0.01, steady_state=True)
