@@ -182,7 +182,8 @@ def test_run_outputs_plot_and_summary(run, tmp_path):
     assert summary["mu_force"] == pytest.approx(res.mu_force, rel=1e-12)
     assert summary["mu_energy"] == pytest.approx(res.mu_energy, rel=1e-12)
     assert summary["window_mm"] == pytest.approx([WAVELENGTH / 3.0, WAVELENGTH])
-    assert summary["window_mm"] == pytest.approx([res.stats["window_start"], res.stats["window_end"]])
+    window = [res.stats["window_start"], res.stats["window_end"]]
+    assert summary["window_mm"] == pytest.approx(window)
     assert summary["min_det_F"] == pytest.approx(res.min_det_F, rel=1e-12)
     assert summary["window_drift"] == pytest.approx(res.window_drift, rel=1e-12)
     assert summary["spec"]["volumetric"] == spec.compound.hyperelastic.volumetric

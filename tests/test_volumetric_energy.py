@@ -31,8 +31,9 @@ K = 2.0 / D1
 
 
 def rubber(volumetric: str) -> Compound:
-    return Compound(name="m1-elastic", hyperelastic=MooneyRivlin(C10, C01, D1, volumetric=volumetric),
-                    prony=None, wlf=None, thermal=None, description="test", source="table C.2")
+    spring = MooneyRivlin(C10, C01, D1, volumetric=volumetric)
+    return Compound(name="m1-elastic", hyperelastic=spring, prony=None, wlf=None, thermal=None,
+                    description="test", source="table C.2")
 
 
 def compressed(element: str, volumetric: str, lams) -> np.ndarray:

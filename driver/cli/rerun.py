@@ -5,7 +5,8 @@ is in ``samples.csv`` (column key).  ``rerun`` rebuilds that run's SlidingSpec f
 (checked field by field against the stored image, so it is exactly the stored run or an error)
 and runs it again, serially, with progress, optionally with another contact formulation, shorter
 contact elements, changed scalar inputs (``--set``), another volumetric energy of the rubber
-(``--volumetric``) or only the first attempt of the fallback chain, and writes its outputs for a look.  For reproducing a result, or diagnosing a failed run without the campaign around it:
+(``--volumetric``) or only the first attempt of the fallback chain, and writes its outputs for
+a look.  For reproducing a result, or diagnosing a failed run without the campaign around it:
 
     rubberfriction rerun rf-results/default 6b9a9635                 # as stored, all fallbacks
     rubberfriction rerun rf-results/default 6b9a9635 --first-attempt --out diag/

@@ -61,10 +61,10 @@ def converged_window(means: np.ndarray, tol: float, window_periods: int) -> int:
 
     Stationary: the mean of the last w periods and that of the w before them differ by at most
     ``tol`` relative to their mean (or to MU_FLOOR), for the smallest w >= ``window_periods``
-    that the periods after the first allow (2 w <= their number - 1).  The first period, the
-    run-in from rest, never enters a block: with it, 0.3045, 0.7153 against 0.7437, 0.2732 (a
-    micro2 run's first four periods) agree within 0.3 %.  Comparing blocks rather than single periods
-    tells noise from a trend: noise averages down as the blocks grow, a trend separates them
+    for which the periods after the first hold both blocks.  The first period, the run-in from
+    rest, never enters a block: with it, 0.3045, 0.7153 against 0.7437, 0.2732 (a micro2 run's
+    first four periods) agree within 0.3 %.  Comparing blocks rather than single periods tells
+    noise from a trend: noise averages down as the blocks grow, a trend separates them
     further.  Needed on the default road's micro runs, whose period means scatter by +-3 %
     (stabilised sub-steps, active-set changes) and which rise to a plateau of two periods after
     the run-in before falling by a factor of two or three (micro2 at 10 mm/s: 0.48, 1.047,
