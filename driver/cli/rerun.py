@@ -28,6 +28,8 @@ import sys
 import time
 from pathlib import Path
 
+from rubberfriction.forms.compound import VOLUMETRIC_FORMS
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("rerun", help="run one stored single-scale run of a campaign again "
@@ -42,7 +44,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--set", action="append", default=[], metavar="FIELD=VALUE",
                    help="override a scalar input of the run (SlidingSpec field), e.g. "
                         "steady_state=false, penalty_alpha=100, tangential_penalty=0.01; repeatable")
-    p.add_argument("--volumetric", choices=("quadratic", "logarithmic"),
+    p.add_argument("--volumetric", choices=VOLUMETRIC_FORMS,
                    help="volumetric energy of the rubber (the compound's hyperelastic.volumetric; "
                         "forms/hyperelastic.py)")
     p.add_argument("--first-attempt", action="store_true",

@@ -132,11 +132,13 @@ BEFORE_HYPERELASTIC: dict[str, Any] = {"volumetric": "quadratic"}
 
 def _before_fields(compound: Any, image: dict) -> Any:
     """``compound`` with the Mooney-Rivlin fields a run file written before them does not hold set
-    to what that run computed with (``BEFORE_HYPERELASTIC``)."""
-    hyper = image.get("hyperelastic", {})
+    to what that run computed with (``BEFORE_HYPERELASTIC``); the stored ``image`` of the compound
+    gets the same values, so the two compare equal."""
+    hyper = image["hyperelastic"]
     missing = {k: v for k, v in BEFORE_HYPERELASTIC.items() if k not in hyper}
     if not missing:
         return compound
+    hyper.update(missing)
     return dataclasses.replace(
         compound, hyperelastic=dataclasses.replace(compound.hyperelastic, **missing))
 
@@ -181,8 +183,6 @@ def stored_spec(stored: StoredRun) -> SlidingSpec:
             kw[f.name] = v
     spec = SlidingSpec(**kw)
     rebuilt = canonical(spec)
-    for name, value in BEFORE_HYPERELASTIC.items():  # what a run file from before computed with
-        image["compound"]["hyperelastic"].setdefault(name, value)
     differ = sorted(k for k in image if rebuilt.get(k) != image[k])
     if differ:
         hint = (" (the compound file changed since the run)" if differ == ["compound"] else "")

@@ -591,8 +591,7 @@ class SlidingRun:
         per_period = round(L / step_len) if whole_periods else 0
         history = self.sp.history if s.steady_state else None
         start = history.snapshot() if history is not None else None
-        self.converged = float("nan")
-        self.window_used = 0  # periods averaged once converged (driver.sliding.window)
+        self.converged, self.window_used = math.nan, 0  # this attempt's window (see __init__)
         for k in range(1, nsteps + 1):
             self.step_energy = self.step_friction_energy = 0.0
             self.step_stabilisation_energy = self.step_stabilisation_impulse = 0.0
