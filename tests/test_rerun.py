@@ -101,7 +101,7 @@ def test_the_kept_failing_inputs_rebuild_exactly(prefix, pressure):
     """The default scene's failing micro2 runs (issue 14's regression inputs) rebuild from their
     run files: every field equal to the stored canonical image (stored_spec checks it)."""
     store = Store(FAILING)
-    spec = stored_spec(store.load(find_key(store, prefix)))
+    spec = stored_spec(store.load(find_key(store, prefix)), compound_dir=FAILING / "compounds")
     assert spec.pressure == pressure and spec.friction is None and spec.period == pytest.approx(0.04)
     # written before the volumetric energy was a choice: rebuilt with what they computed with
     assert spec.compound.hyperelastic.volumetric == "quadratic"

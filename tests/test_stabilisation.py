@@ -107,7 +107,8 @@ def test_failing_micro2_input_slides_with_stabilisation():
     """Issue 14's regression input f280d52c (first attempt, mortar, Q1P0), its first 12 sliding
     steps: without stabilisation it stagnates at the first one; with it they pass, and the
     dashpots' share of the friction work stays below 1e-3."""
-    stored = stored_spec(Store(FAILING).load(find_key(Store(FAILING), "f280d52c")))
+    stored = stored_spec(Store(FAILING).load(find_key(Store(FAILING), "f280d52c")),
+                         compound_dir=FAILING / "compounds")
     assert stored.stabilisation == 0.0  # computed before the stabilisation existed
     short = dataclasses.replace(stored, slide_distance=12 * stored.step_length, converge_tol=0.0,
                                 steady_state=False)

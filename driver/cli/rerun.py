@@ -78,7 +78,7 @@ def _rerun(args: argparse.Namespace) -> int:
     try:
         key = find_key(store, args.key)
         stored = store.load(key)
-        spec = stored_spec(stored)
+        spec = stored_spec(stored, compound_dir=Path(args.folder) / "compounds")
     except ValueError as err:
         print(f"rerun: {err}", file=sys.stderr)
         return 2

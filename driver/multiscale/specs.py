@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -143,9 +144,11 @@ def _before_fields(compound: Any, image: dict) -> Any:
         compound, hyperelastic=dataclasses.replace(compound.hyperelastic, **missing))
 
 
-def stored_spec(stored: StoredRun) -> SlidingSpec:
+def stored_spec(stored: StoredRun, compound_dir: Path | None = None) -> SlidingSpec:
     """The SlidingSpec of a stored run, rebuilt from its run file: the surface arrays, the scalar
-    inputs, the compound loaded again by its name, a constant (or no) friction coefficient.
+    inputs, the compound loaded again by its name (from ``compound_dir/<name>.toml`` where that
+    file exists: a folder of kept runs holds the compound files as they were when it ran; else
+    the shipped file), a constant (or no) friction coefficient.
 
     The rebuilt spec is checked against the canonical image the run file holds (every field,
     arrays by their sha256, the compound by all its values), so a rerun computes exactly the
@@ -167,7 +170,9 @@ def stored_spec(stored: StoredRun) -> SlidingSpec:
         elif f.name == "compound":
             name = str(stored.inputs.get("compound"))
             try:
-                kw["compound"] = _before_fields(load_compound(name), v)
+                kept = compound_dir / f"{name}.toml" if compound_dir is not None else None
+                source = kept if kept is not None and kept.is_file() else name
+                kw["compound"] = _before_fields(load_compound(source), v)
             except ValueError as err:
                 raise ValueError(f"run {key[:12]}: compound {name!r}: {err}") from None
         elif f.name == "friction":
