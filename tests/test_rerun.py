@@ -24,6 +24,7 @@ from rubberfriction.driver.multiscale.specs import find_key, stored_spec
 from rubberfriction.driver.runtime.store import Store, run_key
 from rubberfriction.driver.sliding.run import run_sliding
 from rubberfriction.driver.sliding.spec import SlidingResult, SlidingSpec
+from rubberfriction.forms import material_files
 from rubberfriction.forms.material_files import load_compound
 
 
@@ -82,11 +83,19 @@ def test_inputs_that_cannot_be_rebuilt_are_refused(tmp_path: Path, capsys):
     with pytest.raises(ValueError, match="friction is a .* law"):
         stored_spec(store.load(k_law))
     comp = load_compound("tread_default")
-    changed = dataclasses.replace(comp, hyperelastic=dataclasses.replace(comp.hyperelastic,
-                                                                          C10=1.01 * comp.hyperelastic.C10))
+    changed = dataclasses.replace(comp, hyperelastic=dataclasses.replace(comp.hyperelastic, C10=0.17574))
     k_comp = put(store, sinusoid_spec(compound=changed), SlidingResult("failed", reason="not run"))
     with pytest.raises(ValueError, match="compound file changed"):
         stored_spec(store.load(k_comp))
+    # the folder keeps the compound file as the run had it: taken before the shipped one
+    kept = tmp_path / "compounds"
+    kept.mkdir()
+    with pytest.raises(ValueError, match="compound file changed"):  # no file there: the shipped one
+        stored_spec(store.load(k_comp), compound_dir=kept)
+    text = (material_files.DATA_DIR / "tread_default.toml").read_text()
+    assert text.count("C10 = 0.174  #") == 1
+    (kept / "tread_default.toml").write_text(text.replace("C10 = 0.174  #", "C10 = 0.17574  #"))
+    assert stored_spec(store.load(k_comp), compound_dir=kept).compound == changed
     assert main(["rerun", str(tmp_path), "zzzzzzzz"]) == 2
     assert "no such run" in capsys.readouterr().err
     assert main(["rerun", str(tmp_path), k_law[:3]]) == 2

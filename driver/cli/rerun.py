@@ -14,6 +14,10 @@ a look.  For reproducing a result, or diagnosing a failed run without the campai
     rubberfriction rerun tests/data/failing_runs f280d52c --set penalty_alpha=30 --first-attempt
     rubberfriction rerun rf-results/default 6b9a9635 --volumetric logarithmic
 
+The compound is loaded again by its name; a folder of kept runs whose compound file has changed
+since holds the file as it was in ``FOLDER/compounds/<name>.toml``, which is taken first (the
+stored image still has to match).
+
 Exit status: 0 when the run succeeds, 1 when it fails, 2 on bad input (unknown key, a run whose
 inputs cannot be rebuilt).
 """
