@@ -224,3 +224,55 @@ def test_tangential_penalty_reaches_the_run_specs():
     spec, _ = macro_inputs(t, load_compound("m3"), load_road("r1"), 0.3, 10.0, 293.15, 0.9)
     assert spec.tangential_penalty == 0.02
     assert "tangential_penalty" in error_of(scene_text("[numerics]\ntangential_penalty = 0.0\n"))
+
+
+def test_numerics_per_scale_reach_only_that_scales_runs():
+    """[numerics.<scale>]: the runs on that scale take its values (element size from
+    elements_per_wavelength, the element), the other scales the scene's; a scene without such
+    tables builds the same specs as before (same store keys)."""
+    from rubberfriction.driver.multiscale.results import Point
+    from rubberfriction.driver.multiscale.scales import build_scales
+    from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
+    from rubberfriction.driver.runtime.store import run_key
+
+    base = parse("[numerics]\nelements_per_wavelength = 6\n")
+    fine = parse("[numerics]\nelements_per_wavelength = 6\n"
+                 "[numerics.micro]\nelements_per_wavelength = 12\nelement = \"Q1P0s\"\n")
+    assert base.numerics.scales == ()
+    assert fine.numerics.for_scale("micro").elements_per_wavelength == 12
+    assert fine.numerics.for_scale("macro") == base.numerics
+    scales = build_scales(base, 1)
+    specs = {}
+    for name, scene in (("base", base), ("fine", fine)):
+        make = SpecBuilder(scene, load_compounds(scene))
+        pt = Point(scene.conditions.compounds[0], 0.3, 10.0)
+        specs[name] = [make(pt, i, s.samples[0], 0.3, None, "up") for i, s in enumerate(scales.sets)]
+    (b0, b1), (f0, f1) = specs["base"], specs["fine"]
+    assert run_key(f0) == run_key(b0)  # the macro runs: untouched
+    assert f1.h_contact == pytest.approx(0.5 * b1.h_contact)  # 0.2 mm / 12 against / 6
+    assert (f1.element, b1.element) == ("Q1P0s", "Q1P0")
+    assert run_key(f1) != run_key(b1)
+
+
+def test_numerics_per_scale_errors_name_the_table():
+    """A per-scale table must name a scale of the scene, hold [numerics] keys (not the scene-wide
+    window and wall clock) with valid values."""
+    head = "[numerics]\nelements_per_wavelength = 6\n"
+    err = error_of(scene_text(head + "[numerics.micr]\nelement = \"Q1P0s\"\n"))
+    assert "[numerics.micr]" in err and "micro" in err and "macro, micro" in err
+    err = error_of(scene_text(head + "[numerics.micro]\nwindow = \"fixed\"\n"))
+    assert "[numerics.micro].window" in err and "scene-wide" in err
+    err = error_of(scene_text(head + "[numerics.micro]\nelements_per_wavlength = 12\n"))
+    assert "elements_per_wavlength" in err and "elements_per_wavelength" in err
+    err = error_of(scene_text(head + "[numerics.micro]\nelements_per_wavelength = 1\n"))
+    assert "elements_per_wavelength" in err and "1" in err
+    assert "[numerics.<scale>]" in schema_text()
+
+
+def test_run_check_lists_the_scales_with_their_numerics(tmp_path: Path, capsys):
+    from rubberfriction.driver.cli.main import main
+
+    f = tmp_path / "s.toml"
+    f.write_text(scene_text("[numerics.micro]\nelements_per_wavelength = 12\n"))
+    assert main(["run", str(f), "--check"]) == 0
+    assert "scales: macro, micro (elements_per_wavelength = 12)" in capsys.readouterr().out

@@ -32,6 +32,7 @@ from rubberfriction.driver.multiscale.scene import (
     load_scene,
     schema_text,
     shipped_scenes,
+    surface_scale_names,
 )
 
 
@@ -109,7 +110,12 @@ def _plan(scene: Scene) -> str:
         extra = (f"  [adhesion] fit_from: then {len(pts)} x j={j} = {len(pts) * j} macro friction "
                  "runs per alpha (alpha = 1 and each fitted alpha in (0, 1); lower scales "
                  "reused)\n")
+    per_scale = dict(scene.numerics.scales)
+    scales = ", ".join(nm + (" (" + ", ".join(f"{k} = {v!r}" for k, v in per_scale[nm]) + ")"
+                             if nm in per_scale else "")
+                       for nm in surface_scale_names(scene.surface))
     return (f"scene {scene.name!r} ({scene.variant}, {n} scales) from {scene.source}\n"
+            f"  scales: {scales}\n"
             f"  {len(pts)} point(s) x {per} runs ({how}) = {len(pts) * per} single-scale runs\n"
             + extra + f"  output: {scene.output}")
 

@@ -7,7 +7,9 @@ Every key, its default and its meaning is in :data:`SCHEMA` below (the one place
 written down); ``rubberfriction run --schema`` prints it.
 
 Validation fails early with a message that names the file, the key, the value and what is
-expected; unknown keys are rejected with a did-you-mean suggestion.  Relative paths in a scene
+expected; unknown keys are rejected with a did-you-mean suggestion.  ``[numerics.<scale>]``
+tables (``[numerics.micro2]``, a scale's name) change numerical keys for the runs on that scale
+only (:meth:`NumericsConfig.for_scale`): model each scale as finely as it needs.  Relative paths in a scene
 (``surface.files``, compound files) are relative to the scene file; ``output`` is relative to
 the current directory.
 
@@ -32,6 +34,7 @@ from typing import Any
 import tomllib
 
 from rubberfriction import validation as V
+from rubberfriction.driver.surfaces.multiscale import scale_names
 from rubberfriction.driver.theory.adhesion import BellLaw
 from rubberfriction.forms.material_files import available, resolve_data_path
 
@@ -346,6 +349,9 @@ def schema_text() -> str:
             default = _toml_value(key.default)
             extra = f" (one of {', '.join(map(str, key.choices))})" if key.choices else ""
             lines.append(f"{name} = {default}  # {key.doc}{extra}")
+        if section == "numerics":
+            lines.append(f"\n# [numerics.<scale>]  (e.g. [numerics.micro2]): any key of [numerics] but "
+                         f"{', '.join(SCENE_WIDE_NUMERICS)}, for the runs on that scale only")
     return "\n".join(lines).lstrip() + "\n"
 
 
@@ -430,6 +436,21 @@ class NumericsConfig:
     tangential_penalty: float
     master_points_per_wavelength: int
     run_timeout: float
+    #: ``[numerics.<scale>]`` tables: (scale name, ((key, value), ...)) in scene order
+    scales: tuple[tuple[str, tuple[tuple[str, Any], ...]], ...] = ()
+
+    def for_scale(self, name: str) -> NumericsConfig:
+        """The numerics of the runs on scale ``name``: the scene's, with that scale's
+        ``[numerics.<name>]`` values in their place."""
+        for scale, values in self.scales:
+            if scale == name:
+                return replace(self, scales=(), **dict(values))
+        return replace(self, scales=())
+
+
+#: [numerics] keys that a [numerics.<scale>] table may not change: the window rule is the
+#: scene's (one convergence statement per campaign), the wall clock is the executor's
+SCENE_WIDE_NUMERICS = ("window", "run_timeout")
 
 
 @dataclass(frozen=True)
@@ -683,6 +704,7 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
     except tomllib.TOMLDecodeError as err:
         raise SceneError(f"{origin}: not valid TOML: {err}") from None
     top = _table(origin, doc, "")
+    doc, scale_tables = _scale_numerics_tables(doc)
     vals = {s: _table(origin, doc, s) for s in SECTIONS}
     warnings: list[str] = []
 
@@ -811,13 +833,57 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
     elif "separated" in doc:
         warnings.append("[separated] is ignored: variant = \"rough\"")
 
+    numerics = NumericsConfig(**vals["numerics"],
+                              scales=_scale_numerics(origin, scale_tables, surface))
     name = top["name"]
     output = Path(top["output"].replace("{name}", name))
     return Scene(name=name, description=top["description"], variant=top["variant"], output=output,
                  surface=surface, samples=SamplesConfig(**vals["samples"]), conditions=conditions,
-                 physics=physics, adhesion=adhesion, numerics=NumericsConfig(**vals["numerics"]),
+                 physics=physics, adhesion=adhesion, numerics=numerics,
                  separated=separated, source=origin, text=text, warnings=tuple(warnings),
                  adhesion_fit=adhesion_fit, thermal=thermal)
+
+
+def _scale_numerics_tables(doc: dict) -> tuple[dict, dict[str, Any]]:
+    """``doc`` without the subtables of [numerics] (``[numerics.micro2]``), and those."""
+    num = doc.get("numerics")
+    if not isinstance(num, dict):
+        return doc, {}
+    tables = {k: v for k, v in num.items() if isinstance(v, dict)}
+    if not tables:
+        return doc, {}
+    return {**doc, "numerics": {k: v for k, v in num.items() if k not in tables}}, tables
+
+
+def surface_scale_names(surface: SurfaceConfig) -> list[str]:
+    """The scales' names as the campaign labels them: [surface].names or the thesis names."""
+    return list(surface.names) or scale_names(surface.n_scales)
+
+
+def _scale_numerics(origin: str, tables: dict[str, Any], surface: SurfaceConfig
+                    ) -> tuple[tuple[str, tuple[tuple[str, Any], ...]], ...]:
+    """Validated ``[numerics.<scale>]`` tables: a scale of the scene, [numerics] keys but the
+    scene-wide ones, each value checked like the scene's."""
+    names = surface_scale_names(surface)
+    keys = SCHEMA["numerics"]
+    out = []
+    for scale, table in tables.items():
+        if scale not in names:
+            raise SceneError(f"{origin}: unknown table [numerics.{scale}]{V.suggest(scale, names)}: "
+                             f"a per-scale table is named after a scale of the scene "
+                             f"({', '.join(names)})")
+        values = []
+        for k, v in table.items():
+            if k in SCENE_WIDE_NUMERICS:
+                raise SceneError(f"{origin}: [numerics.{scale}].{k}: {k} is scene-wide; set it in "
+                                 "[numerics]")
+            if k not in keys:
+                raise SceneError(f"{origin}: unknown key [numerics.{scale}].{k}"
+                                 f"{V.suggest(k, list(keys))} (allowed: the keys of [numerics] but "
+                                 f"{', '.join(SCENE_WIDE_NUMERICS)})")
+            values.append((k, _check_value(origin, f"numerics.{scale}", k, keys[k], v)))
+        out.append((scale, tuple(values)))
+    return tuple(out)
 
 
 def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from rubberfriction.driver.multiscale.results import Point
-from rubberfriction.driver.multiscale.scene import Scene, SceneError
+from rubberfriction.driver.multiscale.scene import Scene, SceneError, surface_scale_names
 from rubberfriction.driver.runtime.store import Store, StoredRun, canonical
 from rubberfriction.driver.sliding.spec import SlidingSpec, default_h_contact
 from rubberfriction.driver.surfaces.profile import UNIFORM_RTOL
@@ -51,10 +51,11 @@ class SpecBuilder:
     def __init__(self, scene: Scene, compounds: dict[str, Any]):
         self.scene = scene
         self.compounds = compounds
+        self.names = surface_scale_names(scene.surface)  # [numerics.<name>] of scale i
 
     def __call__(self, point: Point, scale: int, sample: Any, pressure: float, friction: Any,
                  role: str) -> Any:
-        num = self.scene.numerics
+        num = self.scene.numerics.for_scale(self.names[scale])
         window, slide = num.window_start, num.slide_periods
         tol, steady = 0.0, num.steady_state
         if num.window == "converged":
