@@ -83,7 +83,8 @@ def test_inputs_that_cannot_be_rebuilt_are_refused(tmp_path: Path, capsys):
     with pytest.raises(ValueError, match="friction is a .* law"):
         stored_spec(store.load(k_law))
     comp = load_compound("tread_default")
-    changed = dataclasses.replace(comp, hyperelastic=dataclasses.replace(comp.hyperelastic, C10=0.17574))
+    changed = dataclasses.replace(comp, hyperelastic=dataclasses.replace(comp.hyperelastic,
+                                                                          C10=0.17574))
     k_comp = put(store, sinusoid_spec(compound=changed), SlidingResult("failed", reason="not run"))
     with pytest.raises(ValueError, match="compound file changed"):
         stored_spec(store.load(k_comp))

@@ -246,7 +246,8 @@ def test_numerics_per_scale_reach_only_that_scales_runs():
     for name, scene in (("base", base), ("fine", fine)):
         make = SpecBuilder(scene, load_compounds(scene))
         pt = Point(scene.conditions.compounds[0], 0.3, 10.0)
-        specs[name] = [make(pt, i, s.samples[0], 0.3, None, "up") for i, s in enumerate(scales.sets)]
+        specs[name] = [make(pt, i, s.samples[0], 0.3, None, "up")
+                       for i, s in enumerate(scales.sets)]
     (b0, b1), (f0, f1) = specs["base"], specs["fine"]
     assert run_key(f0) == run_key(b0)  # the macro runs: untouched
     assert f1.h_contact == pytest.approx(0.5 * b1.h_contact)  # 0.2 mm / 12 against / 6

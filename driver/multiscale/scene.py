@@ -9,9 +9,9 @@ written down); ``rubberfriction run --schema`` prints it.
 Validation fails early with a message that names the file, the key, the value and what is
 expected; unknown keys are rejected with a did-you-mean suggestion.  ``[numerics.<scale>]``
 tables (``[numerics.micro2]``, a scale's name) change numerical keys for the runs on that scale
-only (:meth:`NumericsConfig.for_scale`): model each scale as finely as it needs.  Relative paths in a scene
-(``surface.files``, compound files) are relative to the scene file; ``output`` is relative to
-the current directory.
+only (:meth:`NumericsConfig.for_scale`): model each scale as finely as it needs.  Relative paths
+in a scene (``surface.files``, compound files) are relative to the scene file; ``output`` is
+relative to the current directory.
 
 Variants (``variant``):
 
@@ -350,8 +350,8 @@ def schema_text() -> str:
             extra = f" (one of {', '.join(map(str, key.choices))})" if key.choices else ""
             lines.append(f"{name} = {default}  # {key.doc}{extra}")
         if section == "numerics":
-            lines.append(f"\n# [numerics.<scale>]  (e.g. [numerics.micro2]): any key of [numerics] but "
-                         f"{', '.join(SCENE_WIDE_NUMERICS)}, for the runs on that scale only")
+            lines.append("\n# [numerics.<scale>]  (e.g. [numerics.micro2]): any key of [numerics] "
+                         f"but {', '.join(SCENE_WIDE_NUMERICS)}, for the runs on that scale only")
     return "\n".join(lines).lstrip() + "\n"
 
 
@@ -869,8 +869,8 @@ def _scale_numerics(origin: str, tables: dict[str, Any], surface: SurfaceConfig
     out = []
     for scale, table in tables.items():
         if scale not in names:
-            raise SceneError(f"{origin}: unknown table [numerics.{scale}]{V.suggest(scale, names)}: "
-                             f"a per-scale table is named after a scale of the scene "
+            raise SceneError(f"{origin}: unknown table [numerics.{scale}]"
+                             f"{V.suggest(scale, names)}: a per-scale table is named after a scale of the scene "
                              f"({', '.join(names)})")
         values = []
         for k, v in table.items():
