@@ -134,13 +134,25 @@ def test_sawtooth_sharp_orientation_gives_more_friction():
 
 @pytest.mark.parametrize("args,message", [(["--penalty-alpha", "0"], "--penalty-alpha"),
                                           (["--wall-limit", "-5"], "--wall-limit"),
-                                          (["--wall-limit", "soon"], "expected a number")])
+                                          (["--wall-limit", "soon"], "expected a number"),
+                                          (["--scale", "micro3"], "--scale")])
 def test_bench_sliding_rejects_bad_settings_before_running(args, message, capsys):
     from rubberfriction.driver.bench.sliding import main
 
     with pytest.raises(SystemExit) as exit_info:
         main(["--part", "stability", *args])
     assert exit_info.value.code == 2 and message in capsys.readouterr().err
+
+
+def test_bench_stability_samples_are_the_default_roads_bands():
+    """The stability sweep's micro1 and micro2 samples: the first sample of that band of the
+    default road (period = the band's long edge)."""
+    from rubberfriction.driver.bench.sliding import STABILITY_SCALES, rough_sample
+
+    for scale, (_, (long_edge, short_edge)) in STABILITY_SCALES.items():
+        smp = rough_sample(scale)
+        assert smp.period == pytest.approx(long_edge)
+        assert tuple(smp.band) == pytest.approx((long_edge, short_edge))
 
 
 ELEMENTS = 32  # per wavelength; the contact length is counted in whole contact-face elements

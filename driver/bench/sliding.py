@@ -6,8 +6,9 @@
    mu error and wall time per run.
 2. Stability: velocities 1e-6 .. 10 m/s x pressures 0.01 .. 10 MPa on a rough periodic sample
    (a band of the default road): status, fallback level, cut-backs, Newton iterations, wall
-   time, mu.  Nothing may fail silently: a failed run prints its reason.  Each run has a
-   wall-time limit (``--wall-limit``); a run that hits it is reported as such, not waited for.
+   time, mu (``--scale``: the first micro1 or micro2 sample).  Nothing may fail silently: a
+   failed run prints its reason.  Each run has a wall-time limit (``--wall-limit``); a run that
+   hits it is reported as such, not waited for.
 3. Iterations (``--part iterations``, not in ``both``): where the CPU time of one Newton iteration
    of a lowest-scale run goes.  The first micro2 sample of the default scene (0.04-0.003 mm band,
    built as the campaign builds it) at ``--pressure`` and ``--velocity``, slid over
@@ -24,6 +25,7 @@
 
     rubberfriction bench sliding [--part accuracy|stability|both|iterations|linear-solvers] [--quick]
                                  [--wall-limit S] [--penalty-alpha A] [--element E] [--json FILE]
+                                 [--scale micro1|micro2]
                                  [--pressure P] [--velocity V] [--slide-fraction F] [--compare-jit]
 """
 
@@ -40,7 +42,7 @@ from rubberfriction.driver.fe.solid import ELEMENTS
 from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
 from rubberfriction.driver.multiscale.scene import load_scene
-from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
+from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds, refined_master
 from rubberfriction.driver.fe.newton import LINEAR_SOLVERS
 from rubberfriction.driver.sliding.run import SlidingRun, block_mesh, run_sliding, sliding_contact
 from rubberfriction.driver.sliding.spec import SlidingSpec
@@ -67,16 +69,25 @@ def accuracy(quick: bool) -> None:
     print(f"closed form mu = {ex:.4e}")
 
 
-def rough_sample():
-    """First sample of the micro1 scale (0.3-0.04 mm band) of the default road, period 0.3 mm."""
-
-    return default_road().extract_samples(1, seed=1)[2][0]
+#: default-road scales the stability sweep runs on: index and band (mm)
+STABILITY_SCALES = {"micro1": (2, (0.3, 0.04)), "micro2": (3, (0.04, 0.003))}
 
 
-def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str = "Q1P0") -> list[dict]:
+def rough_sample(scale: str = "micro1"):
+    """First sample of a scale of the default road: micro1 (0.3-0.04 mm band, period 0.3 mm) or
+    micro2 (0.04-0.003 mm, period 0.04 mm)."""
+    return default_road().extract_samples(1, seed=1)[STABILITY_SCALES[scale][0]][0]
+
+
+def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str = "Q1P0",
+              scale: str = "micro1") -> list[dict]:
+    """The sweep of part 2 on the first sample of ``scale``; the rigid surface refined to 32
+    vertices per shortest wavelength of the band, as a campaign does (``specs.refined_master``)."""
     comp = load_compound("tread_default")
-    sample = rough_sample()
+    sample = rough_sample(scale)
     x, h = np.asarray(sample.x)[:-1], np.asarray(sample.h)[:-1]
+    x, h = refined_master(x, h, sample.period, STABILITY_SCALES[scale][1][1], 32)
+    print(f"scale {scale} of the default road", end="; ")
     print(f"stability sweep on a rough sample: period {sample.period:.4g} mm, rms height "
           f"{sample.rms_height:.3g} mm, rms slope {sample.rms_slope:.3g}, {x.size} segments; "
           f"penalty alpha {penalty_alpha:g}, element {element}, wall limit {wall_limit:g} s per run")
@@ -242,6 +253,8 @@ def main(argv: list[str] | None = None) -> int:
                          "(300; 0: no limit)")
     ap.add_argument("--penalty-alpha", type=_number(0.0, strict=True), default=100.0,
                     help="contact penalty factor of the stability runs (SlidingSpec.penalty_alpha)")
+    ap.add_argument("--scale", choices=tuple(STABILITY_SCALES), default="micro1",
+                    help="stability: the default road's scale whose first sample is swept (micro1)")
     ap.add_argument("--element", choices=ELEMENTS, default="Q1P0",
                     help="rubber element of the stability and iteration runs (SlidingSpec.element)")
     ap.add_argument("--json", metavar="FILE",
@@ -272,7 +285,7 @@ def main(argv: list[str] | None = None) -> int:
     if a.part in ("accuracy", "both"):
         accuracy(a.quick)
     if a.part in ("stability", "both"):
-        rows = stability(a.quick, a.wall_limit, a.penalty_alpha, a.element)
+        rows = stability(a.quick, a.wall_limit, a.penalty_alpha, a.element, a.scale)
         if a.json:
             with open(a.json, "w") as f:
                 json.dump({"stability": rows}, f, indent=1, default=float)
