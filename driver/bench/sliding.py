@@ -43,6 +43,7 @@ from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
 from rubberfriction.driver.multiscale.scene import load_scene
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds, refined_master
+from rubberfriction.driver.multiscale.statistics import STABILISATION_TOL
 from rubberfriction.driver.fe.newton import LINEAR_SOLVERS
 from rubberfriction.driver.sliding.run import SlidingRun, block_mesh, run_sliding, sliding_contact
 from rubberfriction.driver.sliding.spec import SlidingSpec
@@ -92,7 +93,7 @@ def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str
           f"{sample.rms_height:.3g} mm, rms slope {sample.rms_slope:.3g}, {x.size} segments; "
           f"penalty alpha {penalty_alpha:g}, element {element}, wall limit {wall_limit:g} s per run")
     print(f"{'v [m/s]':>8} {'p [MPa]':>8} {'status':>7} {'fallback':>8} {'cutbacks':>8} {'newton':>7} "
-          f"{'wall [s]':>9} {'mu':>9}  reason")
+          f"{'wall [s]':>9} {'mu':>9} {'stab.':>7}  reason")
     vs = (1e-6, 1e-2, 10.0) if quick else (1e-6, 1e-4, 1e-2, 1.0, 10.0)
     ps = (0.01, 10.0) if quick else (0.01, 0.1, 1.0, 10.0)
     rows = []
@@ -104,18 +105,24 @@ def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str
             t0 = time.perf_counter()
             r = run_sliding(spec, wall_limit=wall_limit)
             st, wall = r.stats, time.perf_counter() - t0
+            usable = r.ok and np.isfinite(r.mu_force) and not r.stabilisation_share > STABILISATION_TOL
+            note = r.reason[:70] if not r.ok else ("" if usable else
+                                                   "not usable: the stabilisation carried the run")
             print(f"{v:>8.0e} {p:>8.2g} {r.status:>7} {st.get('fallback_level', -1):>8} "
                   f"{st.get('cutbacks', 0):>8} {st.get('newton_iterations', 0):>7} "
-                  f"{wall:>9.2f} {r.mu_force:>9.4f}  {r.reason[:70]}", flush=True)
+                  f"{wall:>9.2f} {r.mu_force:>9.4f} {r.stabilisation_share:>7.2%}  {note}", flush=True)
             rows.append({"velocity_m_s": v, "pressure_MPa": p, "status": r.status,
                          "reason": r.reason, "failure": st.get("failure", ""),
                          "fallback_level": st.get("fallback_level"),
                          "cutbacks": st.get("cutbacks"),
                          "newton_iterations": st.get("newton_iterations"), "wall_time_s": wall,
-                         "mu_force": r.mu_force, "mu_energy": r.mu_energy,
+                         "mu_force": r.mu_force, "mu_energy": r.mu_energy, "usable": bool(usable),
+                         "stabilisation_share": r.stabilisation_share,
                          "contact_fraction": r.contact_fraction})
     ok = sum(r["status"] == "ok" for r in rows)
-    print(f"{ok} of {len(rows)} runs converged; "
+    usable = sum(r["usable"] for r in rows)
+    print(f"{ok} of {len(rows)} runs converged, {usable} of them usable (finite mu, stabilisation "
+          f"share at most {STABILISATION_TOL:.0%}, as a campaign averages them); "
           f"{sum(r['failure'] == 'wall_limit' for r in rows)} hit the wall-time limit; "
           f"total {sum(r['wall_time_s'] for r in rows):.0f} s")
     return rows
