@@ -149,7 +149,9 @@ def test_bench_stability_samples_are_the_default_roads_bands():
     default road (period = the band's long edge)."""
     from rubberfriction.driver.bench.sliding import STABILITY_SCALES, rough_sample
 
-    for scale, (_, (long_edge, short_edge)) in STABILITY_SCALES.items():
+    bands = {"micro1": (0.3, 0.04), "micro2": (0.04, 0.003)}  # [20, 3, 0.3, 0.04, 0.003] mm
+    assert set(STABILITY_SCALES) == set(bands)
+    for scale, (long_edge, short_edge) in bands.items():
         smp = rough_sample(scale)
         assert smp.period == pytest.approx(long_edge)
         assert tuple(smp.band) == pytest.approx((long_edge, short_edge))

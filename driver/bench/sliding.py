@@ -70,14 +70,14 @@ def accuracy(quick: bool) -> None:
     print(f"closed form mu = {ex:.4e}")
 
 
-#: default-road scales the stability sweep runs on: index and band (mm)
-STABILITY_SCALES = {"micro1": (2, (0.3, 0.04)), "micro2": (3, (0.04, 0.003))}
+#: default-road scales the stability sweep runs on, by their index
+STABILITY_SCALES = {"micro1": 2, "micro2": 3}
 
 
 def rough_sample(scale: str = "micro1"):
     """First sample of a scale of the default road: micro1 (0.3-0.04 mm band, period 0.3 mm) or
     micro2 (0.04-0.003 mm, period 0.04 mm)."""
-    return default_road().extract_samples(1, seed=1)[STABILITY_SCALES[scale][0]][0]
+    return default_road().extract_samples(1, seed=1)[STABILITY_SCALES[scale]][0]
 
 
 def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str = "Q1P0",
@@ -87,7 +87,7 @@ def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str
     comp = load_compound("tread_default")
     sample = rough_sample(scale)
     x, h = np.asarray(sample.x)[:-1], np.asarray(sample.h)[:-1]
-    x, h = refined_master(x, h, sample.period, STABILITY_SCALES[scale][1][1], 32)
+    x, h = refined_master(x, h, sample.period, float(sample.band[1]), 32)
     print(f"scale {scale} of the default road", end="; ")
     print(f"stability sweep on a rough sample: period {sample.period:.4g} mm, rms height "
           f"{sample.rms_height:.3g} mm, rms slope {sample.rms_slope:.3g}, {x.size} segments; "
@@ -106,8 +106,8 @@ def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str
             r = run_sliding(spec, wall_limit=wall_limit)
             st, wall = r.stats, time.perf_counter() - t0
             usable = r.ok and np.isfinite(r.mu_force) and not r.stabilisation_share > STABILISATION_TOL
-            note = r.reason[:70] if not r.ok else ("" if usable else
-                                                   "not usable: the stabilisation carried the run")
+            note = r.reason[:70] if not r.ok else "" if usable else (
+                "not usable: mu NaN" if not np.isfinite(r.mu_force) else "not usable: stabilised")
             print(f"{v:>8.0e} {p:>8.2g} {r.status:>7} {st.get('fallback_level', -1):>8} "
                   f"{st.get('cutbacks', 0):>8} {st.get('newton_iterations', 0):>7} "
                   f"{wall:>9.2f} {r.mu_force:>9.4f} {r.stabilisation_share:>7.2%}  {note}", flush=True)
