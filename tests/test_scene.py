@@ -18,6 +18,7 @@ from rubberfriction.driver.multiscale.scene import (
     parse_scene,
     schema_text,
     shipped_scenes,
+    surface_scale_names,
 )
 from rubberfriction.driver.multiscale.thermal_scene import macro_inputs
 from rubberfriction.driver.sliding.spec import SlidingSpec
@@ -253,6 +254,10 @@ def test_numerics_per_scale_reach_only_that_scales_runs():
     assert f1.h_contact == pytest.approx(0.5 * b1.h_contact)  # 0.2 mm / 12 against / 6
     assert (f1.element, b1.element) == ("Q1P0s", "Q1P0")
     assert run_key(f1) != run_key(b1)
+    # the tables are found by the names the campaign labels its scales with, on roads too
+    road = load_scene("default")
+    names = [s.name for s in build_scales(road, 1).sets]
+    assert names == surface_scale_names(road.surface) == ["macro", "meso", "micro1", "micro2"]
 
 
 def test_numerics_per_scale_errors_name_the_table():

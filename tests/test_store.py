@@ -251,3 +251,20 @@ def test_bench_store_comparison_treats_failed_runs_nan_results_as_equal():
     assert not _same_values({"mu_force": 0.5}, {"mu_force": nan})
     assert not _same_values({"mu_force": 0.5}, {"mu_force": 0.5 + 1e-15})
     assert not _same_values({"mu_force": 0.5}, {"mu_energy": 0.5})
+
+
+def test_an_unstored_result_is_judged_as_the_campaign_judges_a_stored_one(tmp_path: Path):
+    """result_outcome (benchmarks) gives the same Outcome values as Store.put, so
+    statistics.usable refuses an over-stabilised run whichever way it came."""
+    from rubberfriction.driver.multiscale.statistics import usable, why_unusable
+    from rubberfriction.driver.runtime.store import result_outcome
+
+    res = SlidingResult("ok", mu_force=0.3)
+    res.stabilisation_share = 0.2
+    stored = Store(tmp_path / "s").put("a" * 64, None, res, wall_time=1.0)
+    free = result_outcome(res)
+    assert free.values == stored.values and free.status == stored.status == "ok"
+    assert not usable(free) and "stabilisation carried 20 %" in why_unusable(free)
+    res.stabilisation_share = 0.01
+    assert usable(result_outcome(res))
+    assert not usable(result_outcome(SlidingResult("failed", reason="stagnated")))

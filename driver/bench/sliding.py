@@ -43,7 +43,8 @@ from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
 from rubberfriction.driver.multiscale.scene import load_scene
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds, refined_master
-from rubberfriction.driver.multiscale.statistics import STABILISATION_TOL
+from rubberfriction.driver.multiscale.statistics import STABILISATION_TOL, usable, why_unusable
+from rubberfriction.driver.runtime.store import result_outcome
 from rubberfriction.driver.fe.newton import LINEAR_SOLVERS
 from rubberfriction.driver.sliding.run import SlidingRun, block_mesh, run_sliding, sliding_contact
 from rubberfriction.driver.sliding.spec import SlidingSpec
@@ -82,12 +83,15 @@ def rough_sample(scale: str = "micro1"):
 
 def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str = "Q1P0",
               scale: str = "micro1") -> list[dict]:
-    """The sweep of part 2 on the first sample of ``scale``; the rigid surface refined to 32
-    vertices per shortest wavelength of the band, as a campaign does (``specs.refined_master``)."""
+    """The sweep of part 2 on the first sample of ``scale``; the rigid surface refined per
+    shortest wavelength of the band as the default scene's campaign does
+    (``specs.refined_master``).  A run is usable when a campaign would average it
+    (``statistics.usable``) and its mu is finite."""
     comp = load_compound("tread_default")
     sample = rough_sample(scale)
     x, h = np.asarray(sample.x)[:-1], np.asarray(sample.h)[:-1]
-    x, h = refined_master(x, h, sample.period, float(sample.band[1]), 32)
+    points = load_scene("default").numerics.master_points_per_wavelength
+    x, h = refined_master(x, h, sample.period, float(sample.band[1]), points)
     print(f"scale {scale} of the default road", end="; ")
     print(f"stability sweep on a rough sample: period {sample.period:.4g} mm, rms height "
           f"{sample.rms_height:.3g} mm, rms slope {sample.rms_slope:.3g}, {x.size} segments; "
@@ -105,24 +109,25 @@ def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str
             t0 = time.perf_counter()
             r = run_sliding(spec, wall_limit=wall_limit)
             st, wall = r.stats, time.perf_counter() - t0
-            usable = r.ok and np.isfinite(r.mu_force) and not r.stabilisation_share > STABILISATION_TOL
-            note = r.reason[:70] if not r.ok else "" if usable else (
-                "not usable: mu NaN" if not np.isfinite(r.mu_force) else "not usable: stabilised")
+            outcome = result_outcome(r)
+            good = usable(outcome) and np.isfinite(r.mu_force)
+            note = "" if good else why_unusable(outcome) if not usable(outcome) else "mu is NaN"
             print(f"{v:>8.0e} {p:>8.2g} {r.status:>7} {st.get('fallback_level', -1):>8} "
                   f"{st.get('cutbacks', 0):>8} {st.get('newton_iterations', 0):>7} "
-                  f"{wall:>9.2f} {r.mu_force:>9.4f} {r.stabilisation_share:>7.2%}  {note}", flush=True)
+                  f"{wall:>9.2f} {r.mu_force:>9.4f} {r.stabilisation_share:>7.2%}  {note[:70]}",
+                  flush=True)
             rows.append({"velocity_m_s": v, "pressure_MPa": p, "status": r.status,
                          "reason": r.reason, "failure": st.get("failure", ""),
                          "fallback_level": st.get("fallback_level"),
                          "cutbacks": st.get("cutbacks"),
                          "newton_iterations": st.get("newton_iterations"), "wall_time_s": wall,
-                         "mu_force": r.mu_force, "mu_energy": r.mu_energy, "usable": bool(usable),
+                         "mu_force": r.mu_force, "mu_energy": r.mu_energy, "usable": bool(good),
                          "stabilisation_share": r.stabilisation_share,
                          "contact_fraction": r.contact_fraction})
     ok = sum(r["status"] == "ok" for r in rows)
-    usable = sum(r["usable"] for r in rows)
-    print(f"{ok} of {len(rows)} runs converged, {usable} of them usable (finite mu, stabilisation "
-          f"share at most {STABILISATION_TOL:.0%}, as a campaign averages them); "
+    n_usable = sum(r["usable"] for r in rows)
+    print(f"{ok} of {len(rows)} runs converged, {n_usable} of them usable (finite mu, "
+          f"stabilisation share at most {STABILISATION_TOL:.0%}, as a campaign averages them); "
           f"{sum(r['failure'] == 'wall_limit' for r in rows)} hit the wall-time limit; "
           f"total {sum(r['wall_time_s'] for r in rows):.0f} s")
     return rows

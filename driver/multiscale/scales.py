@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from rubberfriction.driver.multiscale.results import ScaleSet
-from rubberfriction.driver.multiscale.scene import Scene, SceneError
+from rubberfriction.driver.multiscale.scene import Scene, SceneError, surface_scale_names
 from rubberfriction.driver.surfaces import (
     SurfaceError,
     default_road,
@@ -21,7 +21,6 @@ from rubberfriction.driver.surfaces import (
     load_profile,
     multiscale_from_measurements,
 )
-from rubberfriction.driver.surfaces.multiscale import scale_names
 
 
 @dataclass(frozen=True)
@@ -69,7 +68,7 @@ def build_scales(scene: Scene, n_samples: int) -> Scales:
     s = scene.surface
     if s.source == "sines":
         sets = []
-        names = list(s.names) or scale_names(len(s.wavelengths))
+        names = surface_scale_names(s)
         for i, (a, lam) in enumerate(zip(s.amplitudes, s.wavelengths)):
             L = s.block_lengths[i] if s.block_lengths else s.periods_per_block * lam
             if abs(L / lam - round(L / lam)) > 1e-9:

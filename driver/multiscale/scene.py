@@ -870,8 +870,8 @@ def _scale_numerics(origin: str, tables: dict[str, Any], surface: SurfaceConfig
     for scale, table in tables.items():
         if scale not in names:
             raise SceneError(f"{origin}: unknown table [numerics.{scale}]"
-                             f"{V.suggest(scale, names)}: a per-scale table is named after a scale of the scene "
-                             f"({', '.join(names)})")
+                             f"{V.suggest(scale, names)}: a per-scale table is named after a "
+                             f"scale of the scene ({', '.join(names)})")
         values = []
         for k, v in table.items():
             if k in SCENE_WIDE_NUMERICS:

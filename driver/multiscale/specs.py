@@ -51,11 +51,12 @@ class SpecBuilder:
     def __init__(self, scene: Scene, compounds: dict[str, Any]):
         self.scene = scene
         self.compounds = compounds
-        self.names = surface_scale_names(scene.surface)  # [numerics.<name>] of scale i
+        # the numerics of scale i: [numerics] with its [numerics.<name>] table
+        self.numerics = [scene.numerics.for_scale(nm) for nm in surface_scale_names(scene.surface)]
 
     def __call__(self, point: Point, scale: int, sample: Any, pressure: float, friction: Any,
                  role: str) -> Any:
-        num = self.scene.numerics.for_scale(self.names[scale])
+        num = self.numerics[scale]
         window, slide = num.window_start, num.slide_periods
         tol, steady = 0.0, num.steady_state
         if num.window == "converged":

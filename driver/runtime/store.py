@@ -236,6 +236,19 @@ class Outcome:
         return float(self.values.get(name, math.nan))
 
 
+def result_values(result: Any) -> dict[str, float]:
+    """The RESULT_SCALARS of a SlidingResult (NaN where it has none)."""
+    return {name: float(getattr(result, name, math.nan)) for name in RESULT_SCALARS}
+
+
+def result_outcome(result: Any, key: str = "") -> Outcome:
+    """The Outcome of a result that is not stored (benchmarks): what the campaign logic would
+    see of it, e.g. for ``statistics.usable``."""
+    status = str(getattr(result, "status", "failed"))
+    return Outcome(key, status, str(getattr(result, "reason", "")),
+                   "" if status == "ok" else "physics", result_values(result))
+
+
 @dataclass
 class StoredRun:
     """Everything a run file holds (see the module docstring for the layout)."""
@@ -368,7 +381,7 @@ class Store:
         reason = str(getattr(result, "reason", ""))
         if failure is None:
             failure = "" if status == "ok" else "physics"
-        values = {name: float(getattr(result, name, math.nan)) for name in RESULT_SCALARS}
+        values = result_values(result)
         target = self.path(key)
         target.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{key}.", suffix=".tmp", dir=target.parent)
