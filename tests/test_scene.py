@@ -275,6 +275,31 @@ def test_numerics_per_scale_errors_name_the_table():
     assert "[numerics.<scale>]" in schema_text()
 
 
+def test_trust_region_newton_reaches_the_runs_of_its_scale():
+    """[numerics] newton (driver.fe.trust_region): per scale like every key; the trust region
+    eliminates cell pressures, so Q1P0s with it is refused when the scene is read."""
+    from rubberfriction.driver.multiscale.results import Point
+    from rubberfriction.driver.multiscale.scales import build_scales
+    from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
+
+    from rubberfriction.driver.sliding.run import NEWTON_METHODS
+
+    assert parse().numerics.newton == "line-search" == SlidingSpec.newton
+    assert SCHEMA["numerics"]["newton"].choices == NEWTON_METHODS
+    scene = parse("[numerics.micro]\nnewton = \"trust-region\"\n")
+    make = SpecBuilder(scene, load_compounds(scene))
+    pt = Point(scene.conditions.compounds[0], 0.3, 10.0)
+    specs = [make(pt, i, s.samples[0], 0.3, None, "up")
+             for i, s in enumerate(build_scales(scene, 1).sets)]
+    assert [sp.newton for sp in specs] == ["line-search", "trust-region"]
+    err = error_of(scene_text("[numerics]\nnewton = \"trust-region\"\nelement = \"Q1P0s\"\n"))
+    assert "trust-region" in err and "Q1P0s" in err and "[numerics]" in err
+    err = error_of(scene_text("[numerics]\nelement = \"Q1P0s\"\n"
+                              "[numerics.micro]\nnewton = \"trust-region\"\n"))
+    assert "[numerics.micro]" in err and "Q1P0s" in err
+    assert "newton" in error_of(scene_text("[numerics]\nnewton = \"trust\"\n"))
+
+
 def test_run_check_lists_the_scales_with_their_numerics(tmp_path: Path, capsys):
     from rubberfriction.driver.cli.main import main
 

@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import Callable
 
 import basix
 import numpy as np
@@ -51,7 +52,7 @@ from rubberfriction.driver.fe.constraints import ConstraintMap
 from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem
 from rubberfriction.forms import jit
 from rubberfriction.forms.bulk import bulk_residual, pressure_jump_stabilisation, second_piola
-from rubberfriction.forms.hyperelastic import dev, fictitious_stress
+from rubberfriction.forms.hyperelastic import dev, fictitious_stress, volumetric_measure
 from rubberfriction.forms.kinematics import deformation_gradient, vector_from_plane_sym
 from rubberfriction.forms.viscoelastic import ViscoelasticHistory, quadrature_rule
 
@@ -188,6 +189,36 @@ class SolidProblem:
         return ConstrainedNonlinearProblem(
             self.residual, self.jacobian(), self.w, constraints, hooks=own + list(hooks),
             extra_couplings=[h.couplings for h in own] + list(extra_couplings), external_force=external_force)
+
+    def pressure_relaxation(self) -> Callable[[np.ndarray], None] | None:
+        """For a trust-region solve (``driver.fe.trust_region``): a function that sets the cell
+        pressures of a full-space state x to K <g(J)>_e, the cell means that make the constraint
+        of eq. (3.61) hold exactly for the displacements in x (with p eliminated so, the residual
+        is the gradient of the displacements' potential).  None for Q1 (no pressure); Q1P0s
+        couples neighbouring pressures (no cell-local optimum) and is refused."""
+        if not self.settings.mixed:
+            return None
+        if self.settings.element != "Q1P0":
+            raise ValueError(f"element {self.settings.element!r}: the trust-region solver needs "
+                             "cell-local pressures (Q1P0 or Q1); the pressure-jump term of Q1P0s "
+                             "couples them")
+        Q, pmap = self.W.sub(1).collapse()
+        pmap = np.asarray(pmap, dtype=np.int64)
+        u, _ = self.split()
+        g, _ = volumetric_measure(ufl.det(deformation_gradient(u)), self.hyperelastic.volumetric)
+        q = ufl.TestFunction(Q)
+        mean_g = jit.form(g * q * self.dx)
+        volume = fem_petsc.assemble_vector(jit.form(1.0 * q * self.dx)).array.copy()
+        vec = fem_petsc.create_vector(mean_g)
+        K = self.bulk_modulus
+
+        def relax(x: np.ndarray) -> None:
+            with vec.localForm() as local:
+                local.set(0.0)
+            fem_petsc.assemble_vector(vec, mean_g)  # reads the state, i.e. x
+            x[pmap] = K * vec.array / volume
+
+        return relax
 
     @property
     def pressure_jump(self) -> PressureJump | None:

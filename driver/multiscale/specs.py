@@ -78,7 +78,7 @@ class SpecBuilder:
         base = SlidingSpec(surface_x=x, surface_h=h, period=period, pressure=float(pressure),
                            velocity=float(point.velocity), compound=self.compounds[point.compound],
                            temperature=self.scene.conditions.T0, friction=friction,
-                           element=num.element,
+                           element=num.element, newton=num.newton,
                            contact=num.contact, elements_per_wavelength=num.elements_per_wavelength,
                            grading=num.grading, compression_steps=num.compression_steps,
                            window_start=window, converge_tol=tol, steady_state=steady,

@@ -54,8 +54,10 @@ from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
 from rubberfriction.driver.fe.newton import LINEAR_SOLVERS, NewtonSettings, NewtonSolver
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.fe.stabilisation import ViscousStabilisation
+from rubberfriction.driver.fe.trust_region import TrustRegionSolver
 from rubberfriction.driver.sliding import shortcut
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
+from rubberfriction.driver.sliding.intrusion import road_intrusion
 from rubberfriction.driver.sliding.outputs import DissipationByDepth
 from rubberfriction.driver.sliding.progress import StepReporter
 from rubberfriction.driver.sliding.temperature import check_layers, layer_levels, layer_temperatures
@@ -101,6 +103,10 @@ class ContactLike:
 #: sub-steps in a row double the sub-step length (one would make it oscillate: double, fail, halve)
 EASY_ITERATIONS = 6
 EASY_STREAK = 2
+#: trial steps (linear solves) a trust-region solve may take (driver.fe.trust_region)
+TRUST_REGION_STEPS = 60
+#: globalisations of the Newton solves (SlidingSpec.newton)
+NEWTON_METHODS = ("line-search", "trust-region")
 
 
 class Attempt(NamedTuple):
@@ -146,6 +152,12 @@ class SlidingRun:
             raise ValueError("edge_radius: a periodic cell has no edges; round only a finite block (period = 0)")
         if not (np.isfinite(spec.stabilisation) and spec.stabilisation >= 0.0):
             raise ValueError(f"stabilisation = {spec.stabilisation!r}: expected beta >= 0 (0: off)")
+        if spec.newton not in NEWTON_METHODS:
+            raise ValueError(f"newton = {spec.newton!r}: expected one of {NEWTON_METHODS}")
+        if spec.newton == "trust-region" and spec.element == "Q1P0s":
+            raise ValueError("newton = 'trust-region' with element = 'Q1P0s': the trust region "
+                             "eliminates the cell pressures, which the pressure-jump term couples; "
+                             "expected element Q1P0 or Q1")
         if not 0.0 <= spec.min_jacobian < 1.0:
             raise ValueError(f"min_jacobian = {spec.min_jacobian!r}: expected 0 <= det F limit < 1")
         self.base_spec = spec
@@ -246,11 +258,15 @@ class SlidingRun:
         # on steep rough samples, it also pays (rms slope 2 micro sample at 10 mm/s, 0.1 MPa:
         # 10 200 -> 6 400 Newton iterations, 86 -> 57 s, same mu within 0.2 %).
         # stagnation: cycling active sets are cut back after 8 iterations instead of 25
-        self.newton = NewtonSolver(self.problem, NewtonSettings(rtol=1e-8, atol=1e-12 * self.force_scale,
-                                                                backtrack_growth=1.0,
-                                                                stagnation=8,
-                                                                linear_solver=self.linear_solver),
-                                   force_scale=self.force_scale)
+        settings = NewtonSettings(rtol=1e-8, atol=1e-12 * self.force_scale, backtrack_growth=1.0,
+                                  stagnation=8, linear_solver=self.linear_solver)
+        if s.newton == "trust-region":  # every trial step counts: more of them per solve
+            self.newton = TrustRegionSolver(
+                self.problem, dataclasses.replace(settings, max_iterations=TRUST_REGION_STEPS),
+                force_scale=self.force_scale, relax=self.sp.pressure_relaxation(),
+                displacement_dofs=self.sp.umap)
+        else:
+            self.newton = NewtonSolver(self.problem, settings, force_scale=self.force_scale)
 
     def _switch_to_force_control(self) -> None:
         """The tied top u_z becomes an unknown loaded by F_ext (compression phase)."""
@@ -431,6 +447,14 @@ class SlidingRun:
             return "element inversion (det F <= 0)"
         return f"element collapse (det F = {j:.3g} <= min_jacobian {self.spec.min_jacobian:g})"
 
+    def _road_intrusion(self) -> float:
+        """How deep the road reaches into the rubber face now (``intrusion.road_intrusion``)."""
+        slave, s = self.contact.slave, self.spec
+        x = slave.X + self.sp.w.x.array[slave.dofs]
+        ox, oz = self.contact.offset
+        return road_intrusion(x[:, 0], x[:, 1], np.asarray(s.surface_x) + ox,
+                              np.asarray(s.surface_h) + oz, s.period)
+
     def _top_reaction(self) -> float:
         """Vertical force the tied top edge carries (internal force sum at its u_z dofs)."""
         d = self.sp.displacement_dofs()[self.top, 1]
@@ -528,10 +552,13 @@ class SlidingRun:
         self.step_stabilisation_energy = self.step_stabilisation_impulse = 0.0
         self.stabilised_steps = 0
         self.min_det_F = math.inf
+        self.intrusion = -1.0  # deepest road vertex inside the rubber face over the sliding steps
         try:
             self.build(formulation)
         except (ValueError, RuntimeError) as err:
             return SlidingResult("failed", reason=f"set-up: {err}")
+        if s.period > 0 and hasattr(self.contact, "slave") and hasattr(self.contact, "offset"):
+            self.intrusion = 0.0  # a periodic cell on the rigid road: measured (-1: not)
         L, F_target = self.L, s.pressure * self.L
         step_len = (s.step_length or 0.5 * self.hc) * step_factor
         whole_periods = s.period > 0 and (s.converge_tol > 0 or s.steady_state)
@@ -609,6 +636,8 @@ class SlidingRun:
             rows.append((t, s.velocity * (t - t_s), st["Fx"], st["Fz"], st["contact_length"],
                          self.step_energy, self.step_friction_energy, st["mean_pressure"],
                          self.step_stabilisation_energy, self.step_stabilisation_impulse))
+            if self.intrusion >= 0.0:
+                self.intrusion = max(self.intrusion, self._road_intrusion())
             self._notify("on_step", k, t)
             if self.progress:
                 self.progress(k, nsteps)
@@ -648,6 +677,12 @@ class SlidingRun:
                      "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size),
                      "stabilised_steps": self.stabilised_steps,
                      "lu_fallbacks": self.newton.lu_fallbacks,
+                     # trial steps the trust region refused (newton = "trust-region")
+                     "rejected_steps": float(getattr(self.newton, "rejected", 0)),
+                     # deepest road vertex inside the rubber face / contact element length
+                     # (periodic cells; driver.sliding.intrusion): >= 1 means unresolved
+                     "road_intrusion": (self.intrusion / self.hc if self.intrusion >= 0.0
+                                        else math.nan),
                      "window_start": lo, "window_end": hi,
                      "compression_contact_fraction": self.compression_contact, **self._cpu_split()}
         if len(rows) == 0:
