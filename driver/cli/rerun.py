@@ -12,6 +12,7 @@ a look.  For reproducing a result, or diagnosing a failed run without the campai
     rubberfriction rerun rf-results/default 6b9a9635 --first-attempt --out diag/
     rubberfriction rerun rf-results/default 6b9a9635 --contact surface --refine 2
     rubberfriction rerun tests/data/failing_runs f280d52c --set penalty_alpha=30 --first-attempt
+    rubberfriction rerun tests/data/failing_runs f280d52c --set newton=trust-region
     rubberfriction rerun rf-results/default 6b9a9635 --volumetric logarithmic
 
 The compound is loaded again by its name; a folder of kept runs whose compound file has changed
@@ -127,6 +128,11 @@ def _rerun(args: argparse.Namespace) -> int:
           + (f" ({result.reason.splitlines()[0]})" if result.reason else ""))
     if st.get("attempts"):
         print(f"  failed attempts: {st['attempts']}")
+    if math.isfinite(st.get("road_intrusion", math.nan)):
+        print(f"  road intrusion: {st['road_intrusion']:.3g} contact elements deep (>= 1: the road's "
+              "features are narrower than the contact elements)"
+              + (f"; trust region refused {st['rejected_steps']:.0f} trial steps"
+                 if st.get("rejected_steps") else ""))
     same = (not args.contact and args.refine == 1 and not args.first_attempt and not args.set
             and not args.volumetric and math.isfinite(stored.values.get("mu_force", math.nan)))
     if same:
