@@ -205,9 +205,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
                        "stabilisation, no checkerboard mode in confined cells)",
                        choices=("Q1P0", "Q1P0s", "Q1")),
         "newton": Key("str", "line-search", "globalisation of the Newton solves: line-search "
-                      "(residual backtracking) or trust-region (minimises the step's incremental "
+                      "(residual backtracking), trust-region (minimises the step's incremental "
                       "potential, driver.fe.trust_region: converges where the tangent is "
-                      "indefinite; Q1P0 or Q1)", choices=("line-search", "trust-region")),
+                      "indefinite; Q1P0 or Q1) or hybrid (line-search, and the trust region for a "
+                      "sub-step where it fails)", choices=("line-search", "trust-region", "hybrid")),
         "max_cutbacks": Key("int", 8, "step halvings before a step counts as failed", minimum=0),
         "stabilisation": Key("float", 0.1, "viscous stabilisation beta of a sub-step that still "
                              "fails after a cut-back (thesis 6.3.3; tried x1, x10, x100; its "
@@ -842,9 +843,9 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
                               scales=_scale_numerics(origin, scale_tables, surface))
     for scale in [None, *surface_scale_names(surface)]:
         num = numerics if scale is None else numerics.for_scale(scale)
-        if num.newton == "trust-region" and num.element == "Q1P0s":
+        if num.newton != "line-search" and num.element == "Q1P0s":
             where = "[numerics]" if scale is None else f"[numerics.{scale}] with [numerics]"
-            raise SceneError(f"{origin}: {where}: newton = \"trust-region\" with element = "
+            raise SceneError(f"{origin}: {where}: newton = \"{num.newton}\" with element = "
                              "\"Q1P0s\": the trust region eliminates the cell pressures, which "
                              "the pressure-jump term couples; expected element Q1P0 or Q1")
     name = top["name"]

@@ -106,7 +106,7 @@ EASY_STREAK = 2
 #: trial steps (linear solves) a trust-region solve may take (driver.fe.trust_region)
 TRUST_REGION_STEPS = 60
 #: globalisations of the Newton solves (SlidingSpec.newton)
-NEWTON_METHODS = ("line-search", "trust-region")
+NEWTON_METHODS = ("line-search", "trust-region", "hybrid")
 
 
 class Attempt(NamedTuple):
@@ -154,8 +154,8 @@ class SlidingRun:
             raise ValueError(f"stabilisation = {spec.stabilisation!r}: expected beta >= 0 (0: off)")
         if spec.newton not in NEWTON_METHODS:
             raise ValueError(f"newton = {spec.newton!r}: expected one of {NEWTON_METHODS}")
-        if spec.newton == "trust-region" and spec.element == "Q1P0s":
-            raise ValueError("newton = 'trust-region' with element = 'Q1P0s': the trust region "
+        if spec.newton != "line-search" and spec.element == "Q1P0s":
+            raise ValueError(f"newton = {spec.newton!r} with element = 'Q1P0s': the trust region "
                              "eliminates the cell pressures, which the pressure-jump term couples; "
                              "expected element Q1P0 or Q1")
         if not 0.0 <= spec.min_jacobian < 1.0:
@@ -260,11 +260,14 @@ class SlidingRun:
         # stagnation: cycling active sets are cut back after 8 iterations instead of 25
         settings = NewtonSettings(rtol=1e-8, atol=1e-12 * self.force_scale, backtrack_growth=1.0,
                                   stagnation=8, linear_solver=self.linear_solver)
-        if s.newton == "trust-region":  # every trial step counts: more of them per solve
-            self.newton = TrustRegionSolver(
+        self.trust = None  # the trust-region solver (newton = "trust-region" or "hybrid")
+        if s.newton in ("trust-region", "hybrid"):  # every trial step counts: more per solve
+            self.trust = TrustRegionSolver(
                 self.problem, dataclasses.replace(settings, max_iterations=TRUST_REGION_STEPS),
                 force_scale=self.force_scale, relax=self.sp.pressure_relaxation(),
                 displacement_dofs=self.sp.umap)
+        if s.newton == "trust-region":
+            self.newton = self.trust
         else:
             self.newton = NewtonSolver(self.problem, settings, force_scale=self.force_scale)
 
@@ -301,6 +304,14 @@ class SlidingRun:
                 self._start_iterate(predict, h, x_saved)
             res = self.newton.solve()
             self.newton_iterations += res.iterations
+            if not res.converged and self.trust is not None and self.trust is not self.newton:
+                # hybrid: the sub-step again from its start, with the trust region
+                self.sp.w.x.array[:] = x_saved
+                if predict is not None:
+                    self._start_iterate(predict, h, x_saved)
+                res = self.trust.solve()
+                self.newton_iterations += res.iterations
+                self.trust_solves += 1
             ok, reason = res.converged, res.reason
             if ok and self._inverted():
                 ok, reason = False, self._bad_element_reason()
@@ -553,6 +564,7 @@ class SlidingRun:
         self.stabilised_steps = 0
         self.min_det_F = math.inf
         self.intrusion = -1.0  # deepest road vertex inside the rubber face over the sliding steps
+        self.trust_solves = 0  # hybrid: sub-steps handed to the trust region
         try:
             self.build(formulation)
         except (ValueError, RuntimeError) as err:
@@ -655,13 +667,18 @@ class SlidingRun:
                     start = history.snapshot()
         return self._result(rows, distance, "ok", "", t)
 
+    def _solvers(self) -> list:
+        """The Newton solvers of this attempt (two in the hybrid)."""
+        return [self.newton] + ([self.trust] if self.trust not in (None, self.newton) else [])
+
     def _cpu_split(self) -> dict[str, float]:
         """CPU seconds of this attempt by part (stats ``cpu_*``): bulk forms, contact, P^T A P
         (with PETSc's assembly calls), linear solves (numeric LU + triangular solves), history
         update (eq. 3.76), and the whole attempt (set-up and Python included)."""
         asm = self.problem.cpu
         return {"cpu_bulk": asm["bulk"], "cpu_contact": asm["hooks"], "cpu_condense": asm["condense"],
-                "cpu_linear": self.newton.cpu_linear, "cpu_history": self.sp.cpu_history,
+                "cpu_linear": sum(n.cpu_linear for n in self._solvers()),
+                "cpu_history": self.sp.cpu_history,
                 "cpu_attempt": time.process_time() - self._cpu_start}
 
     def _result(self, rows, distance, status, reason, t) -> SlidingResult:
@@ -676,9 +693,10 @@ class SlidingRun:
                      "predictor_used": self.predictor_used,
                      "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size),
                      "stabilised_steps": self.stabilised_steps,
-                     "lu_fallbacks": self.newton.lu_fallbacks,
+                     "lu_fallbacks": sum(n.lu_fallbacks for n in self._solvers()),
                      # trial steps the trust region refused (newton = "trust-region")
-                     "rejected_steps": float(getattr(self.newton, "rejected", 0)),
+                     "rejected_steps": float(self.trust.rejected if self.trust else 0),
+                     "trust_region_solves": float(self.trust_solves),
                      # deepest road vertex inside the rubber face / contact element length
                      # (periodic cells; driver.sliding.intrusion): >= 1 means unresolved
                      "road_intrusion": (self.intrusion / self.hc if self.intrusion >= 0.0

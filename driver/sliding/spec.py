@@ -71,9 +71,10 @@ class SlidingSpec:
     # fe.contact.DEFAULT_TANGENTIAL_FRACTION (not imported: this module stays free of PETSc)
     tangential_penalty: float = 0.1
     max_cutbacks: int = 8
-    # globalisation of the Newton solves: "line-search" (driver.fe.newton) or "trust-region"
+    # globalisation of the Newton solves: "line-search" (driver.fe.newton), "trust-region"
     # (driver.fe.trust_region: minimises the step's incremental potential; exact for frictionless
-    # node-to-surface contact, a merit function otherwise)
+    # node-to-surface contact, a merit function otherwise) or "hybrid" (line-search, the trust
+    # region for a sub-step where it fails)
     newton: str = "line-search"
     # viscous stabilisation of a sub-step that fails after STABILISE_AFTER cut-backs (or at the
     # last one): beta of driver.fe.stabilisation, tried as beta x STABILISATION_LADDER; 0: off
