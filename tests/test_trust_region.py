@@ -200,5 +200,5 @@ def test_failing_micro2_input_slides_with_the_trust_region():
     run.attempts = lambda: [first]
     surface = run.run()
     assert surface.ok, surface.reason
-    assert tr.stats["road_intrusion"] < 2.0 < 10.0 < surface.stats["road_intrusion"]
+    assert tr.road_intrusion < 2.0 < 10.0 < surface.road_intrusion
     assert surface.contact_fraction > 1.0  # the face stretched over the road, peaks inside it

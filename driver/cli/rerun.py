@@ -128,8 +128,8 @@ def _rerun(args: argparse.Namespace) -> int:
           + (f" ({result.reason.splitlines()[0]})" if result.reason else ""))
     if st.get("attempts"):
         print(f"  failed attempts: {st['attempts']}")
-    if math.isfinite(st.get("road_intrusion", math.nan)):
-        print(f"  road intrusion: {st['road_intrusion']:.3g} contact elements deep (>= 1: the road's "
+    if math.isfinite(result.road_intrusion):
+        print(f"  road intrusion: {result.road_intrusion:.3g} contact elements deep (>= 1: the road's "
               "features are narrower than the contact elements)"
               + (f"; trust region refused {st['rejected_steps']:.0f} trial steps"
                  if st.get("rejected_steps") else ""))

@@ -192,6 +192,7 @@ def sample_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
                              "converged": o.value("converged"),
                              "stabilisation_share": o.value("stabilisation_share"),
                              "min_det_F": o.value("min_det_F"),
+                             "road_intrusion": o.value("road_intrusion"),
                              "wall_time_s": o.wall_time, "reused": o.reused, "key": o.key})
     return rows
 

@@ -477,12 +477,13 @@ def run_summary(result, spec) -> dict:
         "mean_pressure": result.mean_pressure, "contact_fraction": result.contact_fraction,
         "window_drift": result.window_drift, "mu_error": result.mu_error,
         "converged": result.converged, "stabilisation_share": result.stabilisation_share,
-        "min_det_F": result.min_det_F,
+        "min_det_F": result.min_det_F, "road_intrusion": result.road_intrusion,
         "window_mm": [result.stats.get("window_start", spec.window_start * distance),
                       result.stats.get("window_end", distance)],
         "steps": len(result.series.get("t", [])),
         "stats": dict(result.stats), "spec": spec_d,
-        "units": {"mean_pressure": "MPa", "t_reached": "s", "window_mm": "mm"},
+        "units": {"mean_pressure": "MPa", "t_reached": "s", "window_mm": "mm",
+                  "road_intrusion": "contact elements"},
     })
 
 

@@ -687,7 +687,9 @@ class SlidingRun:
         arr = np.array(rows, dtype=float).reshape(-1, len(cols))
         series = {c: arr[:, i] for i, c in enumerate(cols)}
         res = SlidingResult(status, reason=reason, t_reached=t, series=series,
-                            min_det_F=self.min_det_F if math.isfinite(self.min_det_F) else math.nan)
+                            min_det_F=self.min_det_F if math.isfinite(self.min_det_F) else math.nan,
+                            road_intrusion=(self.intrusion / self.hc if self.intrusion >= 0.0
+                                            else math.nan))
         lo, hi = self._window(series["s"], distance)
         res.stats = {"cutbacks": self.cutbacks, "newton_iterations": self.newton_iterations,
                      "predictor_used": self.predictor_used,
@@ -697,10 +699,6 @@ class SlidingRun:
                      # trial steps the trust region refused (newton = "trust-region")
                      "rejected_steps": float(self.trust.rejected if self.trust else 0),
                      "trust_region_solves": float(self.trust_solves),
-                     # deepest road vertex inside the rubber face / contact element length
-                     # (periodic cells; driver.sliding.intrusion): >= 1 means unresolved
-                     "road_intrusion": (self.intrusion / self.hc if self.intrusion >= 0.0
-                                        else math.nan),
                      "window_start": lo, "window_end": hi,
                      "compression_contact_fraction": self.compression_contact, **self._cpu_split()}
         if len(rows) == 0:

@@ -108,6 +108,9 @@ class SlidingResult:
     # smallest det F at a quadrature point over the accepted states (how distorted the mesh got;
     # SlidingSpec.min_jacobian refuses states at or below the limit)
     min_det_F: float = float("nan")
+    # deepest road vertex inside the rubber face over the sliding steps, in contact element
+    # lengths (periodic cells on the rigid road; driver.sliding.intrusion): >= 1 is unresolved
+    road_intrusion: float = float("nan")
     dissipation_by_depth: tuple[np.ndarray, np.ndarray] | None = None
     stats: dict[str, float] = field(default_factory=dict)
 
