@@ -46,7 +46,7 @@ def scripted_run(newton: ScriptedNewton, max_cutbacks: int = 8) -> SlidingRun:
                              commit_step=lambda: 0.0)
     run.contact = SimpleNamespace(set_time_step=lambda h: None, commit=lambda: None,
                                   state=lambda: {})
-    run.newton, run._inverted = newton, lambda: False
+    run.newton, run.trust, run._inverted = newton, None, lambda: False
     run.newton_iterations = run.cutbacks = run._easy = 0
     run.step_energy = run.step_friction_energy = 0.0
     run.min_det_F, run._iterate_det_F = float("inf"), float("nan")

@@ -124,7 +124,8 @@ def _rerun(args: argparse.Namespace) -> int:
     print(f"  rerun:  {result.status}, mu_force {result.mu_force:.6g}, mu_energy {result.mu_energy:.6g}, "
           f"window drift {result.window_drift:.3g}, attempt {st.get('attempt', '?')}, "
           f"{st.get('steps', 0):.0f} steps, {st.get('newton_iterations', 0):.0f} Newton iterations, "
-          f"{st.get('cutbacks', 0):.0f} cut-backs, {wall:.1f} s"
+          f"{st.get('cutbacks', 0):.0f} cut-backs, {st.get('stabilised_steps', 0):.0f} stabilised "
+          f"(share {result.stabilisation_share:.3g}), {wall:.1f} s"
           + (f" ({result.reason.splitlines()[0]})" if result.reason else ""))
     if st.get("attempts"):
         print(f"  failed attempts: {st['attempts']}")
@@ -145,6 +146,9 @@ def _rerun(args: argparse.Namespace) -> int:
         doc = {"key": key, "label": lab, "stored": {"status": stored.status, **stored.values},
                "rerun": {"status": result.status, "reason": result.reason, "mu_force": result.mu_force,
                          "mu_energy": result.mu_energy, "window_drift": result.window_drift,
+                         "converged": result.converged,
+                         "stabilisation_share": result.stabilisation_share,
+                         "road_intrusion": result.road_intrusion,
                          "wall_time": wall, "stats": {k: v for k, v in st.items()
                                                       if isinstance(v, (int, float, str))}},
                "contact": spec.contact, "refine": args.refine, "first_attempt": args.first_attempt}
