@@ -696,7 +696,7 @@ class SlidingRun:
                      "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size),
                      "stabilised_steps": self.stabilised_steps,
                      "lu_fallbacks": sum(n.lu_fallbacks for n in self._solvers()),
-                     # trial steps the trust region refused (newton = "trust-region")
+                     # trial steps the trust region refused (newton = "trust-region" or "hybrid")
                      "rejected_steps": float(self.trust.rejected if self.trust else 0),
                      "trust_region_solves": float(self.trust_solves),
                      "window_start": lo, "window_end": hi,
