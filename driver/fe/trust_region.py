@@ -75,8 +75,6 @@ class TrustRegionSolver(NewtonSolver):
         self._mask: np.ndarray | None = None
         self.lam = 0.0  # kept between solves: a hard step's successor starts where it ended
         self.rejected = 0  # trial steps refused (all solves)
-        # a list to record (lambda, model, actual, |R| after) of every trial step in (diagnosis)
-        self.trace: list[tuple[float, float, float, float]] | None = None
 
     def _reduced_mask(self) -> np.ndarray:
         """1 on reduced dofs that are displacements, 0 on the rest (pressures)."""
@@ -141,8 +139,6 @@ class TrustRegionSolver(NewtonSolver):
             res.iterations = it
             model = 0.5 * (float(r0 @ d) - lam * float(d @ (D * d)))
             if not (np.isfinite(model) and model < 0.0):  # no descent: shift more
-                if self.trace is not None:
-                    self.trace.append((lam, model, np.nan, np.nan))
                 floor = max(floor, 2.0 * lam)
                 lam = max(GROW * lam, LAMBDA_START)
                 self.rejected += 1
@@ -161,8 +157,6 @@ class TrustRegionSolver(NewtonSolver):
             res.time_assemble += time.perf_counter() - t1
             if self.on_iteration:
                 self.on_iteration(it, r1n)
-            if self.trace is not None:
-                self.trace.append((lam, model, actual, r1n))
             if not (rho >= ACCEPT and np.isfinite(r1n)):
                 x[:] = x0  # refused: back, shorter step
                 lam = max(GROW * lam, LAMBDA_START)

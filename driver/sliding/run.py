@@ -302,13 +302,13 @@ class SlidingRun:
             self.contact.set_time_step(h)
             if predict is not None:
                 self._start_iterate(predict, h, x_saved)
+            hybrid = self.trust is not None and self.trust is not self.newton
+            x_start = self.sp.w.x.array.copy() if hybrid else None
             res = self.newton.solve()
             self.newton_iterations += res.iterations
-            if not res.converged and self.trust is not None and self.trust is not self.newton:
-                # hybrid: the sub-step again from its start, with the trust region
-                self.sp.w.x.array[:] = x_saved
-                if predict is not None:
-                    self._start_iterate(predict, h, x_saved)
+            if not res.converged and hybrid:
+                # the sub-step again from the same start, with the trust region
+                self.sp.w.x.array[:] = x_start
                 res = self.trust.solve()
                 self.newton_iterations += res.iterations
                 self.trust_solves += 1
