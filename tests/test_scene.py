@@ -307,3 +307,25 @@ def test_run_check_lists_the_scales_with_their_numerics(tmp_path: Path, capsys):
     f.write_text(scene_text("[numerics.micro]\nelements_per_wavelength = 12\n"))
     assert main(["run", str(f), "--check"]) == 0
     assert "scales: macro, micro (elements_per_wavelength = 12)" in capsys.readouterr().out
+
+
+def test_pressure_branch_runs_wait_for_their_contact_fraction():
+    """A pressure-branch run hands on the pooled pressure of eq. (6.11), p l / mean contact
+    length, so its converged window waits for the contact fraction; friction-branch runs wait for
+    mu (driver.sliding.window.WINDOW_QUANTITIES)."""
+    from rubberfriction.driver.multiscale.results import Point
+    from rubberfriction.driver.multiscale.scales import build_scales
+    from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
+    from rubberfriction.driver.sliding.window import WINDOW_QUANTITIES
+
+    scene = parse()
+    make = SpecBuilder(scene, load_compounds(scene))
+    pt = Point(scene.conditions.compounds[0], 0.3, 10.0)
+    sample = build_scales(scene, 1).sets[0].samples[0]
+    down, up = make(pt, 0, sample, 0.3, None, "down"), make(pt, 0, sample, 0.3, None, "up")
+    assert (down.window_quantity, up.window_quantity) == ("contact", "mu")
+    num = scene.numerics  # their own budget: frictionless runs, cheaper, slower to settle
+    assert down.slide_distance == pytest.approx(num.pressure_slide_periods * down.period)
+    assert up.slide_distance == pytest.approx(num.max_slide_periods * up.period)
+    assert num.pressure_slide_periods == 24.0 and num.max_slide_periods == 12.0
+    assert set(WINDOW_QUANTITIES) == {"mu", "contact"} and SlidingSpec.window_quantity == "mu"

@@ -18,6 +18,7 @@ from rubberfriction.driver.sliding.window import (
     weighted_mean,
     window_drift,
 )
+from rubberfriction.driver.sliding.run import run_sliding
 from rubberfriction.driver.sliding.sinusoid import effective_modulus
 from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
 from rubberfriction.forms.material_files import load_compound
@@ -135,3 +136,36 @@ def test_converged_window_of_the_viscoelastic_sinusoid_meets_the_closed_form() -
     assert res.converged == 1.0 and 3.0 <= res.stats["periods"] < 8.0
     assert abs(res.window_drift) < 1e-3
     assert res.mu_force == pytest.approx(mu, rel=0.01)
+
+
+def test_the_converged_rule_waits_for_the_quantity_the_run_hands_on() -> None:
+    """Three cosines on a 1 mm cell in partial contact (0.05 MPa, 100 mm/s), compressed slowly
+    (100 s: the rubber creeps around the peaks, then sliding shrinks the contact over periods).
+    The period means of mu settle a period before those of the contact fraction: waiting for mu
+    the run stops where the contact fraction of its window (last 2 periods) and of the 2 before
+    still differ by more than the 1 % tolerance; waiting for the contact fraction (a pressure-
+    branch run, whose pooled pressure of eq. 6.11 is p l / mean contact length) it slides on
+    until they agree, and its contact_fraction is the mean of those last periods."""
+    import dataclasses
+    from test_shortcut import spec
+
+    base = dataclasses.replace(spec(0.05, 100.0), h_contact=1.0 / 24, converge_tol=0.01,
+                               slide_distance=12.0, compression_time=100.0)
+    out = {q: run_sliding(dataclasses.replace(base, window_quantity=q)) for q in ("mu", "contact")}
+
+    def blocks(c: list[float]) -> float:  # relative change of the last 2 periods against the 2 before
+        a, b = np.mean(c[-2:]), np.mean(c[-4:-2])
+        return abs(a - b) / (0.5 * (a + b))
+
+    mu, contact = out["mu"], out["contact"]
+    assert mu.converged == contact.converged == 1.0
+    assert blocks(mu.stats["period_mu"]) <= 0.01 < blocks(mu.stats["period_contact"])
+    assert blocks(contact.stats["period_contact"]) <= 0.01
+    assert contact.stats["periods"] > mu.stats["periods"]
+    assert contact.contact_fraction == pytest.approx(np.mean(contact.stats["period_contact"][-2:]),
+                                                     rel=1e-9)
+    assert abs(contact.contact_drift) < abs(mu.contact_drift)
+    with pytest.raises(ValueError, match="window_quantity"):
+        from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
+        from rubberfriction.driver.sliding.run import SlidingRun
+        SlidingRun(dataclasses.replace(base, window_quantity="pressure"), block_mesh, sliding_contact)

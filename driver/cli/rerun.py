@@ -122,7 +122,8 @@ def _rerun(args: argparse.Namespace) -> int:
     progress.done()
     st = result.stats
     print(f"  rerun:  {result.status}, mu_force {result.mu_force:.6g}, mu_energy {result.mu_energy:.6g}, "
-          f"window drift {result.window_drift:.3g}, attempt {st.get('attempt', '?')}, "
+          f"window drift {result.window_drift:.3g} (contact fraction {result.contact_fraction:.4g}, "
+          f"drift {result.contact_drift:.3g}), attempt {st.get('attempt', '?')}, "
           f"{st.get('steps', 0):.0f} steps, {st.get('newton_iterations', 0):.0f} Newton iterations, "
           f"{st.get('cutbacks', 0):.0f} cut-backs, {st.get('stabilised_steps', 0):.0f} stabilised "
           f"(share {result.stabilisation_share:.3g}), {wall:.1f} s"
@@ -146,6 +147,8 @@ def _rerun(args: argparse.Namespace) -> int:
         doc = {"key": key, "label": lab, "stored": {"status": stored.status, **stored.values},
                "rerun": {"status": result.status, "reason": result.reason, "mu_force": result.mu_force,
                          "mu_energy": result.mu_energy, "window_drift": result.window_drift,
+                         "contact_fraction": result.contact_fraction,
+                         "contact_drift": result.contact_drift,
                          "converged": result.converged,
                          "stabilisation_share": result.stabilisation_share,
                          "road_intrusion": result.road_intrusion,

@@ -189,6 +189,8 @@ def sample_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
                              "contact_fraction": o.value("contact_fraction"),
                              "window_drift": o.value("window_drift"),
                              "mu_error": o.value("mu_error"),
+                             "contact_drift": o.value("contact_drift"),
+                             "contact_error": o.value("contact_error"),
                              "converged": o.value("converged"),
                              "stabilisation_share": o.value("stabilisation_share"),
                              "min_det_F": o.value("min_det_F"),
@@ -244,6 +246,12 @@ def energy_balance_line(points: Sequence[PointResult]) -> str:
     return text
 
 
+def homogenised_drift(task: Any) -> str:
+    """The drift column of what a run hands on: the contact fraction (pooled pressure, eq. 6.11)
+    for the pressure branch, mu for the friction branch (sliding.window.WINDOW_QUANTITIES)."""
+    return "contact_drift" if task.label.get("branch") == "down" else "window_drift"
+
+
 def stationarity_line(points: Sequence[PointResult]) -> str:
     """How stationary the averaging windows of the successful runs were (driver.sliding.window):
     converged / unconverged counts and the largest |window drift| with the run it belongs to."""
@@ -252,8 +260,8 @@ def stationarity_line(points: Sequence[PointResult]) -> str:
         return ""
     unconv = sum(o.value("converged") == 0.0 for _, o in runs)
     conv = sum(o.value("converged") == 1.0 for _, o in runs)
-    drifts = [(abs(o.value("window_drift")), t) for t, o in runs
-              if math.isfinite(o.value("window_drift"))]
+    drifts = [(abs(o.value(homogenised_drift(t))), t) for t, o in runs
+              if math.isfinite(o.value(homogenised_drift(t)))]
     text = f"  time homogenisation: {conv} of {len(runs)} runs converged"
     if unconv:
         text += f", {unconv} unconverged within their budget (not averaged)"

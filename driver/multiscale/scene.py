@@ -171,18 +171,25 @@ SCHEMA: dict[str, dict[str, Key]] = {
                        minimum=1.0, maximum=3.0),
         "window": Key("str", "converged",
                       "time homogenisation of every run (eq. 6.2; driver.sliding.window): "
-                      "converged = slide whole block lengths until the mean mu of the last w >= 2 "
+                      "converged = slide whole block lengths until the mean mu (pressure "
+                      "branch: the contact fraction, whose reciprocal is the pressure passed "
+                      "down) of the last w >= 2 "
                       "and of the w before agree within convergence_tol and average the last w "
                       "(a run that cannot "
                       "within max_slide_periods is marked unconverged and not averaged); fixed = "
                       "slide slide_periods block lengths and average after window_start "
                       "(thesis 6.2.3)", choices=("converged", "fixed")),
         "convergence_tol": Key("float", 0.01, "window = converged: largest relative change of "
-                               "the mean mu of the last w periods against the w before", above=0.0,
+                               "the mean mu (pressure branch: contact fraction) of the last w periods against the "
+                               "w before", above=0.0,
                                maximum=0.5),
         "max_slide_periods": Key("float", 12.0, "window = converged: sliding budget in block "
                                  "lengths (at least a run-in period and two blocks of two)",
                                  minimum=5.0),
+        "pressure_slide_periods": Key("float", 24.0, "window = converged: sliding budget of the "
+                                      "pressure-branch runs in block lengths (frictionless, "
+                                      "cheaper; their contact fraction settles more slowly than "
+                                      "mu)", minimum=5.0),
         "steady_state": Key("bool", True, "periodic extrapolation of the Prony histories at the "
                             "end of every period of a cell (forms.viscoelastic."
                             "ViscoelasticHistory.extrapolate_periodic): the static part of the "
@@ -426,6 +433,7 @@ class NumericsConfig:
     window: str
     convergence_tol: float
     max_slide_periods: float
+    pressure_slide_periods: float
     steady_state: bool
     shortcut: bool
     slide_periods: float

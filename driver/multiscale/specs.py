@@ -60,7 +60,8 @@ class SpecBuilder:
         window, slide = num.window_start, num.slide_periods
         tol, steady = 0.0, num.steady_state
         if num.window == "converged":
-            tol, slide = num.convergence_tol, num.max_slide_periods
+            tol = num.convergence_tol
+            slide = num.pressure_slide_periods if role == "down" else num.max_slide_periods
         if role == "micro" and self.scene.separated is not None:
             # thesis 6.2.3: the micro average includes the run-in, over a fixed distance
             sep = self.scene.separated
@@ -82,6 +83,9 @@ class SpecBuilder:
                            contact=num.contact, elements_per_wavelength=num.elements_per_wavelength,
                            grading=num.grading, compression_steps=num.compression_steps,
                            window_start=window, converge_tol=tol, steady_state=steady,
+                           # a pressure-branch run hands on its pooled pressure (eq. 6.11), so
+                           # its window waits for the contact fraction (sliding.window)
+                           window_quantity="contact" if role == "down" else "mu",
                            shortcut=num.shortcut,
                            max_cutbacks=num.max_cutbacks, stabilisation=num.stabilisation,
                            min_jacobian=num.min_jacobian,

@@ -476,6 +476,7 @@ def run_summary(result, spec) -> dict:
         "mu_force": result.mu_force, "mu_energy": result.mu_energy,
         "mean_pressure": result.mean_pressure, "contact_fraction": result.contact_fraction,
         "window_drift": result.window_drift, "mu_error": result.mu_error,
+        "contact_drift": result.contact_drift, "contact_error": result.contact_error,
         "converged": result.converged, "stabilisation_share": result.stabilisation_share,
         "min_det_F": result.min_det_F, "road_intrusion": result.road_intrusion,
         "window_mm": [result.stats.get("window_start", spec.window_start * distance),

@@ -77,6 +77,7 @@ from rubberfriction.driver.sliding.spec import (
     softened,
 )
 from rubberfriction.driver.sliding.window import (
+    WINDOW_QUANTITIES,
     error_estimate,
     converged_window,
     period_means,
@@ -152,6 +153,9 @@ class SlidingRun:
             raise ValueError("edge_radius: a periodic cell has no edges; round only a finite block (period = 0)")
         if not (np.isfinite(spec.stabilisation) and spec.stabilisation >= 0.0):
             raise ValueError(f"stabilisation = {spec.stabilisation!r}: expected beta >= 0 (0: off)")
+        if spec.window_quantity not in WINDOW_QUANTITIES:
+            raise ValueError(f"window_quantity = {spec.window_quantity!r}: expected one of "
+                             f"{tuple(WINDOW_QUANTITIES)}")
         if spec.newton not in NEWTON_METHODS:
             raise ValueError(f"newton = {spec.newton!r}: expected one of {NEWTON_METHODS}")
         if spec.newton != "line-search" and spec.element == "Q1P0s":
@@ -655,9 +659,10 @@ class SlidingRun:
                 self.progress(k, nsteps)
             if per_period and k % per_period == 0:  # a whole period ends here
                 if s.converge_tol > 0:
-                    arr = np.array([r[1:4] for r in rows])
+                    arr = np.array([r[1:5] for r in rows])  # s, Fx, Fz, contact length
                     with np.errstate(divide="ignore", invalid="ignore"):  # no load: mu is NaN
-                        means = period_means(arr[:, 0], -arr[:, 1] / arr[:, 2], L)
+                        q = -arr[:, 1] / arr[:, 2] if s.window_quantity == "mu" else arr[:, 3] / L
+                    means = period_means(arr[:, 0], q, L)
                     self.window_used = converged_window(means, s.converge_tol, s.window_periods)
                     self.converged = float(self.window_used > 0)
                     if self.converged:
@@ -716,6 +721,7 @@ class SlidingRun:
                                                         series["contact_length"][win])
             res.contact_fraction = float(np.mean(series["contact_length"][win]) / self.L)
             res.window_drift = window_drift(series["s"], series["mu_force"], lo, hi)
+            res.contact_drift = window_drift(series["s"], series["contact_length"] / self.L, lo, hi)
             res.stabilisation_share = stabilisation_share(series, win, ds, self.spec.velocity)
             self._stationarity(res, series)
         return res
@@ -734,12 +740,17 @@ class SlidingRun:
         fixed rule: half the window drift as the error estimate."""
         spec = self.spec
         if spec.converge_tol > 0 and spec.period > 0:
+            w = self.window_used or spec.window_periods
             means = period_means(series["s"], series["mu_force"], spec.period)
+            contact = period_means(series["s"], series["contact_length"] / self.L, spec.period)
             res.converged = 1.0 if self.converged == 1.0 else 0.0
-            res.mu_error = error_estimate(means, self.window_used or spec.window_periods)
+            res.mu_error = error_estimate(means, w)
+            res.contact_error = error_estimate(contact, w)
             res.stats["period_mu"] = [float(m) for m in means]
+            res.stats["period_contact"] = [float(c) for c in contact]
         else:
             res.mu_error = 0.5 * abs(res.window_drift)
+            res.contact_error = 0.5 * abs(res.contact_drift)
         if spec.period > 0:
             res.stats["periods"] = round(float(series["s"][-1] / spec.period), 6)
 

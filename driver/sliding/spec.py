@@ -57,6 +57,10 @@ class SlidingSpec:
     # slide_distance is then the budget.  0: the fixed window above (thesis 6.2.3)
     converge_tol: float = 0.0
     window_periods: int = 2  # converged rule: fewest periods averaged (window.converged_window)
+    # what the converged rule waits for: "mu" (the friction coefficient the run passes up) or
+    # "contact" (the contact fraction, the reciprocal of the pooled pressure of eq. 6.11 that a
+    # pressure-branch run passes down; window.WINDOW_QUANTITIES)
+    window_quantity: str = "mu"
     # periodic extrapolation of the Prony histories at the end of every period of a periodic
     # cell (forms.viscoelastic.ViscoelasticHistory.extrapolate_periodic): the static part of the
     # load is relaxed at once instead of creeping for tau_max / T periods
@@ -101,6 +105,9 @@ class SlidingResult:
     contact_fraction: float = float("nan")  # time-averaged contact length / block length (7.4)
     window_drift: float = float("nan")  # (2nd half - 1st half) / mean of the window's mu
     mu_error: float = float("nan")  # estimated |window mean - steady mu| / mu (window.py)
+    # the same two for the contact fraction (7.4), whose reciprocal is the pooled pressure (6.11)
+    contact_drift: float = float("nan")
+    contact_error: float = float("nan")
     converged: float = float("nan")  # converged rule: 1 reached, 0 budget exhausted; fixed: nan
     # the larger of the stabilising dashpots' share of the window's friction work and of its mean
     # friction force (0: no stabilised sub-step in the window; driver.fe.stabilisation)
