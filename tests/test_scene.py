@@ -328,4 +328,9 @@ def test_pressure_branch_runs_wait_for_their_contact_fraction():
     assert down.slide_distance == pytest.approx(num.pressure_slide_periods * down.period)
     assert up.slide_distance == pytest.approx(num.max_slide_periods * up.period)
     assert num.pressure_slide_periods == 24.0 and num.max_slide_periods == 12.0
-    assert set(WINDOW_QUANTITIES) == {"mu", "contact"} and SlidingSpec.window_quantity == "mu"
+    # with adhesion the friction branch's contact fractions make the real contact area (7.5)
+    adhesive = parse("[physics]\nadhesion = true\n[adhesion]\ntau0 = 2.0\nc = 0.12\nv0 = 110.0\n")
+    make = SpecBuilder(adhesive, load_compounds(adhesive))
+    assert make(pt, 0, sample, 0.3, None, "up").window_quantity == "both"
+    assert make(pt, 0, sample, 0.3, None, "down").window_quantity == "contact"
+    assert set(WINDOW_QUANTITIES) == {"mu", "contact", "both"} and SlidingSpec.window_quantity == "mu"

@@ -54,6 +54,15 @@ class SpecBuilder:
         # the numerics of scale i: [numerics] with its [numerics.<name>] table
         self.numerics = [scene.numerics.for_scale(nm) for nm in surface_scale_names(scene.surface)]
 
+    def _window_quantity(self, role: str) -> str:
+        """What a run's converged window waits for (sliding.window.WINDOW_QUANTITIES): what it
+        hands on.  A pressure-branch run hands on its pooled pressure (eq. 6.11), the reciprocal
+        of its contact fraction; a friction-branch run its mu, and with adhesion also its contact
+        fraction (the real contact area of eq. 7.5)."""
+        if role == "down":
+            return "contact"
+        return "both" if self.scene.physics.adhesion else "mu"
+
     def __call__(self, point: Point, scale: int, sample: Any, pressure: float, friction: Any,
                  role: str) -> Any:
         num = self.numerics[scale]
@@ -83,9 +92,7 @@ class SpecBuilder:
                            contact=num.contact, elements_per_wavelength=num.elements_per_wavelength,
                            grading=num.grading, compression_steps=num.compression_steps,
                            window_start=window, converge_tol=tol, steady_state=steady,
-                           # a pressure-branch run hands on its pooled pressure (eq. 6.11), so
-                           # its window waits for the contact fraction (sliding.window)
-                           window_quantity="contact" if role == "down" else "mu",
+                           window_quantity=self._window_quantity(role),
                            shortcut=num.shortcut,
                            max_cutbacks=num.max_cutbacks, stabilisation=num.stabilisation,
                            min_jacobian=num.min_jacobian,

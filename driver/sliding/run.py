@@ -661,8 +661,9 @@ class SlidingRun:
                 if s.converge_tol > 0:
                     arr = np.array([r[1:5] for r in rows])  # s, Fx, Fz, contact length
                     with np.errstate(divide="ignore", invalid="ignore"):  # no load: mu is NaN
-                        q = -arr[:, 1] / arr[:, 2] if s.window_quantity == "mu" else arr[:, 3] / L
-                    means = period_means(arr[:, 0], q, L)
+                        q = {"mu_force": -arr[:, 1] / arr[:, 2], "contact_fraction": arr[:, 3] / L}
+                    means = [period_means(arr[:, 0], q[name], L)
+                             for name in WINDOW_QUANTITIES[s.window_quantity]]
                     self.window_used = converged_window(means, s.converge_tol, s.window_periods)
                     self.converged = float(self.window_used > 0)
                     if self.converged:

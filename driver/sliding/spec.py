@@ -57,9 +57,10 @@ class SlidingSpec:
     # slide_distance is then the budget.  0: the fixed window above (thesis 6.2.3)
     converge_tol: float = 0.0
     window_periods: int = 2  # converged rule: fewest periods averaged (window.converged_window)
-    # what the converged rule waits for: "mu" (the friction coefficient the run passes up) or
+    # what the converged rule waits for: "mu" (the friction coefficient the run passes up),
     # "contact" (the contact fraction, the reciprocal of the pooled pressure of eq. 6.11 that a
-    # pressure-branch run passes down; window.WINDOW_QUANTITIES)
+    # pressure-branch run passes down) or "both" (mu and the contact fraction of eq. 7.4 where the
+    # real contact area enters adhesion; window.WINDOW_QUANTITIES)
     window_quantity: str = "mu"
     # periodic extrapolation of the Prony histories at the end of every period of a periodic
     # cell (forms.viscoelastic.ViscoelasticHistory.extrapolate_periodic): the static part of the

@@ -32,8 +32,11 @@ import math
 import numpy as np
 
 
-#: quantity the converged rule tests -> the per-step series it reads (run.py's series names)
-WINDOW_QUANTITIES = {"mu": "mu_force", "contact": "contact_fraction"}
+#: what the converged rule waits for -> the per-step series it tests (run.py's series names);
+#: "both" where a friction-branch run's contact fraction is handed on too (the real contact area
+#: A_r of eq. 7.5 of a scene with adhesion)
+WINDOW_QUANTITIES = {"mu": ("mu_force",), "contact": ("contact_fraction",),
+                     "both": ("mu_force", "contact_fraction")}
 
 
 def step_lengths(s: np.ndarray) -> np.ndarray:
@@ -82,11 +85,15 @@ def converged_window(means: np.ndarray, tol: float, window_periods: int) -> int:
     (stabilised sub-steps, active-set changes) and which rise to a plateau of two periods after
     the run-in before falling by a factor of two or three (micro2 at 10 mm/s: 0.48, 1.047,
     1.055, where the sample slid on settles at 0.24-0.28; 0.33, 0.762, 0.748, 0.28, ...), which
-    the former rule (the last two periods within tol) took for a steady state."""
-    n = means.size - 1  # the run-in period is not compared
+    the former rule (the last two periods within tol) took for a steady state.
+
+    ``means`` of several quantities (one row each, e.g. mu and the contact fraction): the same
+    w must pass for every row."""
+    rows = np.atleast_2d(np.asarray(means, dtype=float))
+    n = rows.shape[1] - 1  # the run-in period is not compared
     for w in range(max(window_periods, 1), n // 2 + 1):
-        a, b = float(np.mean(means[-w:])), float(np.mean(means[-2 * w:-w]))
-        if abs(a - b) <= tol * max(abs(0.5 * (a + b)), MU_FLOOR):
+        a, b = rows[:, -w:].mean(axis=1), rows[:, -2 * w:-w].mean(axis=1)
+        if np.all(np.abs(a - b) <= tol * np.maximum(np.abs(0.5 * (a + b)), MU_FLOOR)):
             return w
     return 0
 
