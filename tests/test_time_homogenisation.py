@@ -159,7 +159,8 @@ def test_the_converged_rule_waits_for_the_quantity_the_run_hands_on() -> None:
 
     base = dataclasses.replace(spec(0.05, 100.0), h_contact=1.0 / 24, converge_tol=0.01,
                                slide_distance=12.0, compression_time=100.0)
-    out = {q: run_sliding(dataclasses.replace(base, window_quantity=q)) for q in ("mu", "contact")}
+    out = {q: run_sliding(dataclasses.replace(base, window_quantity=q))
+           for q in ("mu", "contact", "both")}
 
     def blocks(c: list[float]) -> float:  # relative change of the last 2 periods against the 2 before
         a, b = np.mean(c[-2:]), np.mean(c[-4:-2])
@@ -173,6 +174,13 @@ def test_the_converged_rule_waits_for_the_quantity_the_run_hands_on() -> None:
     assert contact.contact_fraction == pytest.approx(np.mean(contact.stats["period_contact"][-2:]),
                                                      rel=1e-9)
     assert abs(contact.contact_drift) < abs(mu.contact_drift)
+    both = out["both"]  # mu and the contact fraction with one w (adhesion: A_r of eq. 7.5)
+    assert both.converged == 1.0 and both.stats["periods"] >= contact.stats["periods"]
+    w = round(both.stats["window_end"] - both.stats["window_start"])  # periods of 1 mm
+    for name in ("period_mu", "period_contact"):
+        c = both.stats[name]
+        a, b = np.mean(c[-w:]), np.mean(c[-2 * w:-w])
+        assert abs(a - b) <= 0.01 * 0.5 * (a + b)
     with pytest.raises(ValueError, match="window_quantity"):
         from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
         from rubberfriction.driver.sliding.run import SlidingRun
