@@ -333,4 +333,5 @@ def test_pressure_branch_runs_wait_for_their_contact_fraction():
     make = SpecBuilder(adhesive, load_compounds(adhesive))
     assert make(pt, 0, sample, 0.3, None, "up").window_quantity == "both"
     assert make(pt, 0, sample, 0.3, None, "down").window_quantity == "contact"
-    assert set(WINDOW_QUANTITIES) == {"mu", "contact", "both"} and SlidingSpec.window_quantity == "mu"
+    assert set(WINDOW_QUANTITIES) == {"mu", "contact", "both"}
+    assert SlidingSpec.window_quantity == "mu"

@@ -162,7 +162,7 @@ def test_the_converged_rule_waits_for_the_quantity_the_run_hands_on() -> None:
     out = {q: run_sliding(dataclasses.replace(base, window_quantity=q))
            for q in ("mu", "contact", "both")}
 
-    def blocks(c: list[float]) -> float:  # relative change of the last 2 periods against the 2 before
+    def blocks(c: list[float]) -> float:  # the last 2 periods against the 2 before, relative
         a, b = np.mean(c[-2:]), np.mean(c[-4:-2])
         return abs(a - b) / (0.5 * (a + b))
 
@@ -184,4 +184,5 @@ def test_the_converged_rule_waits_for_the_quantity_the_run_hands_on() -> None:
     with pytest.raises(ValueError, match="window_quantity"):
         from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
         from rubberfriction.driver.sliding.run import SlidingRun
-        SlidingRun(dataclasses.replace(base, window_quantity="pressure"), block_mesh, sliding_contact)
+        SlidingRun(dataclasses.replace(base, window_quantity="pressure"), block_mesh,
+                   sliding_contact)

@@ -122,8 +122,8 @@ def _rerun(args: argparse.Namespace) -> int:
     progress.done()
     st = result.stats
     print(f"  rerun:  {result.status}, mu_force {result.mu_force:.6g}, mu_energy {result.mu_energy:.6g}, "
-          f"window drift {result.window_drift:.3g} (contact fraction {result.contact_fraction:.4g}, "
-          f"drift {result.contact_drift:.3g}), attempt {st.get('attempt', '?')}, "
+          f"window drift {result.window_drift:.3g} (contact fraction "
+          f"{result.contact_fraction:.4g}, drift {result.contact_drift:.3g}), attempt {st.get('attempt', '?')}, "
           f"{st.get('steps', 0):.0f} steps, {st.get('newton_iterations', 0):.0f} Newton iterations, "
           f"{st.get('cutbacks', 0):.0f} cut-backs, {st.get('stabilised_steps', 0):.0f} stabilised "
           f"(share {result.stabilisation_share:.3g}), {wall:.1f} s"

@@ -180,8 +180,8 @@ SCHEMA: dict[str, dict[str, Key]] = {
                       "slide slide_periods block lengths and average after window_start "
                       "(thesis 6.2.3)", choices=("converged", "fixed")),
         "convergence_tol": Key("float", 0.01, "window = converged: largest relative change of "
-                               "the mean mu (pressure branch: contact fraction) of the last w periods against the "
-                               "w before", above=0.0,
+                               "the mean mu (pressure branch: contact fraction) of the last w "
+                               "periods against the w before", above=0.0,
                                maximum=0.5),
         "max_slide_periods": Key("float", 12.0, "window = converged: sliding budget in block "
                                  "lengths (at least a run-in period and two blocks of two)",

@@ -100,7 +100,8 @@ def check(spec: SlidingSpec) -> ShortcutCheck:
 def closed_form_result(spec: SlidingSpec, c: ShortcutCheck) -> SlidingResult:
     """The run's result from the closed form (stats say so: ``shortcut`` = 1)."""
     res = SlidingResult("ok", mu_force=c.mu, mu_energy=c.mu, mean_pressure=spec.pressure,
-                        contact_fraction=1.0, window_drift=0.0, mu_error=0.0, contact_drift=0.0, contact_error=0.0, converged=1.0,
+                        contact_fraction=1.0, window_drift=0.0, mu_error=0.0, contact_drift=0.0,
+                        contact_error=0.0, converged=1.0,
                         stabilisation_share=0.0)
     res.stats = {"shortcut": 1.0, "attempt": "closed form", "p_min_ratio": c.p_min_ratio,
                  "rms_slope": c.rms_slope, "max_slope": c.max_slope, "wall_time": 0.0}
