@@ -23,7 +23,12 @@ from rubberfriction.driver.fe.newton import NewtonResult
 from rubberfriction.driver.fe.stabilisation import ViscousStabilisation
 from rubberfriction.driver.multiscale.specs import find_key, stored_spec
 from rubberfriction.driver.runtime.store import Store
-from rubberfriction.driver.sliding.run import SlidingRun, block_mesh, sliding_contact
+from rubberfriction.driver.sliding.run import (
+    SlidingRun,
+    block_mesh,
+    sliding_contact,
+    stabilisation_share,
+)
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.forms.material_files import load_compound
 
@@ -130,3 +135,25 @@ def test_failing_micro2_input_slides_with_stabilisation():
 def test_bad_stabilisation_is_refused_naming_the_field(beta):
     with pytest.raises(ValueError, match=r"stabilisation = .*expected beta >= 0"):
         SlidingRun(sinusoid_spec(beta), block_mesh, sliding_contact)
+
+
+def test_share_counts_the_load_the_contact_does_not_carry():
+    """A stabilised sub-step can hold the block on its dashpots with the contact carrying little
+    or nothing of the load p l (found on the default scene: micro1 at 10 mm/s, 10-20 sliding
+    steps with F_z = 0).  The share is the largest of the dashpots' work, their x-impulse's work
+    and sum |p l - F_z| ds / (p l sum ds) over the stabilised steps of the window: here 2 of 10
+    equal steps carry nothing, 1 carries half, so 2.5 / 10; the unstabilised steps' Newton-level
+    misfit does not count."""
+    n, load = 10, 0.56
+    fz = np.full(n, load)
+    fz[[2, 3]], fz[7] = 0.0, 0.5 * load
+    fz[5] = load * (1 + 1e-9)  # not stabilised
+    stab = np.zeros(n)
+    stab[[2, 3, 7]] = 1e-12  # tiny dashpot work in the stabilised steps
+    series = {"Fx": np.full(n, -0.1), "Fz": fz, "stabilisation_energy": stab,
+              "stabilisation_impulse": np.zeros(n)}
+    win, ds = np.ones(n, dtype=bool), np.full(n, 0.01)
+    assert stabilisation_share(series, win, ds, 10.0, load) == pytest.approx(0.25, rel=1e-12)
+    assert stabilisation_share(series, win, ds, 10.0) == pytest.approx(3e-12 / 0.01, rel=1e-9)
+    series["stabilisation_energy"] = np.zeros(n)  # no stabilised step: nothing to count
+    assert stabilisation_share(series, win, ds, 10.0, load) == 0.0

@@ -723,7 +723,8 @@ class SlidingRun:
             res.contact_fraction = float(np.mean(series["contact_length"][win]) / self.L)
             res.window_drift = window_drift(series["s"], series["mu_force"], lo, hi)
             res.contact_drift = window_drift(series["s"], series["contact_length"] / self.L, lo, hi)
-            res.stabilisation_share = stabilisation_share(series, win, ds, self.spec.velocity)
+            res.stabilisation_share = stabilisation_share(series, win, ds, self.spec.velocity,
+                                                          self.spec.pressure * self.L)
             self._stationarity(res, series)
         return res
 
@@ -767,16 +768,25 @@ def pooled_contact_pressure(step_pressure: np.ndarray, contact_length: np.ndarra
 
 
 def stabilisation_share(series: dict[str, np.ndarray], win: np.ndarray, ds: np.ndarray,
-                        velocity: float) -> float:
-    """What the stabilising dashpots carry of a window's friction (driver.fe.stabilisation): the
-    larger of their work and of the work equivalent of their net x-force (impulse sum F_x,d dt
-    times v) over the friction work sum |F_x| ds.  0 without stabilised sub-steps."""
+                        velocity: float, load: float = 0.0) -> float:
+    """What the stabilising dashpots carry of a window (driver.fe.stabilisation): the largest of
+    their work and of the work equivalent of their net x-force (impulse sum F_x,d dt times v) over
+    the friction work sum |F_x| ds, and of the part of the normal ``load`` (p l, held on the top
+    edge) that the contact does not carry in the stabilised steps, sum |p l - F_z| ds over
+    p l sum ds (quasi-static: the dashpots carry it; a stabilised step can hold the block with the
+    contact carrying nothing).  0 without stabilised sub-steps."""
     work = float(np.sum(np.abs(series["Fx"][win]) * ds))
     if not work > 0.0:
         return math.nan
     energy = float(np.sum(series["stabilisation_energy"][win]))
     impulse = abs(float(np.sum(series["stabilisation_impulse"][win]))) * velocity
-    return max(energy, impulse) / work
+    normal = 0.0
+    if load > 0.0:
+        stab = ((series["stabilisation_energy"][win] != 0.0)
+                | (series["stabilisation_impulse"][win] != 0.0))
+        missing = np.abs(load - np.abs(series["Fz"][win][stab]))
+        normal = float(np.sum(missing * ds[stab])) / (load * ds.sum())
+    return max(energy / work, impulse / work, normal)
 
 
 def run_sliding(spec: SlidingSpec, progress=None, observers=(),

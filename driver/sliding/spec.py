@@ -110,8 +110,9 @@ class SlidingResult:
     contact_drift: float = float("nan")
     contact_error: float = float("nan")
     converged: float = float("nan")  # converged rule: 1 reached, 0 budget exhausted; fixed: nan
-    # the larger of the stabilising dashpots' share of the window's friction work and of its mean
-    # friction force (0: no stabilised sub-step in the window; driver.fe.stabilisation)
+    # the largest of the stabilising dashpots' share of the window's friction work, of its mean
+    # friction force and of the load p l in the stabilised steps (0: no stabilised sub-step in
+    # the window; driver.fe.stabilisation, run.stabilisation_share)
     stabilisation_share: float = float("nan")
     # smallest det F at a quadrature point over the accepted states (how distorted the mesh got;
     # SlidingSpec.min_jacobian refuses states at or below the limit)
