@@ -5,6 +5,9 @@ For a frictionless run the window's viscous energy per mm slid and nominal area 
 (eq. 2.8), and the stored profile d(z) (mJ/mm^3 per mm slid) integrates over the depth bins to it:
 sum_b d_b dz_b = mu_energy p within 1e-6.  With friction in the contact (coarser scales) the
 profile is the bulk's share only: it integrates to less than mu_energy p.
+
+The same campaign's ``stationarity_<point>.csv``: the window periods of every run average to the
+run's stored value.
 """
 
 from __future__ import annotations
@@ -14,6 +17,7 @@ import textwrap
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from rubberfriction.driver.multiscale.campaign import run_scene
 from rubberfriction.driver.multiscale.report import depth_edges
@@ -65,3 +69,19 @@ def test_every_scale_records_its_dissipation_by_depth(tmp_path: Path):
     for name in ("macro", "micro"):
         share = sum(float(r["share"]) for r in rows if r["scale_name"] == name)
         assert abs(share - 1.0) < 1e-5  # the CSV carries 7 significant digits
+    # the time homogenisation of the same point: every run's period means of what it waits for
+    # (pressure branch: contact fraction; friction branch: mu), whose window periods average to
+    # the run's stored value (whole periods of equal steps)
+    (path,) = (tmp_path / "out").glob("stationarity_*.csv")
+    assert (tmp_path / "out" / path.name.replace(".csv", ".png")).is_file()
+    rows = list(csv.DictReader(open(path)))
+    keys = {r["key"] for r in rows}
+    assert len(keys) == 3  # macro down, micro up, macro up
+    for key in keys:
+        mine = [r for r in rows if r["key"] == key]
+        run = store.load(key)
+        quantity = mine[0]["quantity"]
+        assert quantity == ("contact_fraction" if run.label["branch"] == "down" else "mu_force")
+        window = [float(r["mean"]) for r in mine if r["in_window"] == "True"]
+        assert len(window) >= 2 and len(mine) >= len(window) + 3  # run-in and the w before
+        assert np.mean(window) == pytest.approx(run.values[quantity], rel=1e-5)  # 7 digits

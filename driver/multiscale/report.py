@@ -30,6 +30,9 @@ Files written into the campaign's output folder:
   ``dissipation_<point>.png`` -- fig. 6.29 c (dissipation over depth of the first friction-branch
   sample per scale) and ``dissipation_<point>.csv`` (every friction-branch sample: depth, mJ/mm^3
   per mm slid, share of the window energy; the campaign's runner records it with every run).
+* ``stationarity_<point>.png`` / ``.csv`` -- the time homogenisation of every run of a rough
+  point (also a failed one): period means of what the run waits for (mu; contact fraction on the
+  pressure branch) over its averaged value, the window's periods marked, the tolerance band.
 * separated variant: ``friction_law_<point>.png`` (fig. 6.4 a: the spline law with the micro
   raw data) and ``comparison.png`` (fig. 6.4 b, c: mu and wall time, multiscale vs reference).
 * ``summary.txt`` (also printed), ``scene.toml`` (the scene as run), ``campaign.json``
@@ -57,6 +60,7 @@ from rubberfriction.driver.multiscale.statistics import (
     SampleStats,
 )
 from rubberfriction.driver.runtime.store import Outcome
+from rubberfriction.driver.sliding.window import period_means
 
 
 def _plt():
@@ -646,6 +650,74 @@ def plot_dissipation(r: PointResult, store: Any, out: Path) -> list[Path]:
     return [f]
 
 
+def stationarity_rows(r: PointResult, store: Any) -> list[dict[str, Any]]:
+    """Period means of what each run of a point waits for (driver.sliding.window): mu on the
+    friction branch, the contact fraction on the pressure branch (the reciprocal of the pressure
+    it passes down), per whole period of its cell, with each period's ratio to the run's averaged
+    value and whether the period is in the averaging window."""
+    rows = []
+    for runs in r.runs.values():
+        for t, o in runs:
+            if not o.ok or not store.has(o.key):
+                continue
+            run = store.load(o.key)
+            ser, spec = run.series, json.loads(run.inputs["spec"])
+            period = float(spec.get("period", 0.0))
+            if not period > 0.0 or "s" not in ser or not len(ser["s"]):
+                continue
+            down = t.label.get("branch") == "down"
+            name = "contact_fraction" if down else "mu_force"
+            with np.errstate(divide="ignore", invalid="ignore"):
+                q = (np.asarray(ser["contact_length"]) / period if down
+                     else -np.asarray(ser["Fx"]) / np.asarray(ser["Fz"]))
+            means = period_means(np.asarray(ser["s"]), q, period)
+            lo = float(run.stats.get("window_start", math.nan))
+            value = o.value(name)
+            for k, m in enumerate(means):
+                rows.append({"point": r.point.id, "branch": t.label.get("branch"),
+                             "scale": t.label.get("scale"), "scale_name": t.label.get("scale_name"),
+                             "sample": t.label.get("sample"), "quantity": name, "period": k + 1,
+                             "mean": float(m), "ratio": float(m / value) if value else math.nan,
+                             "in_window": bool((k + 1) * period > lo + 1e-9 * period),
+                             "key": o.key})
+    return rows
+
+
+def plot_stationarity(rows: list[dict[str, Any]], tol: float, out: Path, point_id: str) -> list[Path]:
+    """Period means over the run's averaged value, one line per run (pressure branch dashed), the
+    window's periods marked, the convergence tolerance as a band: how each homogenised number of
+    a point got there."""
+    if not rows:
+        return []
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    runs: dict[str, list[dict[str, Any]]] = {}
+    for row in rows:
+        runs.setdefault(row["key"], []).append(row)
+    for rs in runs.values():
+        k = np.array([x["period"] for x in rs])
+        y = np.array([x["ratio"] for x in rs])
+        w = np.array([x["in_window"] for x in rs])
+        first = rs[0]
+        label = (f"{first['branch']} {first['scale_name']} #{first['sample']} "
+                 f"({'contact' if first['branch'] == 'down' else 'mu'})")
+        line, = ax.plot(k, y, "--" if first["branch"] == "down" else "-", lw=1, label=label)
+        ax.plot(k[w], y[w], "o", ms=4, color=line.get_color())
+    if tol > 0:
+        ax.axhspan(1 - tol, 1 + tol, color="0.85", zorder=0, label=f"+-{100 * tol:g} %")
+    ax.set_ylim(0.5, 1.5)
+    ax.set_xlabel("period of the cell (dots: averaging window)")
+    ax.set_ylabel("period mean / averaged value")
+    ax.set_title(f"time homogenisation, {point_id}", fontsize=9)
+    ax.legend(fontsize=6, ncol=2)
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    f = out / f"stationarity_{_slug(point_id)}.png"
+    fig.savefig(f, dpi=120)
+    plt.close(fig)
+    return [f]
+
+
 def plot_separated(points: Sequence[PointResult], out: Path) -> list[Path]:
     """Thesis fig. 6.4: (a) micro law with raw data, (b) mu multiscale vs reference, (c) times."""
     plt = _plt()
@@ -769,6 +841,13 @@ def write_report(result: Any, quiet: bool = False, theory: bool = True) -> list[
             if rows:
                 files.append(write_csv(out / f"dissipation_{_slug(r.point.id)}.csv", rows))
             files += plot_dissipation(r, result.store, out)
+        if r.variant == "rough":  # also for a failed point: how far its runs got
+            rows = stationarity_rows(r, result.store)
+            if rows:
+                files.append(write_csv(out / f"stationarity_{_slug(r.point.id)}.csv", rows))
+                files += plot_stationarity(rows, result.scene.numerics.convergence_tol
+                                           if result.scene.numerics.window == "converged" else 0.0,
+                                           out, r.point.id)
     if result.scene.variant == "separated":
         files += plot_separated(pts, out)
     text = summary_text(result)
