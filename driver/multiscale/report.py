@@ -663,9 +663,10 @@ def stationarity_rows(r: PointResult, store: Any) -> list[dict[str, Any]]:
             run = store.load(o.key)
             ser, spec = run.series, json.loads(run.inputs["spec"])
             period = float(spec.get("period", 0.0))
-            if not period > 0.0 or "s" not in ser or not len(ser["s"]):
-                continue
             down = t.label.get("branch") == "down"
+            need = ("s", "contact_length") if down else ("s", "Fx", "Fz")
+            if not period > 0.0 or any(n not in ser for n in need) or not len(ser["s"]):
+                continue  # a finite block, or a run that kept no such series
             name = "contact_fraction" if down else "mu_force"
             with np.errstate(divide="ignore", invalid="ignore"):
                 q = (np.asarray(ser["contact_length"]) / period if down
