@@ -250,10 +250,15 @@ def energy_balance_line(points: Sequence[PointResult]) -> str:
     return text
 
 
-def homogenised_drift(task: Any) -> str:
-    """The drift column of what a run hands on: the contact fraction (pooled pressure, eq. 6.11)
-    for the pressure branch, mu for the friction branch (sliding.window.WINDOW_QUANTITIES)."""
-    return "contact_drift" if task.label.get("branch") == "down" else "window_drift"
+def handed_on(task: Any) -> str:
+    """The result a run hands on, which its window waits for (sliding.window.WINDOW_QUANTITIES):
+    the contact fraction on the pressure branch (the reciprocal of the pooled pressure of eq.
+    6.11), mu on the friction branch."""
+    return "contact_fraction" if task.label.get("branch") == "down" else "mu_force"
+
+
+#: the window drift column of each handed-on result
+DRIFT_OF = {"contact_fraction": "contact_drift", "mu_force": "window_drift"}
 
 
 def stationarity_line(points: Sequence[PointResult]) -> str:
@@ -264,8 +269,8 @@ def stationarity_line(points: Sequence[PointResult]) -> str:
         return ""
     unconv = sum(o.value("converged") == 0.0 for _, o in runs)
     conv = sum(o.value("converged") == 1.0 for _, o in runs)
-    drifts = [(abs(o.value(homogenised_drift(t))), t) for t, o in runs
-              if math.isfinite(o.value(homogenised_drift(t)))]
+    drifts = [(abs(o.value(DRIFT_OF[handed_on(t)])), t) for t, o in runs
+              if math.isfinite(o.value(DRIFT_OF[handed_on(t)]))]
     text = f"  time homogenisation: {conv} of {len(runs)} runs converged"
     if unconv:
         text += f", {unconv} unconverged within their budget (not averaged)"
@@ -663,14 +668,11 @@ def stationarity_rows(r: PointResult, store: Any) -> list[dict[str, Any]]:
             run = store.load(o.key)
             ser, spec = run.series, json.loads(run.inputs["spec"])
             period = float(spec.get("period", 0.0))
-            down = t.label.get("branch") == "down"
-            need = ("s", "contact_length") if down else ("s", "Fx", "Fz")
-            if not period > 0.0 or any(n not in ser for n in need) or not len(ser["s"]):
+            name = handed_on(t)
+            series = "contact_length" if name == "contact_fraction" else "mu_force"
+            if not period > 0.0 or series not in ser or "s" not in ser or not len(ser["s"]):
                 continue  # a finite block, or a run that kept no such series
-            name = "contact_fraction" if down else "mu_force"
-            with np.errstate(divide="ignore", invalid="ignore"):
-                q = (np.asarray(ser["contact_length"]) / period if down
-                     else -np.asarray(ser["Fx"]) / np.asarray(ser["Fz"]))
+            q = np.asarray(ser[series]) / (period if series == "contact_length" else 1.0)
             means = period_means(np.asarray(ser["s"]), q, period)
             lo = float(run.stats.get("window_start", math.nan))
             value = o.value(name)
