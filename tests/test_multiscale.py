@@ -553,6 +553,52 @@ def test_samples_and_summary_report_the_stabilisation_share(tmp_path: Path):
     assert stabilisation_line([casc0.result]) == ""
 
 
+def test_samples_scales_and_summary_report_the_road_resolution(tmp_path: Path):
+    """road_intrusion per run goes through the store into samples.csv; scales.csv has each scale's
+    deepest; the summary counts the runs at INTRUSION_TOL or more (by scale) and names the deepest,
+    and marks those scales.  The toy runner's sample 1 has the road 3.5 elements deep, sample 0
+    0.4 (resolved); with none at the tolerance, no line."""
+    from rubberfriction.driver.multiscale.campaign import CampaignResult
+    from rubberfriction.driver.multiscale.report import (
+        INTRUSION_TOL,
+        resolution_line,
+        sample_rows,
+        scale_intrusion,
+        scale_rows,
+        summary_text,
+    )
+    from rubberfriction.driver.multiscale.scene import parse_scene
+
+    sets = scales_with_distinct_samples(2)
+
+    def runner(spec: SlidingSpec) -> SlidingResult:
+        res = toy(spec)
+        res.road_intrusion = 3.5 if _slope(spec) > 0.011 else 0.4
+        return res
+
+    casc = RoughCascade("t", Point("tread_default", 0.3, 100.0), sets, make_spec, k=1, j=2)
+    run(CampaignPlanner([casc]), Store(tmp_path / "s"), runner)
+    rows = sample_rows([casc.result])
+    assert {r["road_intrusion"] for r in rows} == {3.5, 0.4}
+    deepest = {i: max(r["road_intrusion"] for r in rows if r["scale"] == i) for i in range(len(sets))}
+    assert scale_intrusion(casc.result) == deepest
+    for row in scale_rows([casc.result]):
+        assert row["road_intrusion_max"] == deepest[row["scale"]]
+    n = sum(r["road_intrusion"] >= INTRUSION_TOL for r in rows)
+    line = resolution_line([casc.result])
+    assert f"{n} of {len(rows)} runs have road peaks >= 1 contact element" in line
+    assert "deepest 3.5 elements" in line and "sample 1" in line and "depend on the mesh" in line
+    text = summary_text(CampaignResult(parse_scene('name = "t"\n[surface]\nsource = "sines"\n'
+                                                   'amplitudes = [0.01]\nwavelengths = [5.0]\n',
+                                                   "<test>", tmp_path),
+                                       tmp_path, [casc.result], {}, None, 1.0, 1, "now",
+                                       Store(tmp_path / "s")))
+    assert line in text and text.count("road unresolved (3.5 elements deep)") == len(sets)
+    casc0 = RoughCascade("t", Point("tread_default", 0.3, 10.0), sets, make_spec, k=1, j=2)
+    run(CampaignPlanner([casc0]), Store(tmp_path / "s0"), toy)
+    assert resolution_line([casc0.result]) == ""
+
+
 def test_a_point_without_usable_samples_says_why(tmp_path: Path):
     """Every friction sample of the last scale succeeded but is left out (stabilisation share
     above the tolerance): the point fails, and its reason names the share of each sample instead

@@ -146,6 +146,7 @@ def point_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
 def scale_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
     rows = []
     for r in points:
+        intrusion = scale_intrusion(r)
         for s in r.scales:
             row: dict[str, Any] = {"compound": r.point.compound, "pressure_MPa": r.point.pressure,
                                    "velocity_mm_s": r.point.velocity, "scale": s.index,
@@ -165,6 +166,7 @@ def scale_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
             row["area_ratio"] = s.area_ratio
             row["area_ratio_ci95"] = area_spread(r.scales[: s.index + 1])
             row.update(_stats("dissipation_MPa", s.dissipation))
+            row["road_intrusion_max"] = intrusion.get(s.index, math.nan)
             row["flagged"] = s.flagged
             row["notes"] = "; ".join(s.notes)
             rows.append(row)
@@ -259,6 +261,47 @@ def handed_on(task: Any) -> str:
 
 #: the window drift column of each handed-on result
 DRIFT_OF = {"contact_fraction": "contact_drift", "mu_force": "window_drift"}
+
+
+#: road intrusion (contact element lengths, ``sliding.intrusion``) from which a run does not
+#: resolve its road: the road's peaks reach an element deep into the rubber face
+INTRUSION_TOL = 1.0
+
+
+def scale_intrusion(result: PointResult) -> dict[int, float]:
+    """Largest road intrusion of the successful runs of each scale of a point (both branches),
+    by scale index; scales without a recorded intrusion are left out."""
+    out: dict[int, float] = {}
+    for runs in result.runs.values():
+        for t, o in runs:
+            x = o.value("road_intrusion")
+            if o.ok and math.isfinite(x):
+                i = int(t.label.get("scale"))
+                out[i] = max(out.get(i, 0.0), x)
+    return out
+
+
+def resolution_line(points: Sequence[PointResult]) -> str:
+    """How many successful runs do not resolve their road (``sliding.intrusion``: road vertices
+    INTRUSION_TOL contact elements or more inside the rubber face, so the contact state is a
+    property of the mesh), by scale, with the deepest and its run.  "" when every run resolves
+    its road or none recorded it."""
+    runs = [(o.value("road_intrusion"), t) for r in points for rs in r.runs.values()
+            for t, o in rs if o.ok]
+    runs = [(x, t) for x, t in runs if math.isfinite(x)]
+    bad = [(x, t) for x, t in runs if x >= INTRUSION_TOL]
+    if not bad:
+        return ""
+    by_scale: dict[str, int] = {}
+    for _, t in bad:
+        name = str(t.label.get("scale_name"))
+        by_scale[name] = by_scale.get(name, 0) + 1
+    x, t = max(bad, key=lambda xt: xt[0])
+    scales = ", ".join(f"{k} {n}" for k, n in by_scale.items())
+    return (f"  road resolution: {len(bad)} of {len(runs)} runs have road peaks >= "
+            f"{INTRUSION_TOL:g} contact element inside the rubber ({scales}; deepest "
+            f"{x:.3g} elements, {which_run(t)}): their contact state and mu depend on the mesh "
+            "(finer contact elements on that scale, [numerics.<scale>], resolve more of the road)")
 
 
 def stationarity_line(points: Sequence[PointResult]) -> str:
@@ -365,8 +408,11 @@ def summary_text(result: Any) -> str:
         if r.variant == "rough":
             if not math.isnan(r.mu_adhesion):
                 lines.append(f"      adhesive share alpha mu_A = {r.mu_adhesion:.4g} (eq. 7.8)")
+            intrusion = scale_intrusion(r)
             for s in r.scales:
                 flag = "  FLAGGED: too many failed samples" if s.flagged else ""
+                if intrusion.get(s.index, 0.0) >= INTRUSION_TOL:
+                    flag += f"  road unresolved ({intrusion[s.index]:.3g} elements deep)"
                 lines.append(f"      {s.name:<8} p = {s.pressure:.4g} MPa  mu = {_pm(s.mu)}  A/A0 "
                              f"= {s.contact.mean if s.contact else math.nan:.3g}  A_r = "
                              f"{s.area_ratio:.3g}{flag}")
@@ -395,6 +441,9 @@ def summary_text(result: Any) -> str:
     stabilised = stabilisation_line(result.points)
     if stabilised:
         lines.append(stabilised)
+    resolution = resolution_line(result.points)
+    if resolution:
+        lines.append(resolution)
     used = attempts_used(result.points)
     if used.get("closed form"):
         lines.append(f"  model only what a run requires: {used['closed form']} frictionless "
