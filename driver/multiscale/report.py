@@ -301,7 +301,7 @@ def resolution_line(points: Sequence[PointResult]) -> str:
     return (f"  road resolution: {len(bad)} of {len(runs)} runs have road peaks >= "
             f"{INTRUSION_TOL:g} contact element inside the rubber ({scales}; deepest "
             f"{x:.3g} elements, {which_run(t)}): their contact state and mu depend on the mesh "
-            "(finer contact elements on that scale, [numerics.<scale>], resolve more of the road)")
+            "(road peaks narrower than the contact elements; README \"Road intrusion\")")
 
 
 def stationarity_line(points: Sequence[PointResult]) -> str:
