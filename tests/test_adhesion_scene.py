@@ -133,6 +133,27 @@ def test_the_adhesion_report_lists_mu_h_mu_a_and_the_measurements(runs):
         assert (folder / f).stat().st_size > 100
 
 
+def test_a_failed_end_point_leaves_the_measurements_beyond_it_out_of_the_fit(runs):
+    """The hysteresis campaign's fastest point failed: the fit uses the measurements up to the
+    last successful speed (the closed forms still hold there: the same law within 1e-6), a note
+    names what was left out, and a campaign with one successful point is a SceneError."""
+    from dataclasses import replace
+
+    from rubberfriction.driver.multiscale.campaign import _measurements, fit_campaign
+    from rubberfriction.driver.multiscale.scene import SceneError, parse_scene
+
+    scene = parse_scene(SCENE + FIT, str(runs["tmp"] / "fit.toml"), runs["tmp"])
+    plain = runs["plain"]
+    pts = sorted(plain.points, key=lambda r: r.point.velocity)
+    fit = fit_campaign(scene, replace(plain, points=pts[:-1]), _measurements(scene))
+    assert fit.bell.c.value == pytest.approx(C, rel=1e-6)
+    assert fit.bell.v0.value == pytest.approx(V0, rel=1e-6)
+    assert fit.mu_diff[0].v.size == len(pts) - 1
+    assert any("1 speed(s) of" in n and "left out of the fit" in n for n in fit.notes), fit.notes
+    with pytest.raises(SceneError, match="1 successful point"):
+        fit_campaign(scene, replace(plain, points=pts[:1]), _measurements(scene))
+
+
 BAD = [
     ('fit_from = { dry = "dry.csv", soap = "soap.csv" }\ntau0 = 3.0', "given as well"),
     ('fit_from = { soap = "soap.csv" }', "expected a dry measurement"),

@@ -287,7 +287,7 @@ def fit_campaign(scene: Scene, hysteresis: CampaignResult,
     finished hysteresis campaign (eq. 7.5: ``PointResult.area_ratio``; mu_H: its mu)."""
     cfg = scene.adhesion_fit
     assert cfg is not None
-    inputs = []
+    inputs, notes = [], []
     try:
         for k, name in enumerate(scene.conditions.compounds):
             rs = sorted((r for r in hysteresis.points if r.ok and r.point.compound == name),
@@ -301,16 +301,38 @@ def fit_campaign(scene: Scene, hysteresis: CampaignResult,
             area = SpeedCurve(v, np.array([r.area_ratio for r in rs]), "A_r", src)
             mu_h = SpeedCurve(v, np.array([r.mu.mean for r in rs]), "mu_H",  # type: ignore
                               src)
-            inputs.append(CompoundInput(
-                name, measured["dry"][k], area, hysteresis=mu_h,
-                soap=measured["soap"][k] if "soap" in measured else None,
-                water=measured["water"][k] if "water" in measured else None))
-        return fit_adhesion(inputs, scene.conditions.pressures[0], approach=cfg.approach,
-                            alpha=cfg.alpha, extrapolate=cfg.extrapolate)
+            curves = {cond: files[k] for cond, files in measured.items()}
+            if not cfg.extrapolate:
+                curves = {cond: _within(c, v[0], v[-1], name, notes, scene.source)
+                          for cond, c in curves.items()}
+            inputs.append(CompoundInput(name, curves["dry"], area, hysteresis=mu_h,
+                                        soap=curves.get("soap"), water=curves.get("water")))
+        fit = fit_adhesion(inputs, scene.conditions.pressures[0], approach=cfg.approach,
+                           alpha=cfg.alpha, extrapolate=cfg.extrapolate)
+        return replace(fit, notes=tuple(notes) + fit.notes)
     except InputError as err:
         if isinstance(err, SceneError):
             raise
         raise SceneError(f"{scene.source}: [adhesion].fit_from: {err}") from None
+
+
+def _within(curve: SpeedCurve, lo: float, hi: float, compound: str, notes: list[str],
+            source: str) -> SpeedCurve:
+    """The measured ``curve`` on the speeds lo..hi (mm/s) where the hysteresis campaign has
+    successful points: a failed end point of the campaign leaves the measurements beyond it out
+    of the fit (a note says so) instead of stopping the scene; fewer than two speeds left is a
+    SceneError."""
+    keep = (curve.v >= lo * (1 - 1e-12)) & (curve.v <= hi * (1 + 1e-12))
+    if keep.all():
+        return curve
+    if keep.sum() < 2:
+        raise SceneError(f"{source}: [adhesion].fit_from: {curve.source} keeps {int(keep.sum())} "
+                         f"speed(s) inside {lo:g} .. {hi:g} mm/s, where compound {compound!r} has "
+                         "successful hysteresis points: expected at least two")
+    notes.append(f"{compound}: {int((~keep).sum())} speed(s) of {curve.source} outside "
+                 f"{lo:g} .. {hi:g} mm/s (the successful points of the hysteresis campaign) left "
+                 "out of the fit")
+    return replace(curve, v=curve.v[keep], values=curve.values[keep])
 
 
 def run_adhesion_fit(scene: Scene, *, output: str | Path | None = None, quiet: bool = False,
