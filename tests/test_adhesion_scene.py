@@ -133,6 +133,22 @@ def test_the_adhesion_report_lists_mu_h_mu_a_and_the_measurements(runs):
         assert (folder / f).stat().st_size > 100
 
 
+def test_the_report_gives_the_other_approach_for_comparison(runs):
+    """The scene fits by the modified approach; the report adds the original one (dry minus
+    soap-water, eqs. 7.3, 7.4).  Soap-water carries 0.3 mu_A here, so the original approach's
+    mu_diff is 0.7 mu_A: tau0 = 0.7 x 0.4 MPa with the same c and v0 (1e-6), the bias thesis 7.5
+    describes; it is not used in the macro runs."""
+    folder = runs["tmp"] / "fit" / "adhesion"
+    other = json.loads((folder / "fit_original.json").read_text())
+    assert other["approach"] == "original" and other["used_in_macro_runs"] is False
+    assert other["tau0"]["tread_default"]["value"] == pytest.approx(0.7 * TAU0, rel=1e-6)
+    assert other["c"]["value"] == pytest.approx(C, rel=1e-6)
+    assert other["v0"]["value"] == pytest.approx(V0, rel=1e-6)
+    assert (folder / "fit_original.png").stat().st_size > 100
+    text = (folder / "summary.txt").read_text()
+    assert "for comparison, not used in the macro runs: fit (original approach" in text
+
+
 def test_a_failed_end_point_leaves_the_measurements_beyond_it_out_of_the_fit(runs):
     """The hysteresis campaign's fastest point failed: the fit uses the measurements up to the
     last successful speed (the closed forms still hold there: the same law within 1e-6), a note

@@ -12,6 +12,9 @@ Written into ``<output>/adhesion/`` after :func:`~.campaign.run_adhesion_fit`:
   the measurements interpolated in log v (empty outside their range);
 * ``mu_v.png`` -- mu_H, mu(alpha) of the campaigns (solid) beside the measurements (dashed),
   fig. 7.7 / 7.10;
+* ``fit_<approach>.json``, ``fit_<approach>.png`` -- the fit by the other approach, for
+  comparison (original: dry minus soap-water, eqs. 7.3, 7.4; modified: dry minus the campaign's
+  mu_H, 7.5); the macro campaigns use the scene's approach only;
 * ``summary.txt`` (also printed).
 """
 
@@ -105,9 +108,9 @@ def plot_mu_v(hysteresis: Any, fit: AdhesionFit, runs: dict[float, Any], path: P
     return path
 
 
-def summary(fit: AdhesionFit, runs: dict[float, Any], times: dict[str, float]) -> str:
+def _fit_lines(fit: AdhesionFit, head: str) -> list[str]:
     b = fit.bell
-    lines = [f"adhesion fit ({b.approach} approach, p = {b.pressure:g} MPa, {b.n_points} points): "
+    lines = [f"{head} ({b.approach} approach, p = {b.pressure:g} MPa, {b.n_points} points): "
              + ", ".join(f"tau0[{n}] = {t.value:.4g} +- {t.high - t.value:.2g} MPa"
                          for n, t in zip(b.compounds, b.tau0))
              + f", c = {b.c.value:.4g} +- {b.c.high - b.c.value:.2g}, v0 = {b.v0.value:.4g} mm/s "
@@ -118,18 +121,30 @@ def summary(fit: AdhesionFit, runs: dict[float, Any], times: dict[str, float]) -
                      f"{s.residual_rms:.3g}")
     for note in list(b.notes) + list(fit.notes):
         lines.append(f"  note: {note}")
+    return lines
+
+
+def summary(fit: AdhesionFit, runs: dict[float, Any], times: dict[str, float],
+            other: AdhesionFit | str | None = None) -> str:
+    lines = _fit_lines(fit, "adhesion fit")
     lines.append("  macro campaigns with alpha mu_A (eq. 7.8): " + ", ".join(
         f"alpha = {a:.4g} -> {res.output} ({res.n_runs - res.n_reused} new runs)"
         for a, res in runs.items()))
     lines.append(f"  wall time: hysteresis campaign and fit {times['campaigns_and_fit_s']:.1f} s, "
                  f"macro runs with adhesion {times['macro_runs_s']:.1f} s")
+    if isinstance(other, AdhesionFit):
+        lines += _fit_lines(other, "for comparison, not used in the macro runs: fit")
+    elif other:
+        lines.append(f"  for comparison: {other}")
     return "\n".join(lines)
 
 
 def write_adhesion_report(out: Path, scene: Any, hysteresis: Any, fit: AdhesionFit,
                           runs: dict[float, Any], times: dict[str, float],
-                          quiet: bool = False) -> list[Path]:
-    """Write the files of the module docstring into ``out``."""
+                          quiet: bool = False, other: AdhesionFit | str | None = None
+                          ) -> list[Path]:
+    """Write the files of the module docstring into ``out``; ``other``: the fit by the other
+    approach (or why there is none)."""
     out.mkdir(parents=True, exist_ok=True)
     extra = {"scene": scene.name, "hysteresis_campaign": str(hysteresis.output),
              "macro_campaigns": {f"{a:.4g}": str(r.output) for a, r in runs.items()},
@@ -143,7 +158,12 @@ def write_adhesion_report(out: Path, scene: Any, hysteresis: Any, fit: AdhesionF
     files = [out / "fit.json", plot_fit(fit, out / "fit.png", area_ci95=ci),
              write_csv(out / "adhesion.csv", adhesion_rows(hysteresis, fit, runs)),
              plot_mu_v(hysteresis, fit, runs, out / "mu_v.png")]
-    text = summary(fit, runs, times)
+    if isinstance(other, AdhesionFit):
+        name = other.bell.approach
+        (out / f"fit_{name}.json").write_text(other.to_json({"scene": scene.name,
+                                                             "used_in_macro_runs": False}))
+        files += [out / f"fit_{name}.json", plot_fit(other, out / f"fit_{name}.png", area_ci95=ci)]
+    text = summary(fit, runs, times, other)
     (out / "summary.txt").write_text(text + "\n")
     files.append(out / "summary.txt")
     if not quiet:

@@ -282,11 +282,14 @@ def _measurements(scene: Scene) -> dict[str, list[SpeedCurve]]:
 
 
 def fit_campaign(scene: Scene, hysteresis: CampaignResult,
-                 measured: dict[str, list[SpeedCurve]]) -> AdhesionFit:
+                 measured: dict[str, list[SpeedCurve]], approach: str | None = None
+                 ) -> AdhesionFit:
     """Fit the bell law (thesis 7.3-7.5) to the measurements with A_r(v) and mu_H(v) of the
-    finished hysteresis campaign (eq. 7.5: ``PointResult.area_ratio``; mu_H: its mu)."""
+    finished hysteresis campaign (eq. 7.5: ``PointResult.area_ratio``; mu_H: its mu), by the
+    scene's approach or the one given."""
     cfg = scene.adhesion_fit
     assert cfg is not None
+    approach = cfg.approach if approach is None else approach
     inputs, notes = [], []
     try:
         for k, name in enumerate(scene.conditions.compounds):
@@ -307,13 +310,29 @@ def fit_campaign(scene: Scene, hysteresis: CampaignResult,
                           for cond, c in curves.items()}
             inputs.append(CompoundInput(name, curves["dry"], area, hysteresis=mu_h,
                                         soap=curves.get("soap"), water=curves.get("water")))
-        fit = fit_adhesion(inputs, scene.conditions.pressures[0], approach=cfg.approach,
+        fit = fit_adhesion(inputs, scene.conditions.pressures[0], approach=approach,
                            alpha=cfg.alpha, extrapolate=cfg.extrapolate)
         return replace(fit, notes=tuple(notes) + fit.notes)
     except InputError as err:
         if isinstance(err, SceneError):
             raise
         raise SceneError(f"{scene.source}: [adhesion].fit_from: {err}") from None
+
+
+def _other_approach(scene: Scene, hysteresis: CampaignResult,
+                    measured: dict[str, list[SpeedCurve]]) -> AdhesionFit | str:
+    """The fit by the approach the scene did not choose, for comparison (thesis 7.4 against 7.5:
+    the original approach's tau0 carries the soap-water curve's own adhesion); the reason as a
+    string where the data do not allow it (no soap-water files) or it fails."""
+    cfg = scene.adhesion_fit
+    assert cfg is not None
+    name = "modified" if cfg.approach == "original" else "original"
+    if name == "original" and "soap" not in measured:
+        return "original approach not fitted: no soap-water measurement (fit_from.soap)"
+    try:
+        return fit_campaign(scene, hysteresis, measured, approach=name)
+    except (SceneError, InputError) as err:
+        return f"{name} approach not fitted: {err}"
 
 
 def _within(curve: SpeedCurve, lo: float, hi: float, compound: str, notes: list[str],
@@ -357,13 +376,14 @@ def run_adhesion_fit(scene: Scene, *, output: str | Path | None = None, quiet: b
     hyst = run_scene(base, output=out / "hysteresis", quiet=quiet, fresh=fresh,
                      retry_failed=retry_failed, runner=runner, comm=comm, report=report,
                      store_folder=store)
-    fit, message = None, None
+    fit, message, other = None, None, None
     if rank == 0:
         assert hyst is not None
         try:
             fit = fit_campaign(scene, hyst, measured)
         except SceneError as err:
             message = str(err)
+        other = _other_approach(scene, hyst, measured)
     payload = (None if fit is None else
                ([(c, t.value) for c, t in zip(fit.bell.compounds, fit.bell.tau0)],
                 fit.bell.c.value, fit.bell.v0.value, [s.alpha for s in fit.shares]), message)
@@ -389,7 +409,8 @@ def run_adhesion_fit(scene: Scene, *, output: str | Path | None = None, quiet: b
     assert hyst is not None and fit is not None
     write_adhesion_report(out / "adhesion", scene, hyst, fit, runs,
                           {"campaigns_and_fit_s": t_fit,
-                           "macro_runs_s": time.perf_counter() - t0 - t_fit}, quiet=quiet)
+                           "macro_runs_s": time.perf_counter() - t0 - t_fit}, quiet=quiet,
+                          other=other)
     return runs[1.0]
 
 
