@@ -9,9 +9,12 @@ d = 0.03 mm) sampled on macro levels (first 0.005 mm, grading 1.1), handed down 
 partitions below 0.09 mm (and the finest the levels allow); mu, its change from the finest, wall.
 
 ``divisions`` (thesis 8.4.3, fig. 8.10): the shipped scene ``thermal_loop`` at 1 m/s with
-n_d = 1, 2, 4, 8 equal divisions: final mu, the wall time per interval (cascade) and the share of
-each scale in the lower-scale runs' time.  Lower-scale runs go through a store (``--store``,
-default a temporary folder), so a rerun is quick; the times printed are of computed runs.
+n_d = 1, 2, 4, 8 equal divisions: final mu, the wall time per interval (cascade), the share of
+each scale in the lower-scale runs' time and the cost of the coupled point against the
+isothermal point (its cascade alone, timed first; issue target: at most 3x with n_d = 4).  Every
+n_d and the isothermal point get their own store (``--store DIR``: ``DIR/isothermal``,
+``DIR/n_d=<n>``; default temporary folders), so nothing is reused between them; a rerun with the
+same ``--store`` reuses its runs and the times then say so.
 """
 
 from __future__ import annotations
@@ -36,7 +39,7 @@ from rubberfriction.driver.sliding.run import run_sliding, sliding_runner
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.thermal.conduction import block_levels
 from rubberfriction.driver.thermal.macro import ThermalSettings, flat_road_spec
-from rubberfriction.driver.thermal.profile import TemperatureProfile, partition_profile
+from rubberfriction.driver.thermal.profile import TemperatureProfile, partition_profile, uniform_partitions
 from rubberfriction.forms.material_files import load_compound, load_road
 
 GRADIENTS = {"gradient 1": (20.0, 0.02), "gradient 2": (60.0, 0.03)}  # (A K, d mm)
@@ -86,7 +89,7 @@ def _divisions(store_dir: str | None) -> bool:
     comps = load_compounds(scene)
     scales = build_scales(scene, max(scene.samples.pressure, scene.samples.friction))
     folder = Path(store_dir) if store_dir else Path(tempfile.mkdtemp(prefix="rf-thermal-loop-"))
-    executor = Executor(Store(folder), sliding_runner(wall_limit=scene.numerics.run_timeout))
+    runner = sliding_runner(wall_limit=scene.numerics.run_timeout)
     comp = comps[scene.conditions.compounds[0]]
     T0 = scene.conditions.T0
     v, p = 1000.0, scene.conditions.pressures[0]
@@ -96,13 +99,28 @@ def _divisions(store_dir: str | None) -> bool:
                               road_ahead=t.road_ahead, road_behind=t.road_behind, first_layer=t.first_layer,
                               grading=t.grading)
     print(f"thermal loop division study (thesis 8.4.3): scene thermal_loop at v = {v:g} mm/s, p = {p:g} MPa, "
-          f"slide {t.slide_distance} mm, mu_const {t.mu_const}; store {folder}")
-    print(f"{'n_d':>4} {'mu final':>9} {'lower mu':>9} {'T_s-T0':>7} {'wall s':>7} {'s/interval':>10}  share per scale")
-    ok = True
+          f"slide {t.slide_distance} mm, mu_const {t.mu_const}; stores in {folder}")
+
+    def cascade_runner(name: str) -> CascadeRunner:
+        executor = Executor(Store(folder / name), runner)
+        return CascadeRunner(scene.name, Point(scene.conditions.compounds[0], p, v), scales.sets,
+                             SpecBuilder(scene, comps), scene.samples.pressure, scene.samples.friction, executor)
+
+    # the isothermal point: its cascade alone, on the partition bounds the loop uses at T0
+    levels = block_levels(spec.block_height, thermal.first_layer, thermal.grading)
+    base = loop_settings(scene)
+    w_iso = time.perf_counter()
+    iso = cascade_runner("isothermal")(uniform_partitions(levels, base.n_partitions, base.partition_depth, T0))
+    w_iso = time.perf_counter() - w_iso
+    reused = sum(o.reused for runs in iso.runs.values() for _, o in runs)
+    print(f"isothermal point: lower mu {iso.mu.mean if iso.ok and iso.mu else float('nan'):.5f}, wall {w_iso:.1f} s"
+          f"{f' ({reused} runs reused)' if reused else ''}")
+    print(f"{'n_d':>4} {'mu final':>9} {'lower mu':>9} {'T_s-T0':>7} {'wall s':>7} {'s/interval':>10} "
+          f"{'x iso':>6}  share per scale")
+    ok = iso.ok
     for n_d in (1, 2, 4, 8):
-        settings = replace(loop_settings(scene), divisions=n_d, points=(), auto_dT=0.0)
-        cascade = CascadeRunner(scene.name, Point(scene.conditions.compounds[0], p, v), scales.sets,
-                                SpecBuilder(scene, comps), scene.samples.pressure, scene.samples.friction, executor)
+        settings = replace(base, divisions=n_d, points=(), auto_dT=0.0)
+        cascade = cascade_runner(f"n_d={n_d}")
         w = time.perf_counter()
         res = run_thermal_loop(spec, comp.thermal, thermal, settings, cascade)
         w = time.perf_counter() - w
@@ -116,8 +134,8 @@ def _divisions(store_dir: str | None) -> bool:
         per = np.mean([iv.wall for iv in res.intervals]) if res.intervals else np.nan
         T_s = res.intervals[-1].profile.mean[0] - T0 if res.intervals else np.nan
         shares = ", ".join(f"{k} {100 * s / total:.0f} %" for k, s in share.items())
-        print(f"{n_d:>4d} {res.mu:>9.5f} {res.mu - settings.mu_const:>9.5f} {T_s:>7.2f} {w:>7.1f} {per:>10.2f}  "
-              f"{shares or 'all runs reused'}", flush=True)
+        print(f"{n_d:>4d} {res.mu:>9.5f} {res.mu - settings.mu_const:>9.5f} {T_s:>7.2f} {w:>7.1f} {per:>10.2f} "
+              f"{w / w_iso:>6.2f}  {shares or 'all runs reused'}", flush=True)
     return ok
 
 
