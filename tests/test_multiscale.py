@@ -580,7 +580,8 @@ def test_samples_scales_and_summary_report_the_road_resolution(tmp_path: Path):
     run(CampaignPlanner([casc]), Store(tmp_path / "s"), runner)
     rows = sample_rows([casc.result])
     assert {r["road_intrusion"] for r in rows} == {3.5, 0.4}
-    deepest = {i: max(r["road_intrusion"] for r in rows if r["scale"] == i) for i in range(len(sets))}
+    deepest = {i: max(r["road_intrusion"] for r in rows if r["scale"] == i)
+               for i in range(len(sets))}
     assert scale_intrusion(casc.result) == deepest
     for row in scale_rows([casc.result]):
         assert row["road_intrusion_max"] == deepest[row["scale"]]

@@ -39,7 +39,11 @@ from rubberfriction.driver.sliding.run import run_sliding, sliding_runner
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.thermal.conduction import block_levels
 from rubberfriction.driver.thermal.macro import ThermalSettings, flat_road_spec
-from rubberfriction.driver.thermal.profile import TemperatureProfile, partition_profile, uniform_partitions
+from rubberfriction.driver.thermal.profile import (
+    TemperatureProfile,
+    partition_profile,
+    uniform_partitions,
+)
 from rubberfriction.forms.material_files import load_compound, load_road
 
 GRADIENTS = {"gradient 1": (20.0, 0.02), "gradient 2": (60.0, 0.03)}  # (A K, d mm)
@@ -104,19 +108,22 @@ def _divisions(store_dir: str | None) -> bool:
     def cascade_runner(name: str) -> CascadeRunner:
         executor = Executor(Store(folder / name), runner)
         return CascadeRunner(scene.name, Point(scene.conditions.compounds[0], p, v), scales.sets,
-                             SpecBuilder(scene, comps), scene.samples.pressure, scene.samples.friction, executor)
+                             SpecBuilder(scene, comps), scene.samples.pressure,
+                             scene.samples.friction, executor)
 
     # the isothermal point: its cascade alone, on the partition bounds the loop uses at T0
     levels = block_levels(spec.block_height, thermal.first_layer, thermal.grading)
     base = loop_settings(scene)
     w_iso = time.perf_counter()
-    iso = cascade_runner("isothermal")(uniform_partitions(levels, base.n_partitions, base.partition_depth, T0))
+    iso = cascade_runner("isothermal")(uniform_partitions(levels, base.n_partitions,
+                                                          base.partition_depth, T0))
     w_iso = time.perf_counter() - w_iso
     reused = sum(o.reused for runs in iso.runs.values() for _, o in runs)
-    print(f"isothermal point: lower mu {iso.mu.mean if iso.ok and iso.mu else float('nan'):.5f}, wall {w_iso:.1f} s"
+    mu_iso = iso.mu.mean if iso.ok and iso.mu else float("nan")
+    print(f"isothermal point: lower mu {mu_iso:.5f}, wall {w_iso:.1f} s"
           f"{f' ({reused} runs reused)' if reused else ''}")
-    print(f"{'n_d':>4} {'mu final':>9} {'lower mu':>9} {'T_s-T0':>7} {'wall s':>7} {'s/interval':>10} "
-          f"{'x iso':>6}  share per scale")
+    print(f"{'n_d':>4} {'mu final':>9} {'lower mu':>9} {'T_s-T0':>7} {'wall s':>7} "
+          f"{'s/interval':>10} {'x iso':>6}  share per scale")
     ok = iso.ok
     for n_d in (1, 2, 4, 8):
         settings = replace(base, divisions=n_d, points=(), auto_dT=0.0)
@@ -134,8 +141,9 @@ def _divisions(store_dir: str | None) -> bool:
         per = np.mean([iv.wall for iv in res.intervals]) if res.intervals else np.nan
         T_s = res.intervals[-1].profile.mean[0] - T0 if res.intervals else np.nan
         shares = ", ".join(f"{k} {100 * s / total:.0f} %" for k, s in share.items())
-        print(f"{n_d:>4d} {res.mu:>9.5f} {res.mu - settings.mu_const:>9.5f} {T_s:>7.2f} {w:>7.1f} {per:>10.2f} "
-              f"{w / w_iso:>6.2f}  {shares or 'all runs reused'}", flush=True)
+        print(f"{n_d:>4d} {res.mu:>9.5f} {res.mu - settings.mu_const:>9.5f} {T_s:>7.2f} "
+              f"{w:>7.1f} {per:>10.2f} {w / w_iso:>6.2f}  {shares or 'all runs reused'}",
+              flush=True)
     return ok
 
 

@@ -331,8 +331,8 @@ def _other_approach(scene: Scene, hysteresis: CampaignResult,
         return "original approach not fitted: no soap-water measurement (fit_from.soap)"
     try:
         return fit_campaign(scene, hysteresis, measured, approach=name)
-    except (SceneError, InputError) as err:
-        return f"{name} approach not fitted: {err}"
+    except Exception as err:  # noqa: BLE001 -- a comparison must not stop the scene or hang ranks
+        return f"{name} approach not fitted: {type(err).__name__}: {err}"
 
 
 def _within(curve: SpeedCurve, lo: float, hi: float, compound: str, notes: list[str],
