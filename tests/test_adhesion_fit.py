@@ -532,3 +532,9 @@ def test_shipped_thesis_7_4_files_return_their_stated_parameters(approach: str, 
     assert {k: [f.name for f in v] for k, v in cfg.files.items()} == {
         cond: [f"{k}_{cond}.csv" for k in ("A", "B", "C")] for cond in ("dry", "soap", "water")}
     assert all(f.parent.resolve() == folder.resolve() for v in cfg.files.values() for f in v)
+    # the first look: thesis_7_4 with three scales and 1 + 2 samples, nothing else changed
+    first = load_scene("thesis_7_4_first")
+    assert first.surface.edges == scene.surface.edges[:-1] == (20.0, 3.0, 0.3, 0.04)
+    assert (first.samples.pressure, first.samples.friction) == (1, 2)
+    assert (first.conditions, first.adhesion_fit, first.numerics, first.physics) == \
+        (scene.conditions, scene.adhesion_fit, scene.numerics, scene.physics)
