@@ -72,6 +72,14 @@ def _plt():
     return plt
 
 
+def _save(fig: Any, path: Path) -> Path:
+    """Lay out, write (PNG, 120 dpi) and close one of the report's figures."""
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    _plt().close(fig)
+    return path
+
+
 def _slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9.=_-]+", "_", text).strip("_")
 
@@ -546,10 +554,7 @@ def plot_curves(points: Sequence[PointResult], out: Path, *, scene: Any | None =
         ax.set_ylabel("coefficient of friction mu")
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(out / fname, dpi=120)
-        plt.close(fig)
-        files.append(out / fname)
+        files.append(_save(fig, out / fname))
     return files
 
 
@@ -585,11 +590,7 @@ def plot_area(points: Sequence[PointResult], out: Path) -> list[Path]:
         ax.legend(fontsize=7)
     fig.suptitle("real contact area over v (thesis fig. 7.6 top; 95 % CI over samples)",
                  fontsize=10)
-    fig.tight_layout()
-    f = out / "area_v.png"
-    fig.savefig(f, dpi=120)
-    plt.close(fig)
-    return [f]
+    return [_save(fig, out / "area_v.png")]
 
 
 def plot_scales(r: PointResult, out: Path) -> list[Path]:
@@ -614,11 +615,7 @@ def plot_scales(r: PointResult, out: Path) -> list[Path]:
         ax.set_xlabel("scale")
         ax.grid(True, alpha=0.3)
     fig.suptitle(f"{r.point.id}: quantities over scales (thesis fig. 6.29 a)", fontsize=10)
-    fig.tight_layout()
-    f = out / f"scales_{_slug(r.point.id)}.png"
-    fig.savefig(f, dpi=120)
-    plt.close(fig)
-    files.append(f)
+    files.append(_save(fig, out / f"scales_{_slug(r.point.id)}.png"))
     fig, axs = plt.subplots(1, 3, figsize=(11, 3.5))
     for s in r.scales:
         if s.pressure_down is not None:
@@ -636,11 +633,7 @@ def plot_scales(r: PointResult, out: Path) -> list[Path]:
         ax.legend(fontsize=7)
     fig.suptitle(f"{r.point.id}: per-sample values (thesis fig. 6.29 b; failed samples missing)",
                  fontsize=10)
-    fig.tight_layout()
-    f = out / f"samples_{_slug(r.point.id)}.png"
-    fig.savefig(f, dpi=120)
-    plt.close(fig)
-    files.append(f)
+    files.append(_save(fig, out / f"samples_{_slug(r.point.id)}.png"))
     return files
 
 
@@ -697,11 +690,7 @@ def plot_dissipation(r: PointResult, store: Any, out: Path) -> list[Path]:
     ax.set_ylabel("depth z (mm)")
     ax.legend(fontsize=8)
     ax.grid(True, alpha=0.3)
-    fig.tight_layout()
-    f = out / f"dissipation_{_slug(r.point.id)}.png"
-    fig.savefig(f, dpi=120)
-    plt.close(fig)
-    return [f]
+    return [_save(fig, out / f"dissipation_{_slug(r.point.id)}.png")]
 
 
 def stationarity_rows(r: PointResult, store: Any) -> list[dict[str, Any]]:
@@ -763,11 +752,7 @@ def plot_stationarity(rows: list[dict[str, Any]], tol: float, out: Path, point_i
     ax.set_title(f"time homogenisation, {point_id}", fontsize=9)
     ax.legend(fontsize=6, ncol=2)
     ax.grid(True, alpha=0.3)
-    fig.tight_layout()
-    f = out / f"stationarity_{_slug(point_id)}.png"
-    fig.savefig(f, dpi=120)
-    plt.close(fig)
-    return [f]
+    return [_save(fig, out / f"stationarity_{_slug(point_id)}.png")]
 
 
 def plot_separated(points: Sequence[PointResult], out: Path) -> list[Path]:
@@ -789,11 +774,7 @@ def plot_separated(points: Sequence[PointResult], out: Path) -> list[Path]:
         ax.set_ylabel("micro mu (spline eq. 6.6; dots: runs)")
         ax.legend(fontsize=8)
         ax.grid(True, alpha=0.3)
-        fig.tight_layout()
-        f = out / f"friction_law_{_slug(r.point.id)}.png"
-        fig.savefig(f, dpi=120)
-        plt.close(fig)
-        files.append(f)
+        files.append(_save(fig, out / f"friction_law_{_slug(r.point.id)}.png"))
     ok = [r for r in points if r.ok and "mu_reference" in r.extra]
     if ok:
         fig, axs = plt.subplots(1, 2, figsize=(9, 3.5))
@@ -813,11 +794,7 @@ def plot_separated(points: Sequence[PointResult], out: Path) -> list[Path]:
         for ax in axs:
             ax.set_xticks(x, lab, fontsize=7)
         fig.suptitle("multiscale vs single-scale reference (thesis fig. 6.4 b, c)", fontsize=10)
-        fig.tight_layout()
-        f = out / "comparison.png"
-        fig.savefig(f, dpi=120)
-        plt.close(fig)
-        files.append(f)
+        files.append(_save(fig, out / "comparison.png"))
     return files
 
 
@@ -842,10 +819,7 @@ def plot_sample_study(study: SampleCountStudy, path: Path, title: str = "") -> P
     for ax in axs:
         ax.grid(True, alpha=0.3)
     fig.suptitle(title or "sample-count study (thesis fig. 6.13)", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path)
 
 
 def study_rows(study: SampleCountStudy) -> list[dict[str, Any]]:
