@@ -31,7 +31,11 @@ from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
 from rubberfriction.driver.multiscale.scene import load_scene
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
-from rubberfriction.driver.multiscale.thermal_loop import CascadeRunner, run_thermal_loop
+from rubberfriction.driver.multiscale.thermal_loop import (
+    CascadeRunner,
+    isothermal_partitions,
+    run_thermal_loop,
+)
 from rubberfriction.driver.multiscale.thermal_loop_scene import loop_settings
 from rubberfriction.driver.runtime.farm import Executor
 from rubberfriction.driver.runtime.store import Store
@@ -39,11 +43,7 @@ from rubberfriction.driver.sliding.run import run_sliding, sliding_runner
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.thermal.conduction import block_levels
 from rubberfriction.driver.thermal.macro import ThermalSettings, flat_road_spec
-from rubberfriction.driver.thermal.profile import (
-    TemperatureProfile,
-    partition_profile,
-    uniform_partitions,
-)
+from rubberfriction.driver.thermal.profile import TemperatureProfile, partition_profile
 from rubberfriction.forms.material_files import load_compound, load_road
 
 GRADIENTS = {"gradient 1": (20.0, 0.02), "gradient 2": (60.0, 0.03)}  # (A K, d mm)
@@ -112,11 +112,9 @@ def _divisions(store_dir: str | None) -> bool:
                              scene.samples.friction, executor)
 
     # the isothermal point: its cascade alone, on the partition bounds the loop uses at T0
-    levels = block_levels(spec.block_height, thermal.first_layer, thermal.grading)
     base = loop_settings(scene)
     w_iso = time.perf_counter()
-    iso = cascade_runner("isothermal")(uniform_partitions(levels, base.n_partitions,
-                                                          base.partition_depth, T0))
+    iso = cascade_runner("isothermal")(isothermal_partitions(spec, thermal, base))
     w_iso = time.perf_counter() - w_iso
     reused = sum(o.reused for runs in iso.runs.values() for _, o in runs)
     mu_iso = iso.mu.mean if iso.ok and iso.mu else float("nan")

@@ -267,6 +267,15 @@ class LoopObserver:
             run.contact.set_friction(self.settings.mu_const + mu_out)
 
 
+def isothermal_partitions(spec: SlidingSpec, thermal: ThermalSettings, loop: LoopSettings
+                          ) -> Partitions:
+    """The isothermal cascade's layers: T0 on the partition bounds of the later cascades (layer
+    bounds are mesh lines of the lower-scale blocks: the same meshes in every cascade, only
+    temperatures differ), from the macro block's levels (``spec``: the macro run)."""
+    levels = block_levels(spec.block_height, thermal.first_layer, thermal.grading)
+    return uniform_partitions(levels, loop.n_partitions, loop.partition_depth, thermal.T0)
+
+
 def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings, loop: LoopSettings,
                      cascade: CascadeRunner, *, wall_limit: float = 0.0,
                      log: Callable[[str], None] | None = None) -> ThermalLoopResult:
@@ -274,10 +283,7 @@ def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSetting
     friction is replaced).  The workers of ``cascade.comm`` must be in ``cascade.serve()``;
     :meth:`CascadeRunner.done` releases them (the caller's job, after its last point)."""
     wall = time.perf_counter()
-    # A: isothermal mu(T0), on the partition bounds of the later cascades (layer bounds are mesh
-    # lines of the lower-scale blocks: the same meshes in every cascade, only temperatures differ)
-    levels = block_levels(spec.block_height, thermal.first_layer, thermal.grading)
-    iso = cascade(uniform_partitions(levels, loop.n_partitions, loop.partition_depth, thermal.T0))
+    iso = cascade(isothermal_partitions(spec, thermal, loop))  # A: isothermal mu(T0)
     out = ThermalLoopResult(cascade.point, iso, None, settings=loop)
     mu0 = _mu(iso)
     if not np.isfinite(mu0):
