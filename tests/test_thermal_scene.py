@@ -4,6 +4,7 @@ that name the field, and one small scene end to end through ``rubberfriction run
 from __future__ import annotations
 
 import csv
+import dataclasses
 import subprocess
 import sys
 from pathlib import Path
@@ -94,6 +95,23 @@ def test_mu_curve_becomes_a_law_linear_in_temperature():
 def test_shipped_thermal_scene_loads():
     scene = load_scene("thermal_macro")
     assert scene.physics.thermal and scene.thermal.mu_curve and scene.thermal.kappa == 1.0
+
+
+def test_default_road_flash_scenes_differ_only_where_they_say():
+    """thermal_road (coupled) and thermal_road_hot_layer (thesis 8.5.3) are the default scene's road,
+    compound, pressure, velocities and numerics with three of its four scales, one sample per scale
+    and branch (thesis 8.5.3), and the thermal tables; the two differ only in the thermal mode."""
+    default, coupled, hot = (load_scene(n) for n in ("default", "thermal_road", "thermal_road_hot_layer"))
+    assert coupled.surface.edges == default.surface.edges[:-1] == (20.0, 3.0, 0.3, 0.04)
+    assert (coupled.surface.source, coupled.surface.seed) == (default.surface.source, default.surface.seed)
+    assert coupled.conditions == default.conditions
+    assert (coupled.samples.pressure, coupled.samples.friction) == (1, 1)
+    assert dataclasses.replace(coupled.numerics, scales=default.numerics.scales) == default.numerics
+    assert coupled.thermal.mode == "coupled" and hot.thermal.mode == "hot-layer"
+    assert (coupled.thermal.kappa, coupled.thermal.h_c, coupled.thermal.mu_const) == (0.8, 1.6, 0.0)
+    assert dataclasses.replace(hot.thermal, mode="coupled") == coupled.thermal
+    assert (hot.surface, hot.samples, hot.conditions, hot.numerics, hot.physics) == \
+        (coupled.surface, coupled.samples, coupled.conditions, coupled.numerics, coupled.physics)
 
 
 def test_missing_thermal_data_of_the_compound_or_road(tmp_path):
