@@ -19,7 +19,14 @@ from rubberfriction.driver.sliding.sinusoid import (
     layered_strip_pressure,
 )
 from rubberfriction.driver.sliding.spec import SlidingSpec
-from rubberfriction.driver.sliding.temperature import check_layers, layer_levels, layer_temperatures
+from rubberfriction.driver.sliding.temperature import (
+    MIN_ROW_FRACTION,
+    cell_temperatures,
+    check_layers,
+    layer_levels,
+    layer_temperatures,
+    mesh_levels,
+)
 from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
 from rubberfriction.forms.material_files import load_compound
 
@@ -35,6 +42,55 @@ def test_layer_temperatures_and_levels():
     assert layer_levels(layers, 1.0) == pytest.approx([0.1, 0.3])
     assert layer_levels(layers, 0.3) == pytest.approx([0.1])  # the top is not a level
     assert layer_levels(layers, 0.05) == []
+
+
+def test_cell_temperatures_average_the_layers_over_each_cell():
+    """A cell inside a layer gets its temperature exactly; a cell over [0, 0.4] with 0.1 mm at 330 K
+    and 0.2 mm at 310 K over a 290 K background gets (0.1 * 330 + 0.2 * 310 + 0.1 * 290) / 0.4;
+    a degenerate span takes the temperature at its depth."""
+    layers = ((0.1, 330.0), (0.2, 310.0))
+    lo = np.array([0.0, 0.12, 0.0, 0.05, 0.5, 0.2])
+    hi = np.array([0.1, 0.3, 0.4, 0.15, 0.9, 0.2])
+    T = cell_temperatures(layers, 290.0, lo, hi)
+    expected = [330.0, 310.0, (0.1 * 330 + 0.2 * 310 + 0.1 * 290) / 0.4, 320.0, 290.0, 310.0]
+    np.testing.assert_allclose(T, expected, rtol=1e-14)
+    assert cell_temperatures((), 290.0, lo, hi).tolist() == [290.0] * 6
+
+
+def test_layer_bounds_thinner_than_the_mesh_resolves_are_not_mesh_lines():
+    """Bounds closer than min_row to the face, to the last kept bound or to the top are dropped."""
+    layers = ((0.0225, 330.0), (0.0225, 320.0), (0.0225, 310.0), (0.0225, 300.0))
+    assert mesh_levels(layers, 20.0, 0.125) == []  # the 20-3 mm band: contact spacing 0.5 mm
+    assert mesh_levels(layers, 3.0, 0.0125) == pytest.approx([0.0225, 0.045, 0.0675, 0.09])
+    assert mesh_levels(layers, 3.0, 0.03) == pytest.approx([0.045, 0.09])
+    assert mesh_levels(layers, 0.1, 0.03) == pytest.approx([0.045])  # 0.09 is 0.01 below the top
+
+
+def test_thin_layers_on_a_coarse_cell_average_into_its_rows():
+    """The thesis' partitions (4 x 0.0225 mm) on a cell meshed with 0.25 mm contact elements: no
+    element row is thinner than MIN_ROW_FRACTION of the contact spacing (before: 0.0225 mm, an
+    aspect ratio of 11); only the bound at 0.0675 mm stays a mesh line.  Each cell carries the
+    thickness-weighted mean temperature of the layers it spans, so the heat of the partitions is
+    kept: over a column of cells, sum (T - T0) dz equals sum (T_i - T0) d_i to round-off."""
+    x = np.linspace(0.0, 2.0, 129)[:-1]
+    layers = ((0.0225, T_REF + 40.0), (0.0225, T_REF + 30.0), (0.0225, T_REF + 20.0), (0.0225, T_REF + 10.0))
+    hc = 0.25
+    spec = SlidingSpec(surface_x=x, surface_h=0.02 * np.cos(np.pi * x), period=2.0, pressure=0.1,
+                       velocity=10.0, compound=TREAD, h_contact=hc, temperature_layers=layers,
+                       temperature=T_REF)
+    run = SlidingRun(spec, block_mesh, sliding_contact)
+    run.build("mortar")
+    assert mesh_levels(layers, run.H, MIN_ROW_FRACTION * hc) == pytest.approx([0.0675])
+    z0 = float(np.max(spec.surface_h))
+    lo, hi = run.sp.cell_bounds(axis=1) - z0
+    assert (hi - lo).min() >= MIN_ROW_FRACTION * hc
+    T = run.sp.history.T_cell
+    np.testing.assert_allclose(T[lo < 1e-12], T_REF + 30.0, rtol=1e-14)  # [0, 0.0675]: 40, 30, 20
+    x_lo = run.sp.cell_bounds(axis=0)[0]
+    column = x_lo < x_lo.min() + 1e-9
+    heat = sum(d * (t - T_REF) for d, t in layers)  # K mm above the background
+    assert np.sum((T[column] - T_REF) * (hi - lo)[column]) == pytest.approx(heat, rel=1e-12)
+    assert np.all(T[lo >= 0.09] == T_REF)
 
 
 @pytest.mark.parametrize("layers,compound,message", [

@@ -242,9 +242,11 @@ def _coupled_scene(folder: Path) -> Path:
 
 def test_hot_layer_mode_agrees_with_the_coupled_loop(case: Case):
     """Hot-layer mode (thesis 8.5.3: 5 um at T_S, to 20 um at (T_S + T0)/2): mu(T_S) of the lower
-    scales falls with T_S; the macro run with that law ends below the isothermal mu; its lower
-    scales' part agrees with the coupled loop's within 5 % (measured 3.7 %: the coupled profile
-    heats the lower-scale blocks deeper than 20 um, so its mu is lower)."""
+    scales falls with T_S; the macro contact's mu at the end of the slide (the law at the contact
+    temperature) is below the isothermal mu; its lower scales' part agrees with the coupled loop's
+    within 5 % (measured 3.4 %: the coupled profile heats the lower-scale blocks deeper than 20 um,
+    so its mu is lower).  The macro block's F_x / F_z lies above the law (its own hysteresis and
+    edges), here by more than the lower scales' change: it is not the mu compared."""
     from rubberfriction.driver.multiscale.thermal_loop import HotLayerSettings, run_hot_layer
 
     comp = case.compounds["tread_default"]
@@ -258,6 +260,9 @@ def test_hot_layer_mode_agrees_with_the_coupled_loop(case: Case):
     assert hot.ok, hot.notes
     assert np.all(np.diff(hot.mu_lower) < 0), hot.mu_lower
     assert hot.mu < hot.mu_isothermal
+    T_c = hot.macro.series["T_contact"][-1]
+    assert T_c > T0 + 1.0 and hot.mu == pytest.approx(0.6 + np.interp(T_c, hot.temperatures, hot.mu_lower),
+                                                      rel=1e-14)
     coupled = case.loop(1000.0, LoopSettings(divisions=2, mu_const=0.6))
     lower_hot, lower_coupled = hot.mu - 0.6, coupled.mu - 0.6
     assert abs(lower_hot - lower_coupled) < 0.05 * lower_coupled, (lower_hot, lower_coupled)

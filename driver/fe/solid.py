@@ -334,14 +334,23 @@ class SolidProblem:
     def _cell_centroids(self, cells: np.ndarray) -> np.ndarray:
         return self.cell_centroids()[np.asarray(cells, dtype=np.int64)]
 
-    def cell_centroids(self) -> np.ndarray:
-        """(n_cells, 2) vertex means of the local cells in the reference configuration, in the
-        cell order of the history arrays and of ``set_temperature``."""
+    def _cell_vertices(self) -> np.ndarray:
+        """(n_cells, n_vertices, 2) reference coordinates of the local cells' geometry nodes, in
+        the cell order of the history arrays and of ``set_temperature``."""
         x = self.mesh.geometry.x[:, :2]
         n = self.mesh.topology.index_map(self.mesh.topology.dim).size_local
         gd = self.mesh.geometry.dofmap  # one cell type: equal links per cell
         gdofs = gd.array.reshape(-1, int(gd.offsets[1] - gd.offsets[0]))
-        return x[gdofs[:n]].mean(axis=1)
+        return x[gdofs[:n]]
+
+    def cell_centroids(self) -> np.ndarray:
+        """(n_cells, 2) vertex means of the local cells in the reference configuration."""
+        return self._cell_vertices().mean(axis=1)
+
+    def cell_bounds(self, axis: int) -> np.ndarray:
+        """(2, n_cells): the lowest and highest reference coordinate ``axis`` of each local cell."""
+        c = self._cell_vertices()[:, :, axis]
+        return np.stack([c.min(axis=1), c.max(axis=1)])
 
     def nodal_displacement(self) -> np.ndarray:
         """(n_nodes, 2) current displacement."""

@@ -362,10 +362,16 @@ class HotLayerResult:
 
     @property
     def mu(self) -> float:
-        """The macro contact's mu at the end of the slide (the law at the surface temperature)."""
+        """The macro contact's mu at the end of the slide: mu_const + the mu(T_S) law at the macro
+        run's contact temperature then (``T_contact``, pressure-weighted over the contact nodes),
+        as the coupled loop's mu is mu_const + the lower scales' mu at the end.  Not F_x / F_z of
+        the macro block, which adds the block's own hysteresis and edge effects (+0.14 % on the
+        two-scale test case: as large as the lower scales' change for a 10 K rise)."""
         if self.macro is None or not self.macro.ok or not self.macro.series:
             return math.nan
-        return float(self.macro.series["mu"][-1])
+        good = np.isfinite(self.mu_lower)
+        T_c = float(self.macro.series["T_contact"][-1])
+        return self.settings.mu_const + float(np.interp(T_c, self.temperatures[good], self.mu_lower[good]))
 
     @property
     def ok(self) -> bool:

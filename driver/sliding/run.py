@@ -60,7 +60,7 @@ from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
 from rubberfriction.driver.sliding.intrusion import road_intrusion
 from rubberfriction.driver.sliding.outputs import DissipationByDepth
 from rubberfriction.driver.sliding.progress import StepReporter
-from rubberfriction.driver.sliding.temperature import check_layers, layer_levels, layer_temperatures
+from rubberfriction.driver.sliding.temperature import MIN_ROW_FRACTION, cell_temperatures, check_layers, mesh_levels
 from rubberfriction.driver.sliding.spec import (
     MESH_REFINEMENT,
     SOFT_TANGENT,
@@ -211,8 +211,8 @@ class SlidingRun:
         self.L, self.H, self.hc = L, H, hc
         z0 = float(np.max(s.surface_h))  # block bottom rests on the highest asperity
         options = {}  # only what the spec uses: custom factories need not know the rest
-        if s.temperature_layers:  # layer bounds become mesh lines: cells lie in one layer
-            options["levels"] = layer_levels(s.temperature_layers, H)
+        if s.temperature_layers:  # layer bounds become mesh lines where rows stay thick enough
+            options["levels"] = mesh_levels(s.temperature_layers, H, MIN_ROW_FRACTION * hc)
         if s.edge_radius > 0.0:
             options["edge_radius"] = s.edge_radius
         body = self._mesh_factory(L, H, hc, s.grading, z0, **options)
@@ -224,8 +224,8 @@ class SlidingRun:
                                SolidSettings(element=s.element, stabilisation_modulus=G_s))
         if s.temperature_layers:  # partitions over the height (thesis 8.3.3)
             background = s.temperature if s.temperature is not None else s.compound.wlf.T_ref
-            depth = self.sp.cell_centroids()[:, 1] - z0
-            self.sp.set_temperature(layer_temperatures(s.temperature_layers, background, depth))
+            lower, upper = self.sp.cell_bounds(axis=1) - z0  # depth spans of the cells
+            self.sp.set_temperature(cell_temperatures(s.temperature_layers, background, lower, upper))
         elif s.temperature is not None and getattr(s.compound, "wlf", None) is not None:
             self.sp.set_temperature(s.temperature)  # (without WLF data the relaxation has no T)
         nfull = self.sp.W.dofmap.index_map.size_local * self.sp.W.dofmap.index_map_bs
