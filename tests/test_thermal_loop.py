@@ -163,10 +163,11 @@ def test_layered_specs_and_bad_settings(case: Case):
     assert LoopSettings(points=(2.0, 5.0)).distances(8.0).tolist() == [2.0, 5.0, 8.0]
 
 
-def test_coupled_scene_writes_mu_with_and_without_flash_temperature(tmp_path: Path):
+def test_coupled_scene_writes_mu_with_and_without_flash_temperature(tmp_path: Path, capsys):
     """`rubberfriction run` of a coupled thermal scene: loop_results.csv has both mu per point
     (with < without at 1 m/s), intervals.csv one row per homogenisation point with the
-    partition temperatures, profiles.csv and loop.png; a rerun reuses every lower-scale run."""
+    partition temperatures, profiles.csv and loop.png; a rerun reuses every lower-scale run and
+    its progress output says so, cascade by cascade."""
     import csv
 
     from rubberfriction.driver.cli.main import main
@@ -191,8 +192,13 @@ def test_coupled_scene_writes_mu_with_and_without_flash_temperature(tmp_path: Pa
     assert (folder / "mu_v.png").is_file()  # mu(v) with and without, beside Persson's flash theory
     n = len(Store(tmp_path / "out" / "store"))
     assert n == 9  # three cascades of three runs
-    assert main(["run", str(path), "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["run", str(path)]) == 0
     assert len(Store(tmp_path / "out" / "store")) == n
+    out = capsys.readouterr().out
+    for i in (1, 2, 3):  # the isothermal cascade and one per homogenisation point
+        assert f"cascade {i} (1000 mm/s): 3 single-scale runs" in out
+        assert f"cascade {i} (1000 mm/s) done: 3 runs (0 computed, 3 reused, 0 failed)" in out
 
 
 @pytest.mark.mpi

@@ -193,7 +193,7 @@ def open_store(out: Path, comm: Any, fresh: bool = False,
     return store if store is not None else Store(folder)
 
 
-def _runner_and_timeout(scene: Scene, runner: Callable[[Any], Any] | None,
+def runner_and_timeout(scene: Scene, runner: Callable[[Any], Any] | None,
                         reports: RunReports) -> tuple[Callable[[Any], Any], float]:
     """The run function and the watchdog time of a campaign: the default runner stops each run
     itself at ``run_timeout`` (a stored 'timeout' failure), so its watchdog only needs to catch
@@ -227,7 +227,7 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
     rank = comm.Get_rank()
     out = Path(output) if output is not None else scene.output
     reports = RunReports()
-    runner, timeout = _runner_and_timeout(scene, runner, reports)  # fails early, on all ranks
+    runner, timeout = runner_and_timeout(scene, runner, reports)  # fails early, on all ranks
     started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
     store = open_store(out, comm, fresh=fresh, folder=store_folder)
     try:
@@ -430,7 +430,7 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
     rank = comm.Get_rank()
     out = Path(output) if output is not None else scene.output
     reports = RunReports()
-    runner, timeout = _runner_and_timeout(scene, runner, reports)
+    runner, timeout = runner_and_timeout(scene, runner, reports)
     names = scale_names(scene.n_scales) if not scene.surface.names else list(scene.surface.names)
     if scale is None:
         si = scene.n_scales - 1

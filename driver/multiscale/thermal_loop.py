@@ -168,7 +168,8 @@ class LayeredSpecs:
 
 class CascadeRunner:
     """Runs one cascade of a point over all ranks (step D); rank 0 calls it, the workers wait in
-    :meth:`serve` until rank 0 says "done"."""
+    :meth:`serve` until rank 0 says "done".  ``progress``: None, or a function of the cascade's
+    title returning a new progress display (``runtime.progress.Progress``) for each cascade."""
 
     def __init__(self, campaign: str, point: Point, scales: Sequence[ScaleSet], make_spec, k: int, j: int,
                  execute, comm=None, progress=None, max_failed_fraction: float = 0.25,
@@ -185,7 +186,9 @@ class CascadeRunner:
                                self.k, self.j, adhesion=self.adhesion, max_failed_fraction=self.max_failed)
         if self.comm is not None and self.comm.Get_size() > 1:
             self.comm.bcast("cascade", root=0)
-        run_farm(lambda: planner, self.execute, self.progress, self.comm)
+        title = f"cascade {self.count + 1}" + (f" ({self.point.velocity:g} mm/s)" if self.point else "")
+        progress = self.progress(title) if self.progress is not None else None
+        run_farm(lambda: planner, self.execute, progress, self.comm)
         self.count += 1
         return planner.result
 

@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from rubberfriction.driver.multiscale.campaign import open_store
+from rubberfriction.driver.multiscale.campaign import open_store, runner_and_timeout
 from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
 from rubberfriction.driver.multiscale.scene import Scene, SceneError
@@ -52,8 +52,8 @@ from rubberfriction.driver.multiscale.thermal_loop import (
     run_thermal_loop,
 )
 from rubberfriction.driver.multiscale.thermal_scene import _csv, _materials, _T0, macro_inputs, write_run
-from rubberfriction.driver.runtime.farm import Executor
-from rubberfriction.driver.sliding.run import sliding_runner
+from rubberfriction.driver.runtime.farm import Executor, RunReports
+from rubberfriction.driver.runtime.progress import Progress
 
 
 def loop_settings(scene: Scene) -> LoopSettings:
@@ -83,8 +83,9 @@ def run_coupled_scene(scene: Scene, *, quiet: bool = False, comm: Any = None,
     out = Path(scene.output)
     store = open_store(out, comm, fresh=fresh)
     try:
-        num = scene.numerics
-        executor = Executor(store, sliding_runner(wall_limit=num.run_timeout), timeout=0.0,
+        reports = RunReports()  # every sliding step of a lower-scale run reaches the progress line
+        runner, timeout = runner_and_timeout(scene, None, reports)
+        executor = Executor(store, runner, timeout=timeout, reports=reports,
                             settings={"scene": scene.name, "scene_source": scene.source, "thermal": t.mode})
         compounds = load_compounds(scene)
         n = max(scene.samples.pressure, scene.samples.friction)
@@ -96,7 +97,8 @@ def run_coupled_scene(scene: Scene, *, quiet: bool = False, comm: Any = None,
             return None
         results = []
         try:
-            results = _points(scene, loop, scales, make_spec, executor, comm, quiet)
+            progress = None if quiet else (lambda title: Progress(title=title))
+            results = _points(scene, loop, scales, make_spec, executor, comm, quiet, progress)
         finally:
             CascadeRunner(scene.name, None, scales.sets, make_spec, 1, 1, executor, comm).done()
         return results
@@ -104,7 +106,7 @@ def run_coupled_scene(scene: Scene, *, quiet: bool = False, comm: Any = None,
         store.unlock()
 
 
-def _points(scene, loop, scales, make_spec, executor, comm, quiet) -> list[ThermalLoopResult]:
+def _points(scene, loop, scales, make_spec, executor, comm, quiet, progress=None) -> list[ThermalLoopResult]:
     t = scene.thermal
     num = scene.numerics
     materials, road = _materials(scene)
@@ -128,7 +130,7 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet) -> list[Therm
                 f"{len(t.hot_layer_rises)} surface temperatures")
         spec, settings = macro_inputs(scene, comp, road, p, v, T0, 0.0)  # friction: from the loop
         cascade = CascadeRunner(scene.name, Point(name, p, v), scales.sets, make_spec, scene.samples.pressure,
-                                scene.samples.friction, executor, comm,
+                                scene.samples.friction, executor, comm, progress=progress,
                                 max_failed_fraction=scene.samples.max_failed_fraction,
                                 adhesion=scene.adhesion if scene.physics.adhesion else None)
         wall = time.perf_counter()

@@ -236,8 +236,9 @@ class Progress:
 
     def __init__(self, quiet: bool = False, stream: TextIO | None = None, min_interval: float = 1.0,
                  clock: Callable[[], float] = time.monotonic, tty: bool | None = None,
-                 plain_interval: float = 30.0):
+                 plain_interval: float = 30.0, title: str = "campaign"):
         self.quiet = quiet
+        self.title = title  # what the start and end lines call the runs' set
         self.stream = stream if stream is not None else sys.stdout
         self.min_interval = min_interval
         self.plain_interval = plain_interval
@@ -263,7 +264,7 @@ class Progress:
             self.stages = {st.key: st for st in plan}
             self.left = {st.key: st.runs for st in plan}
         if not self.quiet:
-            self._print(f"campaign: {self.total} single-scale runs on {self.workers} worker(s)")
+            self._print(f"{self.title}: {self.total} single-scale runs on {self.workers} worker(s)")
 
     def running(self, task: Any, info: Mapping[str, Any]) -> None:
         """The latest report of a run in flight (a dict, see ``driver.sliding.progress``)."""
@@ -313,7 +314,7 @@ class Progress:
         if self.quiet:
             return
         stopped = f", {self.timed_out} stopped by the wall clock" if self.timed_out else ""
-        self._print(f"campaign done: {self.done} runs ({self.computed} computed, {self.reused} "
+        self._print(f"{self.title} done: {self.done} runs ({self.computed} computed, {self.reused} "
                     f"reused, {self.failed} failed{stopped}) in "
                     f"{format_seconds(self.clock() - self.t0)}")
 
