@@ -178,6 +178,10 @@ def test_coupled_scene_writes_mu_with_and_without_flash_temperature(tmp_path: Pa
     rows = list(csv.DictReader(open(folder / "loop_results.csv")))
     assert len(rows) == 1 and rows[0]["status"] == "ok"
     assert float(rows[0]["mu_flash"]) < float(rows[0]["mu_isothermal"])
+    # the coupled point's cost against the isothermal point's (its cascade): more than the three
+    # cascades it ran (the macro run on top), a wall clock for each
+    wall, wall_iso = float(rows[0]["wall"]), float(rows[0]["wall_isothermal"])
+    assert 0 < 3 * wall_iso < wall * 1.5 and float(rows[0]["cost_vs_isothermal"]) == pytest.approx(wall / wall_iso)
     # the macro run's stabilisation is reported: a share only where sub-steps were stabilised
     stabilised = float(rows[0]["macro_stabilised_steps"])
     share = float(rows[0]["macro_stabilisation_share"])
@@ -285,6 +289,7 @@ def test_hot_layer_scene_writes_its_law(tmp_path: Path):
     assert main(["run", str(path), "--quiet"]) == 0
     rows = list(csv.DictReader(open(tmp_path / "out" / "thermal" / "loop_results.csv")))
     assert rows[0]["mode"] == "hot-layer" and rows[0]["status"] == "ok"
+    assert 0 < 2 * float(rows[0]["wall_isothermal"]) < 1.5 * float(rows[0]["wall"])  # two cascades
     law = list(csv.DictReader(open(tmp_path / "out" / "thermal" / "tread_default_p0.3_v1000" / "hot_layer.csv")))
     assert [float(r["T_S"]) for r in law] == pytest.approx([T0, T0 + 20.0])
     assert float(law[1]["mu_lower"]) < float(law[0]["mu_lower"])

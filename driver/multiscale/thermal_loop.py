@@ -128,6 +128,7 @@ class ThermalLoopResult:
     wall: float = math.nan
     notes: list[str] = field(default_factory=list)
     error: str = ""  # the loop stopped (an exception in a homogenisation step)
+    wall_isothermal: float = math.nan  # s spent in the isothermal cascade (the isothermal point's cost)
     s_final: float = math.inf  # sliding distance of the last homogenisation point (the slide's end)
 
     @property
@@ -287,7 +288,8 @@ def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSetting
     :meth:`CascadeRunner.done` releases them (the caller's job, after its last point)."""
     wall = time.perf_counter()
     iso = cascade(isothermal_partitions(spec, thermal, loop))  # A: isothermal mu(T0)
-    out = ThermalLoopResult(cascade.point, iso, None, settings=loop)
+    out = ThermalLoopResult(cascade.point, iso, None, settings=loop,
+                            wall_isothermal=time.perf_counter() - wall)
     mu0 = _mu(iso)
     if not np.isfinite(mu0):
         out.notes.append(f"isothermal cascade failed: {iso.reason}")
@@ -358,6 +360,7 @@ class HotLayerResult:
     settings: HotLayerSettings
     wall: float = math.nan
     notes: list[str] = field(default_factory=list)
+    walls: list[float] = field(default_factory=list)  # s spent in each cascade (the first: isothermal)
 
     @property
     def mu_isothermal(self) -> float:
@@ -392,14 +395,16 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings, 
     wall = time.perf_counter()
     T0 = thermal.T0
     temps = T0 + np.asarray(hot.rises, float)
-    results, mus = [], []
+    results, mus, walls = [], [], []
     for T_S in temps:
+        w = time.perf_counter()
         r = cascade(hot_layer_partitions(T_S, T0, hot))
+        walls.append(time.perf_counter() - w)
         results.append(r)
         mus.append(_mu(r))
         if log:
-            log(f"  hot layer T_S = {T_S:.2f} K: lower scales' mu {mus[-1]:.4g}")
-    out = HotLayerResult(cascade.point, temps, np.array(mus), results, None, hot)
+            log(f"  hot layer T_S = {T_S:.2f} K: lower scales' mu {mus[-1]:.4g} ({walls[-1]:.1f} s)")
+    out = HotLayerResult(cascade.point, temps, np.array(mus), results, None, hot, walls=walls)
     good = np.isfinite(out.mu_lower)
     if not good[0] or good.sum() < 2:
         out.notes.append("the isothermal or too many hot-layer cascades failed: no mu(T_S) law")

@@ -11,7 +11,8 @@ temperatures) and ``thermal/``:
 * ``loop_results.csv`` -- one row per point: mu without flash temperature (the isothermal
   cascade plus mu_const) and with it (mu_const + the lower scales' mu at the end of the slide),
   their relative difference, the final surface temperature of the profile (eq. 8.1), the macro
-  run's stabilised sub-steps and the dashpots' share of its friction work, wall time;
+  run's stabilised sub-steps and the dashpots' share of its friction work, wall time, the
+  isothermal cascade's wall time (what the isothermal point costs) and the ratio of the two;
 * ``<point>/intervals.csv`` -- per homogenisation point: s, t, the mu used before it and the mu
   the cascade returned, the per-scale mu, the profile's surface value and spread, the partition
   temperatures and the cascade's wall time;
@@ -174,16 +175,20 @@ def _row(name: str, p: float, v: float, res, T0: float) -> dict:
         s = res.macro.series if res.macro is not None else {}
         T_s = float(s["T_contact"][-1]) if s else math.nan
         T_std = math.nan
+        wall_iso = res.walls[0] if res.walls else math.nan
     else:
         iso = res.mu_isothermal if res.isothermal is not None else math.nan
         last = res.intervals[-1] if res.intervals else None
         mode, points = "coupled", len(res.intervals)
         T_s = last.profile.mean[0] if last else math.nan
         T_std = last.profile.std[0] if last else math.nan
+        wall_iso = res.wall_isothermal
     return {"compound": name, "pressure": p, "velocity": v, "mode": mode, "status": "ok" if res.ok else "failed",
             "mu_isothermal": iso, "mu_flash": res.mu, "change": res.mu / iso - 1.0 if iso else math.nan,
             "mu_const": res.settings.mu_const, "points": points, "T_surface": T_s, "T_surface_std": T_std,
-            **_macro_stabilisation(res.macro), "wall": res.wall, "notes": " | ".join(res.notes)}
+            **_macro_stabilisation(res.macro), "wall": res.wall, "wall_isothermal": wall_iso,
+            "cost_vs_isothermal": res.wall / wall_iso if wall_iso > 0 else math.nan,
+            "notes": " | ".join(res.notes)}
 
 
 def _macro_stabilisation(macro) -> dict:
