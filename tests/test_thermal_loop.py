@@ -206,9 +206,10 @@ def test_coupled_scene_writes_mu_with_and_without_flash_temperature(tmp_path: Pa
 
 
 @pytest.mark.mpi
-def test_coupled_scene_on_two_ranks_gives_the_serial_result(tmp_path: Path):
-    """The cascades farmed over 2 ranks (macro run on rank 0): loop_results.csv identical to the
-    serial run's but for the wall time."""
+@pytest.mark.parametrize("mode", ["coupled", "hot-layer"])
+def test_thermal_scene_on_two_ranks_gives_the_serial_result(tmp_path: Path, mode: str):
+    """The cascades farmed over 2 ranks (macro run on rank 0; hot-layer mode: its cascades side
+    by side): loop_results.csv identical to the serial run's but for the times."""
     import os
     import subprocess
     import sys
@@ -217,6 +218,8 @@ def test_coupled_scene_on_two_ranks_gives_the_serial_result(tmp_path: Path):
     tables = []
     for name, prefix in (("serial", []), ("mpi", ["mpirun", "-n", "2"])):
         path = _coupled_scene(tmp_path / name)
+        if mode == "hot-layer":
+            path.write_text(path.read_text().replace('mode = "coupled"', 'mode = "hot-layer"\nhot_layer_rises = [0.0, 20.0]'))
         done = subprocess.run(prefix + [sys.executable, "-m", "rubberfriction", "run", str(path), "--quiet"],
                               env=env, capture_output=True, text=True, timeout=900)
         assert done.returncode == 0, done.stderr[-3000:]
@@ -224,8 +227,9 @@ def test_coupled_scene_on_two_ranks_gives_the_serial_result(tmp_path: Path):
         head = lines[0].split(",")
         tables.append([dict(zip(head, line.split(","))) for line in lines[1:]])
     for a, b in zip(*tables):
-        a.pop("wall"), b.pop("wall")
-        assert a == b
+        for times in ("wall", "wall_isothermal", "cost_vs_isothermal"):
+            a.pop(times), b.pop(times)
+        assert a == b and a["mode"] == mode and a["status"] == "ok"
 
 
 def _coupled_scene(folder: Path) -> Path:

@@ -248,30 +248,34 @@ class RoughCascade:
 
 
 class CampaignPlanner:
-    """All points of a scene as one planner: tasks of all points become ready independently, so
-    the farm interleaves stages of different points (more runs ready at once, better balance)."""
+    """Several planners as one: the points of a scene, or the cascades of one point at several
+    temperatures (hot-layer mode).  Their tasks become ready independently, so the farm
+    interleaves their stages (more runs ready at once, better balance); each outcome goes back to
+    the planner that handed out its task."""
 
     def __init__(self, planners: Sequence[Any]):
         self.planners = list(planners)
-        self._by_point = {p.point.id: p for p in self.planners}
-        if len(self._by_point) != len(self.planners):
-            raise ValueError("two planners for the same point")
+        self._owner: dict[int, Any] = {}  # id(task) -> its planner, while the task is out
 
     def total(self) -> int:
         return sum(p.total() for p in self.planners)
 
-    def plan(self) -> list[Stage]:
-        """The stages of every point (each point is a chain of its own)."""
-        return [st for p in self.planners for st in p.plan()]
+    def plan(self) -> list[Stage] | None:
+        """The stages of every planner (each point is a chain of its own); None where two share
+        a stage key (cascades of one point), which the time estimate could not tell apart."""
+        stages = [st for p in self.planners for st in p.plan()]
+        return stages if len({st.key for st in stages}) == len(stages) else None
 
     def next_tasks(self) -> list[Task]:
         out: list[Task] = []
         for p in self.planners:
-            out.extend(p.next_tasks())
+            for task in p.next_tasks():
+                self._owner[id(task)] = p
+                out.append(task)
         return out
 
     def record(self, task: Task, outcome: Outcome) -> None:
-        self._by_point[task.label["point"]].record(task, outcome)
+        self._owner.pop(id(task)).record(task, outcome)
 
     @property
     def results(self) -> list[PointResult]:

@@ -39,7 +39,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from rubberfriction import validation as V
-from rubberfriction.driver.multiscale.cascade import RoughCascade
+from rubberfriction.driver.multiscale.cascade import CampaignPlanner, RoughCascade
 from rubberfriction.driver.multiscale.results import Point, PointResult, ScaleSet
 from rubberfriction.driver.runtime.farm import run_farm
 from rubberfriction.driver.sliding.spec import SlidingSpec
@@ -183,15 +183,24 @@ class CascadeRunner:
         self.count = 0
 
     def __call__(self, partitions: Partitions | None) -> PointResult:
-        planner = RoughCascade(self.campaign, self.point, self.scales, LayeredSpecs(self.make_spec, partitions),
-                               self.k, self.j, adhesion=self.adhesion, max_failed_fraction=self.max_failed)
+        return self.many([partitions])[0]
+
+    def many(self, partitions: Sequence[Partitions | None]) -> list[PointResult]:
+        """Independent cascades of the point (the hot-layer grid), one per entry of
+        ``partitions``, farmed as one campaign so that their runs fill all ranks; the results
+        in that order."""
+        planners = [RoughCascade(self.campaign, self.point, self.scales, LayeredSpecs(self.make_spec, parts),
+                                 self.k, self.j, adhesion=self.adhesion, max_failed_fraction=self.max_failed)
+                    for parts in partitions]
         if self.comm is not None and self.comm.Get_size() > 1:
             self.comm.bcast("cascade", root=0)
-        title = f"cascade {self.count + 1}" + (f" ({self.point.velocity:g} mm/s)" if self.point else "")
+        n = len(planners)
+        title = f"cascade{'s' if n > 1 else ''} {self.count + 1}{f'-{self.count + n}' if n > 1 else ''}"
+        title += f" ({self.point.velocity:g} mm/s)" if self.point else ""
         progress = self.progress(title) if self.progress is not None else None
-        run_farm(lambda: planner, self.execute, progress, self.comm)
-        self.count += 1
-        return planner.result
+        run_farm(lambda: CampaignPlanner(planners), self.execute, progress, self.comm)
+        self.count += n
+        return [p.result for p in planners]
 
     def serve(self) -> None:
         """Worker ranks: take part in every cascade rank 0 starts, until it says done."""
@@ -360,7 +369,6 @@ class HotLayerResult:
     settings: HotLayerSettings
     wall: float = math.nan
     notes: list[str] = field(default_factory=list)
-    walls: list[float] = field(default_factory=list)  # s spent in each cascade (the first: isothermal)
 
     @property
     def mu_isothermal(self) -> float:
@@ -387,24 +395,21 @@ class HotLayerResult:
 def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings, hot: HotLayerSettings,
                   cascade: CascadeRunner, *, wall_limit: float = 0.0,
                   log: Callable[[str], None] | None = None) -> HotLayerResult:
-    """Hot-layer mode: one cascade per surface temperature, a mu(T_S) law (linear in T between the
-    grid points, constant beyond), then the thermomechanical macro run with that law: mu follows
-    the computed surface temperature node by node, with no down-passing."""
+    """Hot-layer mode: one cascade per surface temperature (independent: farmed together over all
+    ranks), a mu(T_S) law (linear in T between the grid points, constant beyond), then the
+    thermomechanical macro run with that law: mu follows the computed surface temperature node by
+    node, with no down-passing."""
     from rubberfriction.driver.fe.friction_law import fit_mu_pvT
 
     wall = time.perf_counter()
     T0 = thermal.T0
     temps = T0 + np.asarray(hot.rises, float)
-    results, mus, walls = [], [], []
-    for T_S in temps:
-        w = time.perf_counter()
-        r = cascade(hot_layer_partitions(T_S, T0, hot))
-        walls.append(time.perf_counter() - w)
-        results.append(r)
-        mus.append(_mu(r))
-        if log:
-            log(f"  hot layer T_S = {T_S:.2f} K: lower scales' mu {mus[-1]:.4g} ({walls[-1]:.1f} s)")
-    out = HotLayerResult(cascade.point, temps, np.array(mus), results, None, hot, walls=walls)
+    results = cascade.many([hot_layer_partitions(T_S, T0, hot) for T_S in temps])  # side by side
+    mus = [_mu(r) for r in results]
+    if log:
+        for T_S, r, mu in zip(temps, results, mus):
+            log(f"  hot layer T_S = {T_S:.2f} K: lower scales' mu {mu:.4g} ({r.wall_time:.1f} s of runs)")
+    out = HotLayerResult(cascade.point, temps, np.array(mus), results, None, hot)
     good = np.isfinite(out.mu_lower)
     if not good[0] or good.sum() < 2:
         out.notes.append("the isothermal or too many hot-layer cascades failed: no mu(T_S) law")

@@ -12,7 +12,8 @@ temperatures) and ``thermal/``:
   cascade plus mu_const) and with it (mu_const + the lower scales' mu at the end of the slide),
   their relative difference, the final surface temperature of the profile (eq. 8.1), the macro
   run's stabilised sub-steps and the dashpots' share of its friction work, wall time, the
-  isothermal cascade's wall time (what the isothermal point costs) and the ratio of the two;
+  isothermal cascade's wall time (what the isothermal point costs; hot-layer mode: the sum of its
+  runs' times, its cascades run side by side) and the ratio of the two;
 * ``<point>/intervals.csv`` -- per homogenisation point: s, t, the mu used before it and the mu
   the cascade returned, the per-scale mu, the profile's surface value and spread, the partition
   temperatures and the cascade's wall time;
@@ -175,7 +176,7 @@ def _row(name: str, p: float, v: float, res, T0: float) -> dict:
         s = res.macro.series if res.macro is not None else {}
         T_s = float(s["T_contact"][-1]) if s else math.nan
         T_std = math.nan
-        wall_iso = res.walls[0] if res.walls else math.nan
+        wall_iso = res.cascades[0].wall_time if res.cascades else math.nan  # its runs' time: they ran side by side
     else:
         iso = res.mu_isothermal if res.isothermal is not None else math.nan
         last = res.intervals[-1] if res.intervals else None

@@ -344,7 +344,7 @@ class _Book:
 
     def finish(self, task: Task, outcome: Outcome) -> None:
         self.in_flight -= 1
-        self.active.pop(task.key, None)
+        task = self.active.pop(task.key, task)  # the planner's own object (a worker returns a copy)
         self.done[task.key] = outcome
         dups = self.waiting.pop(task.key, [])
         self._record(task, outcome)
