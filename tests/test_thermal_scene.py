@@ -106,7 +106,9 @@ def test_default_road_flash_scenes_differ_only_where_they_say():
     assert (coupled.surface.source, coupled.surface.seed) == (default.surface.source, default.surface.seed)
     assert coupled.conditions == default.conditions
     assert (coupled.samples.pressure, coupled.samples.friction) == (1, 1)
-    assert dataclasses.replace(coupled.numerics, scales=default.numerics.scales) == default.numerics
+    assert coupled.numerics.max_slide_periods == 2 * default.numerics.max_slide_periods
+    assert dataclasses.replace(coupled.numerics, scales=default.numerics.scales,
+                              max_slide_periods=default.numerics.max_slide_periods) == default.numerics
     assert coupled.thermal.mode == "coupled" and hot.thermal.mode == "hot-layer"
     assert (coupled.thermal.kappa, coupled.thermal.h_c, coupled.thermal.mu_const) == (0.8, 1.6, 0.0)
     assert dataclasses.replace(hot.thermal, mode="coupled") == coupled.thermal
