@@ -266,6 +266,7 @@ class LoopObserver:
         wall = time.perf_counter()
         result = self.cascade(parts)
         wall = time.perf_counter() - wall
+        run.exclude_from_wall_limit(wall)  # the macro run's wall clock counts its own work only
         mu_out = _mu(result)
         iv = Interval(i + 1, s, t, self.mu_now, profile, parts, result, mu_out, wall)
         self.intervals.append(iv)

@@ -433,6 +433,11 @@ class SlidingRun:
 
         return predict
 
+    def exclude_from_wall_limit(self, seconds: float) -> None:
+        """Time spent outside the run's own work (an observer's lower-scale cascades in the thermal
+        loop) does not count against ``wall_limit``: the deadline moves by ``seconds``."""
+        self._deadline += max(float(seconds), 0.0)
+
     def _notify(self, event: str, *args) -> None:
         for obs in list(self.observers):
             fn = getattr(obs, event, None)
