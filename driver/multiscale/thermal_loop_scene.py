@@ -13,7 +13,8 @@ temperatures) and ``thermal/``:
   their relative difference, the final surface temperature of the profile (eq. 8.1), the macro
   run's stabilised sub-steps and the dashpots' share of its friction work, wall time, the
   isothermal cascade's wall time (what the isothermal point costs; hot-layer mode: the sum of its
-  runs' times, its cascades run side by side) and the ratio of the two;
+  runs' times, its cascades run side by side) and the ratio of the two (nan where the store
+  answered runs: ``reused_runs``);
 * ``<point>/intervals.csv`` -- per homogenisation point: s, t, the mu used before it and the mu
   the cascade returned, the per-scale mu, the profile's surface value and spread, the partition
   temperatures and the cascade's wall time;
@@ -177,6 +178,7 @@ def _row(name: str, p: float, v: float, res, T0: float) -> dict:
         T_s = float(s["T_contact"][-1]) if s else math.nan
         T_std = math.nan
         wall_iso = res.cascades[0].wall_time if res.cascades else math.nan  # its runs' time: they ran side by side
+        cascades = res.cascades
     else:
         iso = res.mu_isothermal if res.isothermal is not None else math.nan
         last = res.intervals[-1] if res.intervals else None
@@ -184,12 +186,15 @@ def _row(name: str, p: float, v: float, res, T0: float) -> dict:
         T_s = last.profile.mean[0] if last else math.nan
         T_std = last.profile.std[0] if last else math.nan
         wall_iso = res.wall_isothermal
+        cascades = [c for c in (res.isothermal, *(iv.cascade for iv in res.intervals)) if c is not None]
+    # a store that answered runs makes the times say nothing about the cost
+    reused = sum(o.reused for c in cascades for runs in c.runs.values() for _, o in runs)
+    cost = res.wall / wall_iso if wall_iso > 0 and not reused else math.nan
     return {"compound": name, "pressure": p, "velocity": v, "mode": mode, "status": "ok" if res.ok else "failed",
             "mu_isothermal": iso, "mu_flash": res.mu, "change": res.mu / iso - 1.0 if iso else math.nan,
             "mu_const": res.settings.mu_const, "points": points, "T_surface": T_s, "T_surface_std": T_std,
             **_macro_stabilisation(res.macro), "wall": res.wall, "wall_isothermal": wall_iso,
-            "cost_vs_isothermal": res.wall / wall_iso if wall_iso > 0 else math.nan,
-            "notes": " | ".join(res.notes)}
+            "cost_vs_isothermal": cost, "reused_runs": reused, "notes": " | ".join(res.notes)}
 
 
 def _macro_stabilisation(macro) -> dict:
