@@ -194,7 +194,7 @@ def open_store(out: Path, comm: Any, fresh: bool = False,
 
 
 def runner_and_timeout(scene: Scene, runner: Callable[[Any], Any] | None,
-                        reports: RunReports) -> tuple[Callable[[Any], Any], float]:
+                       reports: RunReports) -> tuple[Callable[[Any], Any], float]:
     """The run function and the watchdog time of a campaign: the default runner stops each run
     itself at ``run_timeout`` (a stored 'timeout' failure), so its watchdog only needs to catch
     runs stuck in compiled code, and reports every sliding step to ``reports`` (the progress
