@@ -128,7 +128,7 @@ class ThermalLoopResult:
     wall: float = math.nan
     notes: list[str] = field(default_factory=list)
     error: str = ""  # the loop stopped (an exception in a homogenisation step)
-    wall_isothermal: float = math.nan  # s spent in the isothermal cascade (the isothermal point's cost)
+    wall_isothermal: float = math.nan  # s in the isothermal cascade (the isothermal point's cost)
     s_final: float = math.inf  # sliding distance of the last homogenisation point (the slide's end)
 
     @property
@@ -189,17 +189,18 @@ class CascadeRunner:
         """Independent cascades of the point (the hot-layer grid), one per entry of
         ``partitions``, farmed as one campaign so that their runs fill all ranks; the results
         in that order."""
-        planners = [RoughCascade(self.campaign, self.point, self.scales, LayeredSpecs(self.make_spec, parts),
-                                 self.k, self.j, adhesion=self.adhesion, max_failed_fraction=self.max_failed)
+        planners = [RoughCascade(self.campaign, self.point, self.scales,
+                                 LayeredSpecs(self.make_spec, parts), self.k, self.j,
+                                 adhesion=self.adhesion, max_failed_fraction=self.max_failed)
                     for parts in partitions]
         if self.comm is not None and self.comm.Get_size() > 1:
             self.comm.bcast("cascade", root=0)
-        n = len(planners)
-        title = f"cascade{'s' if n > 1 else ''} {self.count + 1}{f'-{self.count + n}' if n > 1 else ''}"
+        first, last = self.count + 1, self.count + len(planners)
+        title = f"cascade {first}" if first == last else f"cascades {first}-{last}"
         title += f" ({self.point.velocity:g} mm/s)" if self.point else ""
         progress = self.progress(title) if self.progress is not None else None
         run_farm(lambda: CampaignPlanner(planners), self.execute, progress, self.comm)
-        self.count += n
+        self.count = last
         return [p.result for p in planners]
 
     def serve(self) -> None:
@@ -370,6 +371,7 @@ class HotLayerResult:
     settings: HotLayerSettings
     wall: float = math.nan
     notes: list[str] = field(default_factory=list)
+    law: Any = None  # mu_const + mu_lower as mu(p, v, T), linear in T (the macro run's friction)
 
     @property
     def mu_isothermal(self) -> float:
@@ -384,9 +386,8 @@ class HotLayerResult:
         two-scale test case: as large as the lower scales' change for a 10 K rise)."""
         if self.macro is None or not self.macro.ok or not self.macro.series:
             return math.nan
-        good = np.isfinite(self.mu_lower)
-        T_c = float(self.macro.series["T_contact"][-1])
-        return self.settings.mu_const + float(np.interp(T_c, self.temperatures[good], self.mu_lower[good]))
+        T_c = self.macro.series["T_contact"][-1]
+        return float(self.law(self.point.pressure, self.point.velocity, T_c))
 
     @property
     def ok(self) -> bool:
@@ -409,7 +410,8 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings, 
     mus = [_mu(r) for r in results]
     if log:
         for T_S, r, mu in zip(temps, results, mus):
-            log(f"  hot layer T_S = {T_S:.2f} K: lower scales' mu {mu:.4g} ({r.wall_time:.1f} s of runs)")
+            log(f"  hot layer T_S = {T_S:.2f} K: lower scales' mu {mu:.4g} "
+                f"({r.wall_time:.1f} s of runs)")
     out = HotLayerResult(cascade.point, temps, np.array(mus), results, None, hot)
     good = np.isfinite(out.mu_lower)
     if not good[0] or good.sum() < 2:
@@ -419,7 +421,9 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings, 
     if not good.all():
         out.notes.append(f"{int((~good).sum())} hot-layer cascades failed; the law interpolates over them")
     T, m = temps[good], hot.mu_const + out.mu_lower[good]
-    law = fit_mu_pvT([0.0, 1.0e3], [1.0e-9, 1.0e7], T, np.broadcast_to(m, (2, 2, T.size)).copy(), degree=1)
-    out.macro = run_thermal_macro(dataclasses.replace(spec, friction=law), rubber, thermal, wall_limit=wall_limit)
+    grid = np.broadcast_to(m, (2, 2, T.size)).copy()  # constant in p and v
+    out.law = fit_mu_pvT([0.0, 1.0e3], [1.0e-9, 1.0e7], T, grid, degree=1)
+    out.macro = run_thermal_macro(dataclasses.replace(spec, friction=out.law), rubber, thermal,
+                                  wall_limit=wall_limit)
     out.wall = time.perf_counter() - wall
     return out

@@ -109,7 +109,8 @@ def run_coupled_scene(scene: Scene, *, quiet: bool = False, comm: Any = None,
         store.unlock()
 
 
-def _points(scene, loop, scales, make_spec, executor, comm, quiet, progress=None) -> list[ThermalLoopResult]:
+def _points(scene, loop, scales, make_spec, executor, comm, quiet,
+            progress=None) -> list[ThermalLoopResult]:
     t = scene.thermal
     num = scene.numerics
     materials, road = _materials(scene)
@@ -177,7 +178,8 @@ def _row(name: str, p: float, v: float, res, T0: float) -> dict:
         s = res.macro.series if res.macro is not None else {}
         T_s = float(s["T_contact"][-1]) if s else math.nan
         T_std = math.nan
-        wall_iso = res.cascades[0].wall_time if res.cascades else math.nan  # its runs' time: they ran side by side
+        # the isothermal cascade ran side by side with the others: its runs' time is its cost
+        wall_iso = res.cascades[0].wall_time if res.cascades else math.nan
         cascades = res.cascades
     else:
         iso = res.mu_isothermal if res.isothermal is not None else math.nan
@@ -186,7 +188,8 @@ def _row(name: str, p: float, v: float, res, T0: float) -> dict:
         T_s = last.profile.mean[0] if last else math.nan
         T_std = last.profile.std[0] if last else math.nan
         wall_iso = res.wall_isothermal
-        cascades = [c for c in (res.isothermal, *(iv.cascade for iv in res.intervals)) if c is not None]
+        cascades = [c for c in (res.isothermal, *(iv.cascade for iv in res.intervals))
+                    if c is not None]
     # a store that answered runs makes the times say nothing about the cost
     reused = sum(o.reused for c in cascades for runs in c.runs.values() for _, o in runs)
     cost = res.wall / wall_iso if wall_iso > 0 and not reused else math.nan

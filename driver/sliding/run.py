@@ -60,7 +60,12 @@ from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
 from rubberfriction.driver.sliding.intrusion import road_intrusion
 from rubberfriction.driver.sliding.outputs import DissipationByDepth
 from rubberfriction.driver.sliding.progress import StepReporter
-from rubberfriction.driver.sliding.temperature import MIN_ROW_FRACTION, cell_temperatures, check_layers, mesh_levels
+from rubberfriction.driver.sliding.temperature import (
+    MIN_ROW_FRACTION,
+    cell_temperatures,
+    check_layers,
+    mesh_levels,
+)
 from rubberfriction.driver.sliding.spec import (
     MESH_REFINEMENT,
     SOFT_TANGENT,

@@ -77,23 +77,24 @@ MIN_ROW_FRACTION = 0.25
 
 
 def cell_temperatures(layers: Layers, background: float, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
-    """Temperature of cells spanning depths [lower, upper] below the contact face (mm): the mean of
-    the layers (and the background below them) over that span, weighted by thickness; a cell
-    inside one layer gets that layer's temperature exactly."""
+    """Temperature of cells spanning depths [lower, upper] below the contact face (mm): a cell
+    inside one layer (or below them) gets that temperature exactly; a cell a layer bound crosses
+    gets the mean over its span, weighted by thickness (the background below the last layer)."""
     lo = np.asarray(lower, dtype=float)
     hi = np.asarray(upper, dtype=float)
+    T = layer_temperatures(layers, background, 0.5 * (lo + hi))
     if not layers:
-        return np.full(lo.shape, float(background))
+        return T
     bounds = np.concatenate([[0.0], np.cumsum([d for d, _ in layers])])
-    span = np.maximum(hi - lo, 1e-300)
-    T = np.zeros(lo.shape)
-    for (a, b), t in zip(zip(bounds[:-1], bounds[1:]), (t for _, t in layers)):
-        T += t * np.clip(np.minimum(hi, b) - np.maximum(lo, a), 0.0, None)
-    T += background * np.clip(hi - np.maximum(lo, bounds[-1]), 0.0, None)
-    flat = hi - lo <= 0.0  # a degenerate span: the temperature at its depth
-    T = T / span
-    if flat.any():
-        T[flat] = layer_temperatures(layers, background, lo[flat])
+    tol = 1e-9 * max(float(bounds[-1]), float(np.max(hi, initial=0.0)))
+    inner = bounds[None, 1:]
+    crossed = np.any((inner > lo[:, None] + tol) & (inner < hi[:, None] - tol), axis=1)
+    if crossed.any():
+        a, b = lo[crossed, None], hi[crossed, None]
+        pieces = np.clip(np.minimum(b, inner) - np.maximum(a, bounds[None, :-1]), 0.0, None)
+        below = np.clip(b[:, 0] - np.maximum(a[:, 0], bounds[-1]), 0.0, None)
+        temps = np.array([t for _, t in layers])
+        T[crossed] = (pieces @ temps + background * below) / (pieces.sum(axis=1) + below)
     return T
 
 
