@@ -9,8 +9,8 @@ PETSc's own LU does not pivot: the solver checks every solve's relative residual
 * a tiny pivot ([[1e-20, 1], [1, 1]]): the pivot-free LU returns a wrong answer without an
   error (growth 1e20); the residual check catches it and MUMPS solves it within 1e-12;
 * an unknown package is refused naming the field;
-* the packages agree on a real sliding run to 1e-9 of mu (``bench sliding --part linear-solvers``
-  measures their speed).
+* the packages and orderings agree on a real sliding run to 1e-9 of mu (``bench sliding --part
+  linear-solvers`` measures their speed).
 """
 
 from __future__ import annotations
@@ -22,7 +22,8 @@ import numpy as np
 import pytest
 from petsc4py import PETSc
 
-from rubberfriction.driver.fe.newton import LU_CHECK, NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.newton import (LINEAR_SOLVERS, LU_CHECK, NewtonSettings,
+                                              NewtonSolver)
 from rubberfriction.driver.sliding.run import SlidingRun, block_mesh, sliding_contact
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.forms.material_files import load_compound
@@ -95,16 +96,17 @@ def test_an_unknown_package_is_refused():
         SlidingRun(spec, block_mesh, sliding_contact, linear_solver="lu")
 
 
-def test_both_packages_give_the_same_sliding_run():
+def test_all_packages_give_the_same_sliding_run():
     """The full-contact viscoelastic sinusoid (1 mm, 2 um, 0.1 MPa, 10 mm/s), a quarter period:
-    same Newton iterations, mu within 1e-9."""
+    same Newton iterations, mu within 1e-9, whatever the package and the ordering."""
     x = np.linspace(0.0, 1.0, 129)[:-1]
     spec = SlidingSpec(surface_x=x, surface_h=0.002 * np.cos(2.0 * np.pi * x), period=1.0,
                        pressure=0.1, velocity=10.0, compound=load_compound("tread_default"),
                        h_contact=1.0 / 16, slide_distance=0.25, step_length=0.5 / 16)
     res = {s: SlidingRun(dataclasses.replace(spec), block_mesh, sliding_contact,
-                         linear_solver=s).run() for s in ("petsc", "mumps")}
+                         linear_solver=s).run() for s in LINEAR_SOLVERS}
     assert all(r.ok for r in res.values())
-    assert res["petsc"].stats["newton_iterations"] == res["mumps"].stats["newton_iterations"]
-    assert res["petsc"].stats["lu_fallbacks"] == 0
-    assert res["petsc"].mu_force == pytest.approx(res["mumps"].mu_force, rel=1e-9)
+    for other in ("petsc-nd", "mumps"):
+        assert res["petsc"].stats["newton_iterations"] == res[other].stats["newton_iterations"]
+        assert res["petsc"].mu_force == pytest.approx(res[other].mu_force, rel=1e-9)
+    assert res["petsc"].stats["lu_fallbacks"] == res["petsc-nd"].stats["lu_fallbacks"] == 0

@@ -12,6 +12,7 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from rubberfriction.driver.sliding.window import (
+    DRIFT_FACTOR,
     error_estimate,
     converged_window,
     period_means,
@@ -69,6 +70,39 @@ def test_convergence_rule_compares_the_window_with_the_periods_before() -> None:
     assert converged_window(mu, 0.01, 2) == 2 and converged_window(contact, 0.01, 2) == 3
     assert converged_window(np.vstack([mu, contact]), 0.01, 2) == 3
     assert converged_window(np.vstack([mu[:7], contact[:7]]), 0.01, 2) == 0
+
+
+def test_convergence_rule_rejects_a_window_that_drifts() -> None:
+    """With the half-period means, the window's own drift (second half against first half) must
+    be within DRIFT_FACTOR * tol (2 % at tol = 1 %) too: the blocks of a falling window can
+    agree by coincidence."""
+    assert DRIFT_FACTOR == 2.0
+    # the 1000 mm/s micro run of the default road's thermal study (each period flat, so its
+    # halves are its mean): blocks 0.2498 against 0.2476 agree within 1 %, the window falls
+    # from 0.2746 to 0.2250 (-20 %)
+    means = np.array([0.360, 0.2605, 0.2347, 0.2746, 0.2250])
+    assert converged_window(means, 0.01, 2) == 2  # the block test alone accepts it
+    assert converged_window(means, 0.01, 2, np.repeat(means, 2)) == 0
+    # a steady response that alternates between two periods (0.30, 0.32): two-period windows
+    # drift by 6.5 %, four-period windows (halves 0.31 and 0.31) are steady
+    alternating = np.array([0.5] + [0.30, 0.32] * 4)
+    assert converged_window(alternating, 0.01, 2) == 2
+    assert converged_window(alternating, 0.01, 2, np.repeat(alternating, 2)) == 4
+    # within a period: mu low in the first half, high in the second, the same every period --
+    # the window's halves see whole periods, so a steady run stays steady
+    halves = np.array([0.6, 0.8] + [0.2, 0.3] * 6)
+    means = halves.reshape(-1, 2).mean(axis=1)
+    assert converged_window(means, 0.01, 2, halves) == 2
+    # a window drifting by 1.9 % passes, by 2.1 % it does not (its blocks agree exactly)
+    for drift, expected in ((0.019, 2), (0.021, 0)):
+        lo, hi = 0.25 * (1.0 - 0.5 * drift), 0.25 * (1.0 + 0.5 * drift)
+        means = np.array([0.6, hi, lo, lo, hi])
+        assert converged_window(means, 0.01, 2, np.repeat(means, 2)) == expected, drift
+    # several quantities: a row per quantity in the halves too
+    steady = np.full(10, 0.25)
+    drifting = np.repeat(np.array([0.5, 0.2605, 0.2347, 0.2746, 0.2250]), 2)
+    assert converged_window(np.vstack([steady[::2], drifting[::2]]), 0.01, 2,
+                            np.vstack([steady, drifting])) == 0
 
 
 def test_error_estimate_of_a_geometric_approach() -> None:

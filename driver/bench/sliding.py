@@ -19,9 +19,10 @@
    compiled by dolfinx's default flags (``forms/jit.py``) and prints the ratio per part.
 4. Linear solvers (``--part linear-solvers``): the same lowest-scale run, and the first micro1
    sample at a tenth of the pressure, with each LU package of the Newton solves
-   (``driver.fe.newton.LINEAR_SOLVERS``: PETSc's checked pivot-free LU, MUMPS), side by side and
-   repeated (A B A B: the machine is shared): wall time, CPU of the linear solves, Newton
-   iterations, mu_force and the pivot-free solves that fell back to MUMPS, and the ratios.
+   (``driver.fe.newton.LINEAR_SOLVERS``: PETSc's checked pivot-free LU with minimum degree or
+   nested dissection ordering, MUMPS), side by side and repeated (A B C A B C: the machine is
+   shared): wall time, CPU of the linear solves, Newton iterations, mu_force and the pivot-free
+   solves that fell back to MUMPS, and each package's ratios to the default ("petsc").
 
     rubberfriction bench sliding [--part accuracy|stability|both|iterations|linear-solvers] [--quick]
                                  [--wall-limit S] [--penalty-alpha A] [--element E] [--json FILE]
@@ -174,12 +175,15 @@ def linear_solvers(pressure: float, velocity: float, slide_fraction: float,
                       f"{wall:.1f} s, mu_force {r.mu_force:.10g}, fallbacks {row['lu_fallbacks']}",
                       flush=True)
         mine = [r for r in rows if r["case"] == name]
-        ref, new = ([r for r in mine if r["solver"] == s] for s in ("mumps", "petsc"))
-        lin = sum(r["cpu_linear_s"] for r in ref) / max(sum(r["cpu_linear_s"] for r in new), 1e-300)
-        wall = sum(r["wall_s"] for r in ref) / max(sum(r["wall_s"] for r in new), 1e-300)
-        dmu = max(abs(a["mu_force"] - b["mu_force"]) for a, b in zip(ref, new))
-        print(f"  {name}: mumps / petsc: linear solves x{lin:.2f}, wall x{wall:.2f}; "
-              f"|mu_force difference| {dmu:.2e}")
+        new = [r for r in mine if r["solver"] == "petsc"]
+        for other in (s for s in LINEAR_SOLVERS if s != "petsc"):
+            ref = [r for r in mine if r["solver"] == other]
+            lin = (sum(r["cpu_linear_s"] for r in ref)
+                   / max(sum(r["cpu_linear_s"] for r in new), 1e-300))
+            wall = sum(r["wall_s"] for r in ref) / max(sum(r["wall_s"] for r in new), 1e-300)
+            dmu = max(abs(a["mu_force"] - b["mu_force"]) for a, b in zip(ref, new))
+            print(f"  {name}: {other} / petsc: linear solves x{lin:.2f}, wall x{wall:.2f}; "
+                  f"|mu_force difference| {dmu:.2e}")
     return rows
 
 

@@ -180,7 +180,8 @@ class SlidingRun:
         # LU package of the Newton solves (driver.fe.newton.LINEAR_SOLVERS): the results agree to
         # round-off, so it is a machine choice, not part of the spec
         if linear_solver not in LINEAR_SOLVERS:
-            raise ValueError(f"linear_solver = {linear_solver!r}: expected one of {LINEAR_SOLVERS}")
+            raise ValueError(f"linear_solver = {linear_solver!r}: expected one of "
+                             f"{tuple(LINEAR_SOLVERS)}")
         self.linear_solver = linear_solver
         self.t_planned = 0.0  # model time of the current attempt's whole load history
         self.progress = progress
@@ -672,9 +673,11 @@ class SlidingRun:
                     arr = np.array([r[1:5] for r in rows])  # s, Fx, Fz, contact length
                     with np.errstate(divide="ignore", invalid="ignore"):  # no load: mu is NaN
                         q = {"mu_force": -arr[:, 1] / arr[:, 2], "contact_fraction": arr[:, 3] / L}
-                    means = [period_means(arr[:, 0], q[name], L)
-                             for name in WINDOW_QUANTITIES[s.window_quantity]]
-                    self.window_used = converged_window(means, s.converge_tol, s.window_periods)
+                    names = WINDOW_QUANTITIES[s.window_quantity]
+                    means = [period_means(arr[:, 0], q[name], L) for name in names]
+                    halves = [period_means(arr[:, 0], q[name], 0.5 * L) for name in names]
+                    self.window_used = converged_window(means, s.converge_tol, s.window_periods,
+                                                        halves)
                     self.converged = float(self.window_used > 0)
                     if self.converged:
                         break

@@ -7,7 +7,8 @@ Two rules:
   distance (the thesis includes the micro run-in on purpose in its two-sine case);
 * converged (periodic cells): the run slides whole periods of the cell (length L) and stops when
   the mean mu of its last w periods and that of the w before differ by at most a relative
-  tolerance (:func:`converged_window`, w >= ``window_periods``, as small as passes); the last w
+  tolerance and the last w periods' own drift (second half against first half) is within twice
+  it (:func:`converged_window`, w >= ``window_periods``, as small as passes); the last w
   periods are averaged.  A run that does not get there within its distance budget is
   marked unconverged and never averaged silently.
 
@@ -72,7 +73,13 @@ def window_drift(s: np.ndarray, mu: np.ndarray, lo: float, hi: float) -> float:
 MU_FLOOR = 1e-5
 
 
-def converged_window(means: np.ndarray, tol: float, window_periods: int) -> int:
+#: the converged rule's bound on the window drift (second half against first half of the averaged
+#: window, relative to its mean), as a multiple of the block tolerance: 2 % at the default 1 %
+DRIFT_FACTOR = 2.0
+
+
+def converged_window(means: np.ndarray, tol: float, window_periods: int,
+                     halves: np.ndarray | None = None) -> int:
     """The number w of last periods to average, 0 while the period means are not stationary.
 
     Stationary: the mean of the last w periods and that of the w before them differ by at most
@@ -87,14 +94,28 @@ def converged_window(means: np.ndarray, tol: float, window_periods: int) -> int:
     1.055, where the sample slid on settles at 0.24-0.28; 0.33, 0.762, 0.748, 0.28, ...), which
     the former rule (the last two periods within tol) took for a steady state.
 
+    ``halves``, the means of every half period (twice as many as ``means``), adds the window's
+    own drift: the mean of the window's second half and that of its first half must agree within
+    DRIFT_FACTOR * tol too.  Two blocks can agree by coincidence while the window itself falls:
+    0.261, 0.234 against 0.275, 0.225 (a micro run at 1000 mm/s) agree within 1 % while the
+    window drifts by -20 %; a linear trend, by contrast, fails the block test first (its blocks
+    differ by twice the window's drift).
+
     ``means`` of several quantities (one row each, e.g. mu and the contact fraction): the same
-    w must pass for every row."""
+    w must pass for every row (and ``halves`` then has a row per quantity too)."""
     rows = np.atleast_2d(np.asarray(means, dtype=float))
+    half = None if halves is None else np.atleast_2d(np.asarray(halves, dtype=float))
     n = rows.shape[1] - 1  # the run-in period is not compared
     for w in range(max(window_periods, 1), n // 2 + 1):
         a, b = rows[:, -w:].mean(axis=1), rows[:, -2 * w:-w].mean(axis=1)
-        if np.all(np.abs(a - b) <= tol * np.maximum(np.abs(0.5 * (a + b)), MU_FLOOR)):
-            return w
+        if not np.all(np.abs(a - b) <= tol * np.maximum(np.abs(0.5 * (a + b)), MU_FLOOR)):
+            continue
+        if half is not None:
+            second, first = half[:, -w:].mean(axis=1), half[:, -2 * w:-w].mean(axis=1)
+            scale = np.maximum(np.abs(0.5 * (first + second)), MU_FLOOR)
+            if not np.all(np.abs(second - first) <= DRIFT_FACTOR * tol * scale):
+                continue
+        return w
     return 0
 
 
