@@ -339,6 +339,40 @@ def test_progress_counts_and_estimates_time_left():
     assert quiet.getvalue() == ""
 
 
+def test_progress_counts_runs_left_out_of_the_averages():
+    """A successful run the campaign leaves out (unconverged, over-stabilised) stops its point
+    like a failure: the status lines count it, a terminal names it, and the end line says how
+    many planned runs were not needed."""
+    import io
+    from types import SimpleNamespace
+
+    from rubberfriction.driver.runtime.progress import Progress
+
+    def why(outcome):
+        return "" if outcome.converged else "no stationary window within the sliding budget"
+
+    task = SimpleNamespace(label={"point": "c/p=0.3/v=100", "branch": "down", "scale_name": "micro1",
+                                  "sample": 0})
+    for tty in (False, True):
+        out = io.StringIO()
+        p = Progress(stream=out, min_interval=0.0, clock=lambda: 5.0, tty=tty, unusable=why)
+        p.start(6, 1)
+        p.update(task, SimpleNamespace(status="ok", reused=False, wall_time=1.0, converged=True))
+        assert "left out" not in out.getvalue()
+        p.update(task, SimpleNamespace(status="ok", reused=False, wall_time=1.0, converged=False))
+        p.update(task, SimpleNamespace(status="failed", reused=False, wall_time=1.0,
+                                       converged=False))  # a failure is not also left out
+        assert (p.failed, p.left_out) == (1, 1)
+        text = out.getvalue()
+        last = text.splitlines()[-1]
+        assert ("failed 1, left out 1" if tty else "failed 1  left out 1  elapsed") in last
+        assert ("left out: micro1 down #0: no stationary window" in text) == tty
+        p.finish()
+        end = out.getvalue().splitlines()[-1]
+        assert "(3 computed, 0 reused, 1 failed, 1 left out (unconverged or over-stabilised))" \
+            in end and "3 of 6 planned runs not needed" in end
+
+
 def test_a_run_stopped_at_its_time_limit_is_a_timeout_and_the_campaign_goes_on(tmp_path: Path,
                                                                                 monkeypatch):
     """sliding_runner(wall_limit=) hands the scene's run_timeout to run_sliding; a run that
@@ -490,7 +524,8 @@ def test_progress_line_shows_the_runs_in_flight_on_a_tty_and_in_plain_lines(monk
                                    failure="timeout", reason="wall-time limit of 600 s\nmore"))
     assert "\r\x1b[Kfailed: micro2 down #0 v=100: wall-time limit of 600 s\n" in tty.getvalue()
     p.finish()
-    assert tty.getvalue().endswith("1 failed, 1 stopped by the wall clock) in 2s\n")
+    assert tty.getvalue().endswith("1 failed, 1 stopped by the wall clock) in 2s; 7 of 8 planned "
+                                   "runs not needed (their point stopped at a failed scale)\n")
 
     plain = io.StringIO()
     q = Progress(stream=plain, min_interval=1.0, plain_interval=30.0, clock=clock, tty=False)

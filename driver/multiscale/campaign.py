@@ -39,7 +39,11 @@ from rubberfriction.driver.multiscale.scales import Scales, build_scales
 from rubberfriction.driver.multiscale.scene import Scene, SceneError
 from rubberfriction.driver.multiscale.separated import SeparatedTwoScale
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
-from rubberfriction.driver.multiscale.statistics import sample_count_study
+from rubberfriction.driver.multiscale.statistics import (
+    sample_count_study,
+    usable,
+    why_unusable,
+)
 from rubberfriction.driver.runtime.farm import (
     Executor,
     RunReports,
@@ -193,6 +197,12 @@ def open_store(out: Path, comm: Any, fresh: bool = False,
     return store if store is not None else Store(folder)
 
 
+def left_out(outcome: Outcome) -> str:
+    """Why a successful run stays out of the averages, "" if it enters them (the progress
+    line's "left out" count: an unconverged or over-stabilised run is a failed sample)."""
+    return "" if usable(outcome) else why_unusable(outcome)
+
+
 def runner_and_timeout(scene: Scene, runner: Callable[[Any], Any] | None,
                        reports: RunReports) -> tuple[Callable[[Any], Any], float]:
     """The run function and the watchdog time of a campaign: the default runner stops each run
@@ -234,7 +244,7 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
         executor = Executor(store, runner, retry_failed=retry_failed,
                             timeout=timeout, reports=reports,
                             settings={"scene": scene.name, "scene_source": scene.source})
-        progress = Progress(quiet=quiet) if rank == 0 else None
+        progress = Progress(quiet=quiet, unusable=left_out) if rank == 0 else None
         holder: dict[str, Any] = {}
 
         def planner_factory() -> CampaignPlanner:
@@ -455,7 +465,7 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
     try:
         executor = Executor(store, runner, timeout=timeout, reports=reports,
                             settings={"scene": scene.name, "study": "samples"})
-        progress = Progress(quiet=quiet) if rank == 0 else None
+        progress = Progress(quiet=quiet, unusable=left_out) if rank == 0 else None
         holder: dict[str, Any] = {}
 
         def planner_factory() -> StaticPlanner:

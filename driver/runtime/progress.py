@@ -236,8 +236,13 @@ class Progress:
 
     def __init__(self, quiet: bool = False, stream: TextIO | None = None, min_interval: float = 1.0,
                  clock: Callable[[], float] = time.monotonic, tty: bool | None = None,
-                 plain_interval: float = 30.0, title: str = "campaign"):
+                 plain_interval: float = 30.0, title: str = "campaign",
+                 unusable: Callable[[Any], str] | None = None):
         self.quiet = quiet
+        # why a successful run does not enter the averages ("" if it does; the campaign's
+        # statistics.why_unusable): counted and named like a failure, because it is a failed
+        # sample to its point (an unconverged or over-stabilised run)
+        self.unusable = unusable
         self.title = title  # what the start and end lines call the runs' set
         self.stream = stream if stream is not None else sys.stdout
         self.min_interval = min_interval
@@ -247,6 +252,7 @@ class Progress:
         self.total = 0
         self.workers = 1
         self.done = self.computed = self.reused = self.failed = self.timed_out = 0
+        self.left_out = 0  # successful runs that the ``unusable`` predicate leaves out
         self.compute_time = 0.0
         self.t0 = clock()
         self._last = -1e30
@@ -296,15 +302,20 @@ class Progress:
             if stage is not None:
                 self.estimate.observe(stage.group, stage.weight, wall)
         ok = getattr(outcome, "status", "ok") == "ok"
+        why = self.unusable(outcome) if ok and self.unusable is not None else ""
         if not ok:
             self.failed += 1
             self.timed_out += getattr(outcome, "failure", "") == "timeout"
+        elif why:
+            self.left_out += 1
         if self.quiet:
             return
-        force = not ok and self.tty  # a failure gets a line of its own, then the status again
+        # a failure or a left-out run gets a line of its own, then the status again
+        force = (not ok or bool(why)) and self.tty
         if force:
             reason = (getattr(outcome, "reason", "") or "").splitlines()
-            self._print(f"failed: {run_name(label)}: {reason[0] if reason else ''}")
+            self._print(f"failed: {run_name(label)}: {reason[0] if reason else ''}" if not ok
+                        else f"left out: {run_name(label)}: {why}")
         now = self.clock()
         if now - self._last < self.min_interval and self.done < self.total and not force:
             return
@@ -314,9 +325,13 @@ class Progress:
         if self.quiet:
             return
         stopped = f", {self.timed_out} stopped by the wall clock" if self.timed_out else ""
+        left_out = (f", {self.left_out} left out (unconverged or over-stabilised)"
+                    if self.left_out else "")
+        not_run = (f"; {self.total - self.done} of {self.total} planned runs not needed (their "
+                   f"point stopped at a failed scale)" if self.done < self.total else "")
         self._print(f"{self.title} done: {self.done} runs ({self.computed} computed, {self.reused} "
-                    f"reused, {self.failed} failed{stopped}) in "
-                    f"{format_seconds(self.clock() - self.t0)}")
+                    f"reused, {self.failed} failed{stopped}{left_out}) in "
+                    f"{format_seconds(self.clock() - self.t0)}{not_run}")
 
     # --- estimate and text -----------------------------------------------------------------
     def eta(self) -> float:
@@ -334,8 +349,8 @@ class Progress:
     def line(self, task: Any = None) -> str:
         """The plain status line; ``task``: the run that just finished."""
         text = f"{self._head()}  computed {self.computed}  reused {self.reused}  failed " \
-               f"{self.failed}  elapsed {format_seconds(self.clock() - self.t0)}  left " \
-               f"~{format_seconds(self.eta())}"
+               f"{self.failed}{self._left_out_text('  ')}  elapsed " \
+               f"{format_seconds(self.clock() - self.t0)}  left ~{format_seconds(self.eta())}"
         label = getattr(task, "label", None)
         if label:
             text += "  | " + " ".join(str(label[k]) for k in ("point", "branch", "scale_name",
@@ -352,7 +367,12 @@ class Progress:
                 f"~{format_seconds(self.eta())}")
         if self.in_flight:
             text += "  | " + self._running_text()
-        return text + f"  | computed {self.computed}, reused {self.reused}, failed {self.failed}"
+        return text + (f"  | computed {self.computed}, reused {self.reused}, failed {self.failed}"
+                       f"{self._left_out_text(', ')}")
+
+    def _left_out_text(self, sep: str) -> str:
+        """The left-out count for the status lines (nothing while there is none)."""
+        return f"{sep}left out {self.left_out}" if self.left_out else ""
 
     def _head(self) -> str:
         w = len(str(max(self.total, 1)))
