@@ -4,8 +4,8 @@ PETSc's own LU does not pivot: the solver checks every solve's relative residual
 ``LU_CHECK`` and turns to MUMPS (threshold pivoting) for good when a solve fails or misses it.
 
 * a well-conditioned system: the pivot-free solve is the exact solution (1e-12), no fallback;
-* a zero pivot in the natural order ([[0, 1], [1, 0]]): PETSc's LU stops, MUMPS solves it, and
-  the solver stays with MUMPS;
+* a zero pivot in the natural order ([[0, 1], [1, 0]]): PETSc's LU stops, MUMPS solves it and
+  the rest of that Newton solve; the next Newton solve tries PETSc's LU first again;
 * a tiny pivot ([[1e-20, 1], [1, 1]]): the pivot-free LU returns a wrong answer without an
   error (growth 1e20); the residual check catches it and MUMPS solves it within 1e-12;
 * an unknown package is refused naming the field;
@@ -57,13 +57,20 @@ def test_a_well_conditioned_system_needs_no_fallback():
     assert s.lu_fallbacks == 0 and s._package == "petsc"
 
 
-def test_a_zero_pivot_falls_back_to_mumps_for_good():
+def test_a_zero_pivot_falls_back_to_mumps_for_the_rest_of_the_newton_solve():
     A, b = np.array([[0.0, 1.0], [1.0, 0.0]]), np.array([2.0, 3.0])
     s = NewtonSolver(None, NewtonSettings(linear_solver="petsc"))
     np.testing.assert_allclose(solve(s, A, b), [3.0, 2.0], rtol=0, atol=1e-12)
-    assert s.lu_fallbacks == 1 and s._package == "mumps"
-    np.testing.assert_allclose(solve(s, np.eye(2), b), b, atol=1e-12)  # stays with MUMPS
-    assert s.lu_fallbacks == 1 and s._package == "mumps"
+    assert s.lu_fallbacks == 1 and s._use_backup
+    # the next system of the same Newton solve goes to MUMPS directly (no second failure)
+    np.testing.assert_allclose(solve(s, A, 2.0 * b), [6.0, 4.0], rtol=0, atol=1e-12)
+    assert s.lu_fallbacks == 1
+    # a new Newton solve (solve() clears the flag) tries the pivot-free LU first again
+    s._use_backup = False
+    np.testing.assert_allclose(solve(s, np.eye(2), b), b, atol=1e-12)
+    assert s.lu_fallbacks == 1 and s._package == "petsc"
+    np.testing.assert_allclose(solve(s, A, b), [3.0, 2.0], rtol=0, atol=1e-12)
+    assert s.lu_fallbacks == 2
 
 
 def test_a_tiny_pivot_is_caught_by_the_residual_check():

@@ -3,12 +3,12 @@
 The system is assembled in the full space of a dolfinx function (bulk forms by dolfinx, then any
 number of *hooks* that add into the same PETSc matrix and vector, e.g. the C++ mortar contact),
 condensed with the constraint prolongation P (``constraints.py``) to  P^T A P du_r = -P^T R,
-and solved with a direct LU factorisation: PETSc's own (nested-dissection ordering, no pivoting),
-each solve checked by its residual, or MUMPS (threshold pivoting), which a solver turns to for good
-when a pivot-free solve fails or misses ``LU_CHECK``.  On the sliding runs' reduced systems
-(1 500-3 300 unknowns) the linear solves are 1.3-1.9 times faster with PETSc's LU than with MUMPS,
-whose analysis and scaling cost more than the small fronts (``bench sliding --part
-linear-solvers``).  Convention: R(u) = F_int - F_ext, so hooks add
+and solved with a direct LU factorisation: PETSc's own (minimum degree ordering, no pivoting),
+each solve checked by its residual, or MUMPS (threshold pivoting), which solves the system a
+pivot-free solve fails on (or misses ``LU_CHECK``) and the rest of that Newton solve.  On the
+sliding runs' reduced systems (1 500-3 300 unknowns) the linear solves are about twice as fast
+with PETSc's LU as with MUMPS, whose analysis and scaling cost more than the small fronts
+(``bench sliding --part linear-solvers``).  Convention: R(u) = F_int - F_ext, so hooks add
 dPi/du into the vector and its derivative into the matrix.
 
 The matrix sparsity is the bulk form's pattern plus every coupling a hook declares up front
@@ -104,7 +104,7 @@ CPU_PARTS = ("bulk", "hooks", "condense", "linear")
 
 #: LU packages of NewtonSettings.linear_solver -> (PETSc solver type, fill-reducing ordering):
 #: "petsc" (PETSc's LU without pivoting, approximate minimum degree ordering, every solve
-#: checked, MUMPS after a failure), "petsc-nd" (the same with nested dissection, the former
+#: checked, MUMPS after a failure for the rest of that Newton solve), "petsc-nd" (the same with nested dissection, the former
 #: default), "mumps" (MUMPS with threshold pivoting and its own ordering, unchecked).  Minimum
 #: degree fills less than nested dissection on the sliding runs' reduced systems (1 200-3 300
 #: unknowns, a tied top row and periodic columns): the numeric factorisation is 1.6-2.2x faster
@@ -114,6 +114,19 @@ LINEAR_SOLVERS = {"petsc": ("petsc", "amd"), "petsc-nd": ("petsc", "nd"),
 #: relative residual ||A x - b|| / ||b|| a pivot-free solve must reach, else the solver turns to
 #: MUMPS (an inexact Newton direction this close converges like the exact one down to ~1e-12)
 LU_CHECK = 1e-6
+
+
+def _lu_solver(package: str) -> PETSc.KSP:
+    """A direct solver (KSP preonly + LU) with the package and ordering of LINEAR_SOLVERS."""
+    ksp = PETSc.KSP().create(PETSc.COMM_SELF)
+    ksp.setType("preonly")
+    pc = ksp.getPC()
+    pc.setType("lu")
+    solver_type, ordering = LINEAR_SOLVERS[package]
+    pc.setFactorSolverType(solver_type)
+    if ordering is not None:
+        pc.setFactorOrdering(ordering)
+    return ksp
 
 
 class ConstrainedNonlinearProblem:
@@ -247,28 +260,27 @@ class NewtonSolver:
         if self.settings.linear_solver not in LINEAR_SOLVERS:
             raise ValueError(f"linear_solver = {self.settings.linear_solver!r}: expected one of "
                              f"{tuple(LINEAR_SOLVERS)}")
-        self.lu_fallbacks = 0  # pivot-free solves that failed (the solver then uses MUMPS)
+        self.lu_fallbacks = 0  # pivot-free solves that failed (MUMPS solved those systems)
+        self._use_backup = False  # MUMPS for the rest of this Newton solve
         self.reset()
 
     def reset(self) -> None:
         """New linear solver.  Needed only after a failed factorisation: a new reduced matrix
         (``set_constraints``) gets a new factorisation by itself (:meth:`_linear_solve`)."""
-        self.ksp = PETSc.KSP().create(PETSc.COMM_SELF)
-        self.ksp.setType("preonly")
-        pc = self.ksp.getPC()
-        pc.setType("lu")
-        self._package = "mumps" if self.lu_fallbacks else self.settings.linear_solver
-        solver_type, ordering = LINEAR_SOLVERS[self._package]
-        pc.setFactorSolverType(solver_type)
-        if ordering is not None:
-            pc.setFactorOrdering(ordering)
+        self._package = self.settings.linear_solver
+        self.ksp = _lu_solver(self._package)
+        self._backup: PETSc.KSP | None = None  # MUMPS, after a failed pivot-free solve
         self._operator: PETSc.Mat | None = None  # the reduced matrix this factorisation is for
         self._check: PETSc.Vec | None = None
 
     def _linear_solve(self) -> None:
         """dur = -Ar^-1 br.  A new reduced matrix (new constraints, new pattern) gets a new LU
         (symbolic factorisation included); the same one only a numeric refactorisation.  A
-        pivot-free solve that fails or misses LU_CHECK is done again with MUMPS."""
+        pivot-free solve that fails or misses LU_CHECK is done again with MUMPS, which then
+        solves the rest of this Newton solve (the failures come in runs, the iterates of one hard
+        sub-step); the next solve starts with the pivot-free LU again.  Staying with MUMPS for
+        good after the first failure made a micro2 run of the default road solve 1 380 of its
+        2 900 systems with MUMPS, at twice the cost each."""
         pb = self.problem
         if pb.Ar is not self._operator:
             if self._operator is not None:
@@ -278,16 +290,28 @@ class NewtonSolver:
         if self._package == "mumps":
             self.ksp.solve(pb.br, pb.dur)
             return
+        if self._use_backup:
+            self._backup_solver().solve(pb.br, pb.dur)
+            return
         try:
             self.ksp.solve(pb.br, pb.dur)
             ok = self.ksp.getConvergedReason() >= 0 and self._solve_error() <= LU_CHECK
         except PETSc.Error:  # a zero pivot
             ok = False
-        if not ok:
-            self.lu_fallbacks += 1
-            self.reset()  # MUMPS from now on
-            self._bind()
-            self.ksp.solve(pb.br, pb.dur)
+        if ok:
+            return
+        self.lu_fallbacks += 1
+        self._use_backup = True
+        self.ksp = _lu_solver(self._package)  # a failed factorisation leaves its PC unusable
+        self.ksp.setOperators(pb.Ar)
+        self._backup_solver().solve(pb.br, pb.dur)
+
+    def _backup_solver(self) -> PETSc.KSP:
+        """MUMPS on the current reduced matrix (made at the first failure after a reset)."""
+        if self._backup is None:
+            self._backup = _lu_solver("mumps")
+            self._backup.setOperators(self.problem.Ar)
+        return self._backup
 
     def _solve_direction(self, res: NewtonResult) -> str:
         """dur = -Ar^-1 br with its CPU time booked; the failure reason, or "" on success."""
@@ -322,6 +346,7 @@ class NewtonSolver:
 
     def solve(self) -> NewtonResult:
         res = NewtonResult(False, 0)
+        self._use_backup = False  # every solve starts with the configured package
         cpu0 = dict(self.problem.cpu)
         try:
             self._iterate(res)
