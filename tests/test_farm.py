@@ -351,8 +351,8 @@ def test_progress_counts_runs_left_out_of_the_averages():
     def why(outcome):
         return "" if outcome.converged else "no stationary window within the sliding budget"
 
-    task = SimpleNamespace(label={"point": "c/p=0.3/v=100", "branch": "down", "scale_name": "micro1",
-                                  "sample": 0})
+    task = SimpleNamespace(label={"point": "c/p=0.3/v=100", "branch": "down",
+                                  "scale_name": "micro1", "sample": 0})
     for tty in (False, True):
         out = io.StringIO()
         p = Progress(stream=out, min_interval=0.0, clock=lambda: 5.0, tty=tty, unusable=why)

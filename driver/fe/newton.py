@@ -104,8 +104,9 @@ CPU_PARTS = ("bulk", "hooks", "condense", "linear")
 
 #: LU packages of NewtonSettings.linear_solver -> (PETSc solver type, fill-reducing ordering):
 #: "petsc" (PETSc's LU without pivoting, approximate minimum degree ordering, every solve
-#: checked, MUMPS after a failure for the rest of that Newton solve), "petsc-nd" (the same with nested dissection, the former
-#: default), "mumps" (MUMPS with threshold pivoting and its own ordering, unchecked).  Minimum
+#: checked, MUMPS after a failure for the rest of that Newton solve), "petsc-nd" (the same with
+#: nested dissection, the former default), "mumps" (MUMPS with threshold pivoting and its own
+#: ordering, unchecked).  Minimum
 #: degree fills less than nested dissection on the sliding runs' reduced systems (1 200-3 300
 #: unknowns, a tied top row and periodic columns): the numeric factorisation is 1.6-2.2x faster
 #: on every scale of the default road (``rubberfriction bench sliding --part linear-solvers``)

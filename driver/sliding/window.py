@@ -97,7 +97,7 @@ def converged_window(means: np.ndarray, tol: float, window_periods: int,
     ``halves``, the means of every half period (twice as many as ``means``), adds the window's
     own drift: the mean of the window's second half and that of its first half must agree within
     DRIFT_FACTOR * tol too.  Two blocks can agree by coincidence while the window itself falls:
-    0.261, 0.234 against 0.275, 0.225 (a micro run at 1000 mm/s) agree within 1 % while the
+    0.2605, 0.2347 against 0.2746, 0.2250 (a micro run at 1000 mm/s) agree within 1 % while the
     window drifts by -20 %; a linear trend, by contrast, fails the block test first (its blocks
     differ by twice the window's drift).
 
