@@ -55,6 +55,35 @@ def test_viscoelastic_full_contact_sinusoid_closed_form(contact, element):
     assert abs(res.mu_force - res.mu_energy) < 0.02 * exact
 
 
+def test_the_start_iterate_changes_the_newton_path_not_the_answer():
+    """The full-contact viscoelastic sinusoid (a unique solution) from each Newton start of
+    SlidingRun._start_iterate: the last state only, with the extrapolated increment, with all
+    three (the translation, exact up to interpolation on this smooth surface, wins there).
+    mu_force equal to 1e-6 (Newton's tolerance is 1e-8 of p L); the extrapolation, where it is
+    offered against the last state, is chosen in most sliding sub-steps and saves Newton
+    iterations (a count: deterministic)."""
+    from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
+    from rubberfriction.driver.sliding.run import SlidingRun
+
+    x, h = sinusoid(0.002, 1.0, 128)
+    spec = SlidingSpec(surface_x=x, surface_h=h, period=1.0, pressure=0.1, velocity=10.0,
+                       compound=load_compound("tread_default"), h_contact=1.0 / 16,
+                       slide_distance=0.5, step_length=0.5 / 16)
+    res = {}
+    for candidates in (("last",), ("last", "extrapolation"), SlidingRun.START_CANDIDATES):
+        run = SlidingRun(spec, block_mesh, sliding_contact)
+        run.start_candidates = candidates
+        res[candidates] = run.run()
+        assert res[candidates].ok, res[candidates].reason
+    last, extrapolated, shipped = res.values()
+    for r in (extrapolated, shipped):
+        assert r.mu_force == pytest.approx(last.mu_force, rel=1e-6)
+    assert last.stats["extrapolation_used"] == last.stats["predictor_used"] == 0
+    assert extrapolated.stats["extrapolation_used"] > 0.8 * extrapolated.stats["steps"]
+    assert extrapolated.stats["newton_iterations"] < last.stats["newton_iterations"]
+    assert shipped.stats["newton_iterations"] <= extrapolated.stats["newton_iterations"]
+
+
 @pytest.mark.parametrize("velocity,limit", [(1e-3, "long-term"), (1e4, "instantaneous")])
 def test_velocity_extremes_give_elastic_westergaard(velocity, limit):
     """v = 1e-6 m/s and 10 m/s (omega tau = 6e-3 and 6e4): partial contact follows Westergaard,

@@ -23,8 +23,16 @@
    nested dissection ordering, MUMPS), side by side and repeated (A B C A B C: the machine is
    shared): wall time, CPU of the linear solves, Newton iterations, mu_force and the pivot-free
    solves that fell back to MUMPS, and each package's ratios to the default ("petsc").
+5. Newton start (``--part start``): the first sample of every scale of the default road (macro
+   0.3, meso 1, micro1 2 MPa and micro2 at ``--pressure``, ``--velocity``, ``--slide-fraction``
+   of a period) with the sliding sub-steps started from the best of the last state, the
+   translation of the deformation with the surface and the extrapolated last increment (as
+   shipped, ``SlidingRun.START_CANDIDATES``), and without the extrapolation, side by side and
+   repeated (A B A B): Newton iterations, wall time, mu_force, how often each start won, and
+   the ratios.
 
-    rubberfriction bench sliding [--part accuracy|stability|both|iterations|linear-solvers] [--quick]
+    rubberfriction bench sliding [--part accuracy|stability|both|iterations|linear-solvers|start]
+                                 [--quick]
                                  [--wall-limit S] [--penalty-alpha A] [--element E] [--json FILE]
                                  [--scale micro1|micro2]
                                  [--pressure P] [--velocity V] [--slide-fraction F] [--compare-jit]
@@ -187,6 +195,50 @@ def linear_solvers(pressure: float, velocity: float, slide_fraction: float,
     return rows
 
 
+#: scale of the default road (first sample) -> its pressure in ``--part start`` (micro2: --pressure)
+START_SCALES = {"macro": 0.3, "meso": 1.0, "micro1": 2.0, "micro2": None}
+
+
+def start_candidates(pressure: float, velocity: float, slide_fraction: float,
+                     repeats: int = 2) -> list[dict]:
+    """Each scale with and without the extrapolated Newton start (module docstring, part 5)."""
+    variants = {"shipped": SlidingRun.START_CANDIDATES, "no extrapolation": ("last", "translation")}
+    rows = []
+    for k, (name, p) in enumerate(START_SCALES.items()):
+        spec = lowest_scale_spec(pressure if p is None else p, velocity, slide_fraction, scale=k)
+        print(f"{name}: period {spec.period:g} mm, h_contact {spec.h_contact:g} mm, "
+              f"p {spec.pressure:g} MPa, v {velocity:g} mm/s, slide {spec.slide_distance:g} mm",
+              flush=True)
+        for rep in range(repeats):
+            for label, candidates in variants.items():
+                run = SlidingRun(spec, block_mesh, sliding_contact)
+                run.start_candidates = candidates
+                t0 = time.perf_counter()
+                r = run.run()
+                wall = time.perf_counter() - t0
+                st = r.stats
+                row = {"scale": name, "variant": label, "repeat": rep, "status": r.status,
+                       "wall_s": wall, "newton_iterations": int(st.get("newton_iterations", 0)),
+                       "steps": int(st.get("steps", 0)), "mu_force": r.mu_force,
+                       "translation": int(st.get("predictor_used", 0)),
+                       "extrapolation": int(st.get("extrapolation_used", 0))}
+                rows.append(row)
+                print(f"  {label:16s} #{rep}: {r.status}, {row['newton_iterations']} Newton "
+                      f"iterations, starts: translation {row['translation']}, extrapolation "
+                      f"{row['extrapolation']}; wall {wall:.1f} s, mu_force {r.mu_force:.6g}",
+                      flush=True)
+        mine = [r for r in rows if r["scale"] == name]
+        new, old = ([r for r in mine if r["variant"] == v] for v in variants)
+        its = sum(r["newton_iterations"] for r in old) / max(sum(r["newton_iterations"]
+                                                                for r in new), 1)
+        wall = sum(r["wall_s"] for r in old) / max(sum(r["wall_s"] for r in new), 1e-300)
+        dmu = max(abs(a["mu_force"] - b["mu_force"]) / abs(b["mu_force"])
+                  for a, b in zip(new, old))
+        print(f"  {name}: without / with the extrapolation: Newton iterations x{its:.2f}, wall "
+              f"x{wall:.2f}; relative mu_force difference {dmu:.2e}", flush=True)
+    return rows
+
+
 #: (label, stats key) of the CPU split of one attempt; the rest is cpu_attempt minus their sum
 CPU_PARTS = (("bulk forms (tangent + residual)", "cpu_bulk"),
              ("contact (C++ evaluate + assembly)", "cpu_contact"),
@@ -261,7 +313,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="rubberfriction bench sliding", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--part", choices=["accuracy", "stability", "both", "iterations",
-                                       "linear-solvers"],
+                                       "linear-solvers", "start"],
                     default="both")
     ap.add_argument("--quick", action="store_true", help="fewer levels (a smoke run)")
     ap.add_argument("--wall-limit", type=_number(0.0, strict=False), default=300.0,
@@ -291,6 +343,13 @@ def main(argv: list[str] | None = None) -> int:
         if a.json:
             with open(a.json, "w") as f:
                 json.dump({"linear_solvers": rows}, f, indent=1, default=float)
+        return 0
+    if a.part == "start":
+        rows = start_candidates(a.pressure, a.velocity, a.slide_fraction,
+                                repeats=1 if a.quick else 2)
+        if a.json:
+            with open(a.json, "w") as f:
+                json.dump({"start": rows}, f, indent=1, default=float)
         return 0
     if a.part == "iterations":
         out = iterations(a.pressure, a.velocity, a.slide_fraction, a.compare_jit, a.element)
