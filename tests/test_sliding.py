@@ -57,11 +57,12 @@ def test_viscoelastic_full_contact_sinusoid_closed_form(contact, element):
 
 def test_the_start_iterate_changes_the_newton_path_not_the_answer():
     """The full-contact viscoelastic sinusoid (a unique solution) from each Newton start of
-    SlidingRun._start_iterate: the last state only, with the extrapolated increment, with all
-    three (the translation, exact up to interpolation on this smooth surface, wins there).
+    SlidingRun._start_iterate: the last state only, with the extrapolated increment, as shipped
+    (the last state and the translation, exact up to interpolation on this smooth surface).
     mu_force equal to 1e-6 (Newton's tolerance is 1e-8 of p L); the extrapolation, where it is
     offered against the last state, is chosen in most sliding sub-steps and saves Newton
-    iterations (a count: deterministic)."""
+    iterations (a count: deterministic).  Where the solution is not unique a start can choose
+    the branch: why the extrapolation is not shipped (``_start_iterate``)."""
     from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
     from rubberfriction.driver.sliding.run import SlidingRun
 
@@ -79,6 +80,7 @@ def test_the_start_iterate_changes_the_newton_path_not_the_answer():
     for r in (extrapolated, shipped):
         assert r.mu_force == pytest.approx(last.mu_force, rel=1e-6)
     assert last.stats["extrapolation_used"] == last.stats["predictor_used"] == 0
+    assert shipped.stats["extrapolation_used"] == 0 < shipped.stats["predictor_used"]
     assert extrapolated.stats["extrapolation_used"] > 0.8 * extrapolated.stats["steps"]
     assert extrapolated.stats["newton_iterations"] < last.stats["newton_iterations"]
     assert shipped.stats["newton_iterations"] <= extrapolated.stats["newton_iterations"]
