@@ -418,13 +418,14 @@ class SlidingRun:
         (0.0256 from the other starts).  The translation interpolates the field between nodes;
         on the steep micro2 samples it puts contact nodes into the road's flanks and never wins
         there, so those sub-steps start from the last state."""
+        wanted = self.start_candidates
         candidates: list[tuple[str, Any]] = [("last", None)]
-        if predict is not None:
+        if predict is not None and "translation" in wanted:
             candidates.append(("translation", predict))
         inc = self._last_increment
-        if inc is not None and inc[0].shape == x_saved.shape and inc[1] > 0.0:
+        if ("extrapolation" in wanted and inc is not None and inc[0].shape == x_saved.shape
+                and inc[1] > 0.0):
             candidates.append(("extrapolation", x_saved + (h / inc[1]) * inc[0]))
-        candidates = [c for c in candidates if c[0] in self.start_candidates]
         if len(candidates) < 2:
             return  # the last state (already the iterate): nothing to compare
         pb = self.problem
