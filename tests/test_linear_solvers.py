@@ -54,7 +54,8 @@ def test_a_well_conditioned_system_needs_no_fallback():
     b = rng.normal(size=6)
     s = NewtonSolver(None, NewtonSettings(linear_solver="petsc"))
     np.testing.assert_allclose(solve(s, A, b), np.linalg.solve(A, b), rtol=0, atol=1e-12)
-    assert s.lu_fallbacks == 0 and s._package == "petsc"
+    assert s.lu_fallbacks == 0 and not s._use_backup
+    assert s.ksp.getPC().getFactorSolverType() == "petsc"
 
 
 def test_a_zero_pivot_falls_back_to_mumps_for_the_rest_of_the_newton_solve():
@@ -68,7 +69,8 @@ def test_a_zero_pivot_falls_back_to_mumps_for_the_rest_of_the_newton_solve():
     # a new Newton solve (solve() clears the flag) tries the pivot-free LU first again
     s._use_backup = False
     np.testing.assert_allclose(solve(s, np.eye(2), b), b, atol=1e-12)
-    assert s.lu_fallbacks == 1 and s._package == "petsc"
+    assert s.lu_fallbacks == 1 and not s._use_backup
+    assert s.ksp.getPC().getFactorSolverType() == "petsc"
     np.testing.assert_allclose(solve(s, A, b), [3.0, 2.0], rtol=0, atol=1e-12)
     assert s.lu_fallbacks == 2
 

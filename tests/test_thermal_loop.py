@@ -135,8 +135,8 @@ def test_the_macro_runs_wall_clock_leaves_out_the_cascades(case: Case):
     """The macro run's wall limit (the scene's run_timeout) counts its own work, not the cascades
     it waits for at the homogenisation points: on the default road two cascades of 5 min each
     stopped a 10-minute macro run at 8.8 of 10 mm.  Here each cascade is made 6 s slower and the
-    macro run's limit (9 s) is below the two before the slide's end; the loop still reaches the slide's end, with the
-    mu of the same loop without the delay (all runs from the store)."""
+    macro run's limit (9 s) is below the two before the slide's end; the loop still reaches the
+    slide's end, with the mu of the same loop without the delay (all runs from the store)."""
     import time
 
     slow = 6.0

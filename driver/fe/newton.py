@@ -268,8 +268,7 @@ class NewtonSolver:
     def reset(self) -> None:
         """New linear solver.  Needed only after a failed factorisation: a new reduced matrix
         (``set_constraints``) gets a new factorisation by itself (:meth:`_linear_solve`)."""
-        self._package = self.settings.linear_solver
-        self.ksp = _lu_solver(self._package)
+        self.ksp = _lu_solver(self.settings.linear_solver)
         self._backup: PETSc.KSP | None = None  # MUMPS, after a failed pivot-free solve
         self._operator: PETSc.Mat | None = None  # the reduced matrix this factorisation is for
         self._check: PETSc.Vec | None = None
@@ -288,7 +287,7 @@ class NewtonSolver:
                 self.reset()
             self._bind()
         pb.br.scale(-1.0)
-        if self._package == "mumps":
+        if self.settings.linear_solver == "mumps":
             self.ksp.solve(pb.br, pb.dur)
             return
         if self._use_backup:
@@ -303,7 +302,8 @@ class NewtonSolver:
             return
         self.lu_fallbacks += 1
         self._use_backup = True
-        self.ksp = _lu_solver(self._package)  # a failed factorisation leaves its PC unusable
+        # a failed factorisation leaves its PC unusable: a new one for the next solve
+        self.ksp = _lu_solver(self.settings.linear_solver)
         self.ksp.setOperators(pb.Ar)
         self._backup_solver().solve(pb.br, pb.dur)
 

@@ -334,10 +334,10 @@ class SlidingRun:
             floor = dt * 0.5**self.spec.max_cutbacks * (1.0 - 1e-9)
             if not ok and self.spec.stabilisation > 0.0 and (cutbacks >= self.stabilise_after
                                                              or 0.5 * h < floor):
-                ok, res = self._stabilised_solve(h, x_saved, predict if adaptive else None,
-                                                 adaptive)
+                ok, res = self._stabilised_solve(h, x_saved, predict, adaptive)
             if ok:
-                self._last_increment = (self.sp.w.x.array - x_saved, h)
+                if "extrapolation" in self.start_candidates:  # only then is it read
+                    self._last_increment = (self.sp.w.x.array - x_saved, h)
                 self.min_det_F = min(self.min_det_F, self._iterate_det_F)
                 self.step_energy += self.sp.commit_step()
                 self.contact.commit()
