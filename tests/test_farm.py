@@ -743,3 +743,77 @@ def test_idle_naps_spin_after_an_event_then_double_up_to_the_poll(monkeypatch):
     clock.now += 2 * farm.SPIN
     nap.sleep()
     assert slept == [0.0]  # back to short naps after an event
+
+
+class _Stages:
+    """Stages of (key, duration); a stage is handed out when the one before is recorded."""
+
+    def __init__(self, stages: list[list[tuple[str, float]]]):
+        self.stages = [list(s) for s in stages]
+        self.durations = {k: d for s in stages for k, d in s}
+        self._left = 0
+
+    def total(self) -> int:
+        return sum(len(s) for s in self.stages)
+
+    def next_tasks(self) -> list[Task]:
+        if self._left or not self.stages:
+            return []
+        stage = self.stages.pop(0)
+        self._left = len(stage)
+        return [Task(k, k) for k, _ in stage]
+
+    def record(self, task: Task, outcome: Outcome) -> None:
+        self._left -= 1
+
+
+def test_replay_schedules_stages_in_hand_out_order_on_n_workers():
+    """Hand-computed schedules of the farm's rule (a free worker takes the next ready task in the
+    order handed out; a stage starts when the stage before has finished): stage 1 lasts 3, 1, 1 s
+    and stage 2 2, 2 s: 9 s on one worker, 5 s on two (a | b, c), 5 s on three (the critical path
+    3 + 2); handed out as 1, 1, 3 the long run starts late on two workers: 1 + 3 + 2 = 6 s.  A
+    key handed out twice in a stage runs once."""
+    from rubberfriction.driver.runtime.farm import replay
+
+    def outcome_of(durations):
+        return lambda task: (Outcome(task.key, "ok"), durations[task.key])
+
+    stages = [[("a", 3.0), ("b", 1.0), ("c", 1.0)], [("d", 2.0), ("e", 2.0)]]
+    for workers, makespan in ((1, 9.0), (2, 5.0), (3, 5.0)):
+        p = _Stages(stages)
+        r = replay(p, outcome_of(p.durations), workers)
+        assert (r.makespan, r.busy, r.runs) == (makespan, 9.0, 5)
+    assert math.isclose(r.efficiency, 9.0 / 15.0)
+    late = [[("b", 1.0), ("c", 1.0), ("a", 3.0)], [("d", 2.0), ("e", 2.0)]]
+    p = _Stages(late)
+    assert replay(p, outcome_of(p.durations), 2).makespan == 6.0
+    p = _Stages([[("a", 3.0), ("a", 3.0), ("b", 1.0)]])
+    r = replay(p, outcome_of(p.durations), 2)
+    assert (r.makespan, r.busy, r.runs) == (3.0, 4.0, 2)
+    with pytest.raises(ValueError, match="at least 1"):
+        replay(_Stages(stages), outcome_of(p.durations), 0)
+
+
+def test_bench_farm_replays_a_finished_campaign_from_its_store(tmp_path: Path, toy):
+    """The scene's own planner over the stored runs: one rank takes the sum of the stored wall
+    times exactly; more ranks never take longer than fewer, nor less than the critical path; a
+    run missing from the store is named."""
+    from rubberfriction.driver.bench.farm import UNLIMITED, MissingRun, main, replay_folder
+    from rubberfriction.driver.multiscale.campaign import run_scene
+    from rubberfriction.driver.multiscale.scene import load_scene
+
+    (tmp_path / "scene.toml").write_text(SCENE)
+    out = tmp_path / "out"
+    r = run_scene(load_scene(str(tmp_path / "scene.toml")), output=out, runner=toy, quiet=True)
+    store = Store(out / "store")
+    total = sum(store.outcome(k).wall_time for k in store.keys())
+    rows = replay_folder(out, [1, 2, 4, UNLIMITED], tmp_path / "scene.toml")
+    assert [x.runs for x in rows] == [r.n_runs] * 4 and r.n_runs == 52
+    assert math.isclose(rows[0].makespan, total, rel_tol=1e-12)
+    spans = [x.makespan for x in rows]
+    assert spans == sorted(spans, reverse=True) and spans[-1] > 0
+    assert main([str(out), "--ranks", "1,2", "--scene", str(tmp_path / "scene.toml")]) == 0
+    victim = next(iter(store.keys()))
+    next((out / "store" / "runs").rglob(f"{victim}.h5")).unlink()
+    with pytest.raises(MissingRun, match=victim[:12]):
+        replay_folder(out, [2], tmp_path / "scene.toml")

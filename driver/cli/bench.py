@@ -12,6 +12,7 @@ BENCHMARKS = {
     "theory": ("rubberfriction.driver.bench.theory", "50-velocity mu(v) curve from the analytical theories"),
     "sliding": ("rubberfriction.driver.bench.sliding", "micro-cell speed-accuracy and stability sweep"),
     "multiscale": ("rubberfriction.driver.bench.multiscale", "default scene and four-scale point, serial vs ranks"),
+    "farm": ("rubberfriction.driver.bench.farm", "a finished campaign replayed on N ranks: wall time, speed-up"),
     "trade": ("rubberfriction.driver.bench.trade", "speed-accuracy trade of one mu point: mesh, penalty, samples"),
     "thermal": ("rubberfriction.driver.bench.thermal", "thermal macro scale: z-resolution study, T_R and T_C over v"),
     "thermal-loop": ("rubberfriction.driver.bench.thermal_loop",

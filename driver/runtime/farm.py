@@ -53,6 +53,7 @@ every rank sees (one small file per run; thousands are fine, millions would want
 
 from __future__ import annotations
 
+import heapq
 import math
 import os
 import queue
@@ -397,6 +398,50 @@ def run_serial(planner: Planner, execute: Callable[[Task], Outcome],
     if progress is not None:
         progress.finish()
     return book.done
+
+
+@dataclass(frozen=True)
+class Replay:
+    """A campaign's schedule on ``workers`` ranks, replayed from run durations (s)."""
+
+    workers: int
+    makespan: float  # wall time of the campaign
+    busy: float  # run time summed over the runs (the serial makespan)
+    runs: int
+
+    @property
+    def efficiency(self) -> float:
+        """Share of the workers' time spent in runs."""
+        return self.busy / (self.workers * self.makespan) if self.makespan > 0 else math.nan
+
+
+def replay(planner: Planner, outcome_of: Callable[[Task], tuple[Outcome, float]],
+           workers: int) -> Replay:
+    """The farm's dynamic dispatch replayed as a discrete-event simulation: ``workers`` ranks
+    take ready tasks in the order the campaign hands them out (the ready queue of the serial and
+    MPI drivers, duplicates executed once), each task lasts the duration ``outcome_of`` gives with
+    its outcome, and outcomes reach the planner when their run ends, which makes the next stage
+    ready.  A finished campaign's stored runs and wall times answer "how long on N ranks" without
+    computing anything (``rubberfriction bench farm``); the dispatcher's own time (~0.1 ms per
+    request) is left out."""
+    if workers < 1:
+        raise ValueError(f"replay on {workers} workers: expected at least 1")
+    book = _Book(planner, None)
+    book.pull()
+    clock, busy, seq, runs = 0.0, 0.0, 0, 0
+    running: list[tuple[float, int, Task, Outcome]] = []
+    while True:
+        while len(running) < workers and (task := book.take()) is not None:
+            outcome, duration = outcome_of(task)
+            heapq.heappush(running, (clock + float(duration), seq, task, outcome))
+            seq, busy, runs = seq + 1, busy + float(duration), runs + 1
+        if not running:
+            break
+        clock, _, task, outcome = heapq.heappop(running)
+        book.finish(task, outcome)
+    if not book.finished:  # pragma: no cover -- the planner left tasks it never handed out
+        raise FarmError("replay: planner deadlock")
+    return Replay(workers, clock, busy, runs)
 
 
 def run_farm(make_planner: Callable[[], Planner], execute: Callable[[Task], Outcome],
