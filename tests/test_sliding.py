@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -57,12 +59,11 @@ def test_viscoelastic_full_contact_sinusoid_closed_form(contact, element):
 
 def test_the_start_iterate_changes_the_newton_path_not_the_answer():
     """The full-contact viscoelastic sinusoid (a unique solution) from each Newton start of
-    SlidingRun._start_iterate: the last state only, with the extrapolated increment, as shipped
-    (the last state and the translation, exact up to interpolation on this smooth surface).
-    mu_force equal to 1e-6 (Newton's tolerance is 1e-8 of p L); the extrapolation, where it is
-    offered against the last state, is chosen in most sliding sub-steps and saves Newton
-    iterations (a count: deterministic).  Where the solution is not unique a start can choose
-    the branch: why the extrapolation is not shipped (``_start_iterate``)."""
+    SlidingRun._start_iterate: the last state only, the last state and the translation (exact
+    up to interpolation on this smooth surface), with the extrapolated increment unguarded, and
+    as shipped (all three, the extrapolation guarded).  mu_force equal to 1e-6 (Newton's
+    tolerance is 1e-8 of p L); the extrapolation, offered against the last state, is chosen in
+    most sliding sub-steps and saves Newton iterations (a count: deterministic)."""
     from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
     from rubberfriction.driver.sliding.run import SlidingRun
 
@@ -71,19 +72,57 @@ def test_the_start_iterate_changes_the_newton_path_not_the_answer():
                        compound=load_compound("tread_default"), h_contact=1.0 / 16,
                        slide_distance=0.5, step_length=0.5 / 16)
     res = {}
-    for candidates in (("last",), ("last", "extrapolation"), SlidingRun.START_CANDIDATES):
+    for name, candidates, guard in (("last", ("last",), 0),
+                                    ("translation", ("last", "translation"), 0),
+                                    ("extrapolation", ("last", "extrapolation"), 0),
+                                    ("shipped", SlidingRun.START_CANDIDATES,
+                                     SlidingRun.EXTRAPOLATION_GUARD)):
         run = SlidingRun(spec, block_mesh, sliding_contact)
-        run.start_candidates = candidates
-        res[candidates] = run.run()
-        assert res[candidates].ok, res[candidates].reason
-    last, extrapolated, shipped = res.values()
-    for r in (extrapolated, shipped):
+        run.start_candidates, run.extrapolation_guard = candidates, guard
+        res[name] = run.run()
+        assert res[name].ok, res[name].reason
+    last = res["last"]
+    for r in res.values():
         assert r.mu_force == pytest.approx(last.mu_force, rel=1e-6)
     assert last.stats["extrapolation_used"] == last.stats["predictor_used"] == 0
-    assert shipped.stats["extrapolation_used"] == 0 < shipped.stats["predictor_used"]
-    assert extrapolated.stats["extrapolation_used"] > 0.8 * extrapolated.stats["steps"]
-    assert extrapolated.stats["newton_iterations"] < last.stats["newton_iterations"]
-    assert shipped.stats["newton_iterations"] <= extrapolated.stats["newton_iterations"]
+    assert res["translation"].stats["predictor_used"] > 0
+    extrapolated = res["extrapolation"].stats
+    assert extrapolated["extrapolation_used"] > 0.8 * extrapolated["steps"]
+    assert extrapolated["newton_iterations"] < last.stats["newton_iterations"]
+
+
+def test_the_guard_keeps_the_extrapolated_start_on_the_branch_of_the_other_starts():
+    """Where the discrete equilibrium is not unique a start can choose the branch.  On the
+    frictionless three-wave cell (``test_shortcut.spec``, 0.05 MPa, 100 mm/s, partial contact,
+    24 contact elements, two periods) the last state and the translation give window mu 0.0224;
+    the unguarded extrapolated start ends on another path, 0.0243 (+8 %), and, when the
+    stabilised sub-steps also started from it, in a second equilibrium where the rubber's face
+    travels with the road and pushes the block forwards (mu -0.72; a frictionless viscoelastic
+    cell sliding steadily dissipates, mu > 0), so the stabilisation ladder never offers it.
+    Guarded as shipped (an extrapolated start that needs more than EXTRAPOLATION_GUARD Newton
+    iterations is solved again from the others) the run stays on the path of the other starts:
+    mu_force equal to 1e-6, and the guard did reject starts."""
+    from test_shortcut import spec as three_waves
+
+    from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
+    from rubberfriction.driver.sliding.run import SlidingRun
+
+    spec = dataclasses.replace(three_waves(0.05, 100.0), h_contact=1.0 / 24, converge_tol=0.0,
+                               slide_distance=2.0, compression_time=100.0)
+    res = {}
+    for name, candidates, guard in (("plain", ("last", "translation"), 0),
+                                    ("unguarded", SlidingRun.START_CANDIDATES, 0),
+                                    ("shipped", SlidingRun.START_CANDIDATES,
+                                     SlidingRun.EXTRAPOLATION_GUARD)):
+        run = SlidingRun(spec, block_mesh, sliding_contact)
+        run.start_candidates, run.extrapolation_guard = candidates, guard
+        res[name] = run.run()
+        assert res[name].ok, res[name].reason
+    assert res["plain"].mu_force > 0.02
+    assert res["unguarded"].mu_force > 0.0  # not the travelling face (the ladder's start)
+    assert abs(res["unguarded"].mu_force / res["plain"].mu_force - 1.0) > 0.05  # another path
+    assert res["shipped"].mu_force == pytest.approx(res["plain"].mu_force, rel=1e-6)
+    assert res["shipped"].stats["extrapolation_rejected"] > 0
 
 
 @pytest.mark.parametrize("velocity,limit", [(1e-3, "long-term"), (1e4, "instantaneous")])

@@ -32,9 +32,11 @@ def final_mu(res) -> float:
 
 
 def test_high_friction_block_slides_through_the_soft_tangent_fallback():
-    """mu 0.9: mortar with the spec's c_T stagnates; "mortar c_T x0.1" slides, F_x / F_z = 0.9
-    within 0.5 % at the end (full slip).  A finite block tries the soft attempt first (the failed
-    one costs most of such a run), so the chain's second attempt is checked on its own as well."""
+    """mu 0.9: mortar with the spec's c_T stagnates from the last state or the translation;
+    "mortar c_T x0.1" slides, F_x / F_z = 0.9 within 0.5 % at the end (full slip).  A finite
+    block tries the soft attempt first (a failed one costs most of such a run), so the chain's
+    second attempt is checked on its own as well: with the guarded extrapolated start (as
+    shipped) it slides too, to 0.9 within 0.5 %."""
     spec = m3_block(0.9)
     run = SlidingRun(spec, block_mesh, sliding_contact)
     labels = [a.label for a in run.attempts()]
@@ -46,8 +48,15 @@ def test_high_friction_block_slides_through_the_soft_tangent_fallback():
     assert final_mu(res) == pytest.approx(0.9, rel=5e-3)
     stiff = SlidingRun(dataclasses.replace(spec, stabilisation=0.0), block_mesh, sliding_contact)
     stiff.attempts = lambda: SlidingRun.attempts(stiff)[1:2]  # the spec's c_T only
+    stiff.start_candidates = ("last", "translation")  # without the extrapolated start
     failed = stiff.run()
     assert not failed.ok and "mortar: sliding: stagnated" in failed.stats["attempts"]
+    # the extrapolated start (guarded, as shipped) follows the stick-slip path: it slides
+    stiff = SlidingRun(dataclasses.replace(spec, stabilisation=0.0), block_mesh, sliding_contact)
+    stiff.attempts = lambda: SlidingRun.attempts(stiff)[1:2]
+    res = stiff.run()
+    assert res.ok and res.stats["extrapolation_used"] > 0, res.reason
+    assert final_mu(res) == pytest.approx(0.9, rel=5e-3)
 
 
 def test_stabilisation_gets_the_stiff_tangent_through_and_says_at_what_price():

@@ -25,18 +25,19 @@
    solves that fell back to MUMPS, and each package's ratios to the default ("petsc").
 5. Newton start (``--part start``): the first sample of every scale of the default road (macro
    0.3, meso 1, micro1 2 MPa and micro2 at ``--pressure``, ``--velocity``, ``--slide-fraction``
-   of a period) with the sliding sub-steps started from the best of the last state and the
-   translation of the deformation with the surface (as shipped,
-   ``SlidingRun.START_CANDIDATES``) and with the extrapolated last increment offered too, side
-   by side and repeated (A B A B): Newton iterations, wall time, mu_force, how often each start
-   won, and the ratios (the extrapolation is not shipped: it can change the branch,
-   ``SlidingRun._start_iterate``).
+   of a period) with the sliding sub-steps started from the best of the last state, the
+   translation of the deformation with the surface and the extrapolated last increment:
+   unguarded, guarded (``--guards``, as shipped ``SlidingRun.EXTRAPOLATION_GUARD``: a start
+   that needs more Newton iterations is solved again from the others) and without the
+   extrapolation, side by side and repeated (A B C A B C): Newton iterations, wall time,
+   mu_force, how often each start won and was rejected, and the ratios to the run without it.
 
     rubberfriction bench sliding [--part accuracy|stability|both|iterations|linear-solvers|start]
                                  [--quick]
                                  [--wall-limit S] [--penalty-alpha A] [--element E] [--json FILE]
                                  [--scale micro1|micro2]
-                                 [--pressure P] [--velocity V] [--slide-fraction F] [--compare-jit]
+                                 [--pressure P] [--velocity V] [--slide-fraction F] [--guards 4,6]
+                                 [--compare-jit]
 """
 
 from __future__ import annotations
@@ -200,21 +201,39 @@ def linear_solvers(pressure: float, velocity: float, slide_fraction: float,
 START_SCALES = {"macro": 0.3, "meso": 1.0, "micro1": 2.0, "micro2": None}
 
 
+def _guards(text: str) -> tuple[int, ...]:
+    try:
+        guards = tuple(int(g) for g in text.split(",") if g.strip())
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: expected whole numbers, e.g. 4,6,10") from None
+    if not guards or min(guards) < 1:
+        raise argparse.ArgumentTypeError(f"{text!r}: expected guards >= 1")
+    return guards
+
+
 def start_candidates(pressure: float, velocity: float, slide_fraction: float,
-                     repeats: int = 2) -> list[dict]:
+                     repeats: int = 2,
+                     guards: tuple[int, ...] = (SlidingRun.EXTRAPOLATION_GUARD,),
+                     scales: tuple[str, ...] = tuple(START_SCALES)) -> list[dict]:
     """Each scale with and without the extrapolated Newton start (module docstring, part 5)."""
-    variants = {"with extrapolation": SlidingRun.START_CANDIDATES + ("extrapolation",),
-                "shipped": SlidingRun.START_CANDIDATES}
+    both = SlidingRun.START_CANDIDATES
+    plain = tuple(c for c in both if c != "extrapolation")
+    variants = {"unguarded": (both, 0),
+                **{f"guard {g}": (both, g) for g in guards},
+                "no extrapolation": (plain, 0)}
     rows = []
     for k, (name, p) in enumerate(START_SCALES.items()):
+        if name not in scales:
+            continue
         spec = lowest_scale_spec(pressure if p is None else p, velocity, slide_fraction, scale=k)
         print(f"{name}: period {spec.period:g} mm, h_contact {spec.h_contact:g} mm, "
               f"p {spec.pressure:g} MPa, v {velocity:g} mm/s, slide {spec.slide_distance:g} mm",
               flush=True)
         for rep in range(repeats):
-            for label, candidates in variants.items():
+            for label, (candidates, guard) in variants.items():
                 run = SlidingRun(spec, block_mesh, sliding_contact)
                 run.start_candidates = candidates
+                run.extrapolation_guard = guard
                 t0 = time.perf_counter()
                 r = run.run()
                 wall = time.perf_counter() - t0
@@ -223,21 +242,27 @@ def start_candidates(pressure: float, velocity: float, slide_fraction: float,
                        "wall_s": wall, "newton_iterations": int(st.get("newton_iterations", 0)),
                        "steps": int(st.get("steps", 0)), "mu_force": r.mu_force,
                        "translation": int(st.get("predictor_used", 0)),
-                       "extrapolation": int(st.get("extrapolation_used", 0))}
+                       "extrapolation": int(st.get("extrapolation_used", 0)),
+                       "rejected": run.guard_rejections}
                 rows.append(row)
                 print(f"  {label:16s} #{rep}: {r.status}, {row['newton_iterations']} Newton "
                       f"iterations, starts: translation {row['translation']}, extrapolation "
-                      f"{row['extrapolation']}; wall {wall:.1f} s, mu_force {r.mu_force:.6g}",
+                      f"{row['extrapolation']} ({row['rejected']} redone); wall {wall:.1f} s, "
+                      f"mu_force {r.mu_force:.6g}",
                       flush=True)
         mine = [r for r in rows if r["scale"] == name]
-        new, old = ([r for r in mine if r["variant"] == v] for v in variants)
-        its = sum(r["newton_iterations"] for r in old) / max(sum(r["newton_iterations"]
-                                                                for r in new), 1)
-        wall = sum(r["wall_s"] for r in old) / max(sum(r["wall_s"] for r in new), 1e-300)
-        dmu = max(abs(a["mu_force"] - b["mu_force"]) / abs(b["mu_force"])
-                  for a, b in zip(new, old))
-        print(f"  {name}: shipped / with the extrapolation: Newton iterations x{its:.2f}, wall "
-              f"x{wall:.2f}; relative mu_force difference {dmu:.2e}", flush=True)
+        old = [r for r in mine if r["variant"] == "no extrapolation"]
+        for v in variants:
+            if v == "no extrapolation":
+                continue
+            new = [r for r in mine if r["variant"] == v]
+            its = sum(r["newton_iterations"] for r in old) / max(
+                sum(r["newton_iterations"] for r in new), 1)
+            wall = sum(r["wall_s"] for r in old) / max(sum(r["wall_s"] for r in new), 1e-300)
+            dmu = max(abs(a["mu_force"] - b["mu_force"]) / abs(b["mu_force"])
+                      for a, b in zip(new, old))
+            print(f"  {name}: no extrapolation / {v}: Newton iterations x{its:.2f}, wall x{wall:.2f}; "
+                  f"relative mu_force difference {dmu:.2e}", flush=True)
     return rows
 
 
@@ -337,6 +362,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--slide-fraction", type=_number(0.0, strict=True), default=0.1,
                     help="iterations: sliding distance in periods of the sample (0.1; a "
                          "campaign slides 1.5)")
+    ap.add_argument("--guards", type=_guards, default=(SlidingRun.EXTRAPOLATION_GUARD,),
+                    help="start: the guards compared (Newton iterations allowed from the "
+                         "extrapolated start), comma-separated")
     ap.add_argument("--compare-jit", action="store_true",
                     help="iterations: repeat with dolfinx's default compiler flags, print ratios")
     a = ap.parse_args(argv)
@@ -348,7 +376,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if a.part == "start":
         rows = start_candidates(a.pressure, a.velocity, a.slide_fraction,
-                                repeats=1 if a.quick else 2)
+                                repeats=1 if a.quick else 2, guards=a.guards)
         if a.json:
             with open(a.json, "w") as f:
                 json.dump({"start": rows}, f, indent=1, default=float)

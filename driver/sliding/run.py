@@ -108,6 +108,9 @@ class ContactLike:
 #: a sub-step converging in at most this many Newton iterations counts as easy; EASY_STREAK easy
 #: sub-steps in a row double the sub-step length (one would make it oscillate: double, fail, halve)
 EASY_ITERATIONS = 6
+#: after a rejected extrapolated start the next 1, 2, 4, ... (at most this many) sub-steps start
+#: without it, until one from it converges within the guard again
+MAX_BACKOFF = 32
 EASY_STREAK = 2
 #: trial steps (linear solves) a trust-region solve may take (driver.fe.trust_region)
 TRUST_REGION_STEPS = 60
@@ -149,10 +152,14 @@ class _WallLimit(Exception):
 class SlidingRun:
     """Set-up and time loop of one sliding run; `run()` returns a SlidingResult."""
 
-    #: Newton starts a sliding sub-step chooses from (:meth:`_start_iterate`): "last",
-    #: "translation" and, on request only, "extrapolation" (an instance sets
-    #: ``start_candidates``; ``bench sliding --part start`` compares with and without it)
-    START_CANDIDATES = ("last", "translation")
+    #: Newton starts a sliding sub-step chooses from (:meth:`_start_iterate`): the last state,
+    #: the translation and the extrapolated last increment, the latter guarded
+    #: (:meth:`_guarded_solve`); an instance may set ``start_candidates`` and
+    #: ``extrapolation_guard`` (0: unguarded); ``bench sliding --part start`` compares them
+    START_CANDIDATES = ("last", "translation", "extrapolation")
+    #: Newton iterations an extrapolated start may take before the sub-step is solved again from
+    #: the other starts
+    EXTRAPOLATION_GUARD = 6
 
     def __init__(self, spec: SlidingSpec, mesh_factory=None, contact_factory=None, progress=None,
                  observers=(), wall_limit: float = 0.0, linear_solver: str = "petsc"):
@@ -177,6 +184,10 @@ class SlidingRun:
         self.base_spec = spec
         self.spec = spec  # the current attempt's spec (base_spec, or a refined copy)
         self.start_candidates = self.START_CANDIDATES
+        self.extrapolation_guard = self.EXTRAPOLATION_GUARD
+        self.guard_rejections = 0
+        self._backoff = self._skip = 0  # sub-steps without the extrapolated start after rejections
+        self._x_start = None
         # wall_limit > 0: seconds after which the run stops with a structured failure (failure
         # kind "wall_limit"; no further fallbacks). A machine-dependent control, so not in the spec.
         self.wall_limit = float(wall_limit)
@@ -316,11 +327,15 @@ class SlidingRun:
             apply_load(t_cur + h)
             self.sp.prepare_step(h)
             self.contact.set_time_step(h)
-            if adaptive:  # the sliding phase
-                self._start_iterate(predict, h, x_saved)
+            start = self._start_iterate(predict, h, x_saved) if adaptive else "last"
             hybrid = self.trust is not None and self.trust is not self.newton
             x_start = self.sp.w.x.array.copy() if hybrid else None
-            res = self.newton.solve()
+            if start == "extrapolation" and self.extrapolation_guard > 0:
+                res = self._guarded_solve(predict, h, x_saved)
+                if hybrid:
+                    x_start = self._x_start
+            else:
+                res = self.newton.solve()
             self.newton_iterations += res.iterations
             if not res.converged and hybrid:
                 # the sub-step again from the same start, with the trust region
@@ -389,8 +404,8 @@ class SlidingRun:
         for factor in STABILISATION_LADDER:
             self.sp.w.x.array[:] = x_saved
             damper.activate(self.spec.stabilisation * factor, diagonal, x_saved)
-            if sliding:
-                self._start_iterate(predict, h, x_saved)
+            if sliding:  # not the extrapolation: unguarded, it may choose another branch
+                self._start_iterate(predict, h, x_saved, exclude=("extrapolation",))
             res = self.newton.solve()
             self.newton_iterations += res.iterations
             if res.converged and not self._inverted():
@@ -403,31 +418,62 @@ class SlidingRun:
         self.sp.w.x.array[:] = x_saved
         return False, res
 
-    def _start_iterate(self, predict, h: float, x_saved: np.ndarray) -> None:
-        """Newton start of a sliding sub-step of length h: of the last converged state, the
-        translation prediction (``predict``, periodic cells) and, where ``start_candidates``
-        asks for it, the extrapolation of the last converged sub-step's increment, the one with
-        the lowest residual (each candidate costs one residual assembly).
+    def _guarded_solve(self, predict, h: float, x_saved: np.ndarray):
+        """Newton from the extrapolated start, allowed ``extrapolation_guard`` iterations.  A
+        start near the continuation of the path converges within them (micro2: 4 on average);
+        one that needs more has left it, and may be heading for another equilibrium (the
+        three-wave cell's travelling face: 29 and 97 iterations at its first two sub-steps), so
+        the sub-step is solved again from the other starts (the iterations of both count) and
+        the next 1, 2, 4, ... MAX_BACKOFF sub-steps do without the extrapolation (where it does
+        not pay, as on smooth cells where the translation converges in 3, its rejections would
+        otherwise double their cost)."""
+        plain = self.newton.settings
+        self.newton.settings = dataclasses.replace(plain, max_iterations=self.extrapolation_guard)
+        try:
+            res = self.newton.solve()
+        finally:
+            self.newton.settings = plain
+        self._x_start = None
+        if res.converged:
+            self._backoff = 0
+            return res
+        self.guard_rejections += 1
+        self._backoff = min(2 * self._backoff or 1, MAX_BACKOFF)
+        self._skip = self._backoff
+        self.newton_iterations += res.iterations
+        self.sp.w.x.array[:] = x_saved
+        self._start_iterate(predict, h, x_saved, exclude=("extrapolation",))
+        self._x_start = self.sp.w.x.array.copy()
+        return self.newton.solve()
+
+    def _start_iterate(self, predict, h: float, x_saved: np.ndarray,
+                       exclude: tuple[str, ...] = ()) -> str:
+        """Newton start of a sliding sub-step of length h, returned by name: of the last converged
+        state, the translation prediction (``predict``, periodic cells) and the extrapolation of
+        the last converged sub-step's increment (unless backing off after a rejected one, see
+        :meth:`_guarded_solve`), the one with the lowest residual (each candidate costs one
+        residual assembly); ``exclude`` leaves candidates out.
 
         Extrapolation: x_n + (h / h_prev) (x_n - x_prev), the forward-Euler predictor of the
-        displacement path.  Not a default, because a start can choose the branch: it cuts a
-        micro2 period's Newton iterations from 2 888 to 888 (micro1 1 204 to 520; README
-        "Start iterate"), but on the frictionless three-wave cell of
-        ``tests/test_time_homogenisation.py`` it carries the rubber's contact face along with
-        the road, a second equilibrium in which mu falls steadily to -1.58 after two periods
-        (0.0256 from the other starts).  The translation interpolates the field between nodes;
-        on the steep micro2 samples it puts contact nodes into the road's flanks and never wins
-        there, so those sub-steps start from the last state."""
-        wanted = self.start_candidates
+        displacement path: on steep micro cells the other starts are far from the solution
+        (the translation interpolates contact nodes into the road's flanks and never wins there)
+        and it cuts a micro2 period's Newton iterations 2.6x.  A start can choose the branch
+        where the discrete equilibrium is not unique; unguarded, on the frictionless three-wave
+        cell of ``tests/test_time_homogenisation.py`` it carries the rubber's contact face along
+        with the road into a second equilibrium (mu -1.58 after two periods against 0.0224), so
+        it is only used through the guard (README "Start iterate")."""
+        wanted = tuple(c for c in self.start_candidates if c not in exclude)
         candidates: list[tuple[str, Any]] = [("last", None)]
         if predict is not None and "translation" in wanted:
             candidates.append(("translation", predict))
         inc = self._last_increment
-        if ("extrapolation" in wanted and inc is not None and inc[0].shape == x_saved.shape
+        if "extrapolation" in wanted and self._skip > 0:
+            self._skip -= 1  # backing off after a rejected extrapolation (_guarded_solve)
+        elif ("extrapolation" in wanted and inc is not None and inc[0].shape == x_saved.shape
                 and inc[1] > 0.0):
             candidates.append(("extrapolation", x_saved + (h / inc[1]) * inc[0]))
         if len(candidates) < 2:
-            return  # the last state (already the iterate): nothing to compare
+            return "last"  # the last state (already the iterate): nothing to compare
         pb = self.problem
         x = self.sp.w.x.array
         best, best_r = "last", math.inf
@@ -447,6 +493,7 @@ class SlidingRun:
         pb.constraints.set_prescribed(x)
         self.predictor_used += best == "translation"
         self.extrapolation_used += best == "extrapolation"
+        return best
 
     def _translation_predictor(self):
         """Start iterate for a sliding step of a periodic cell: steady sliding carries the
@@ -609,6 +656,7 @@ class SlidingRun:
         s = self.spec
         self.cutbacks, self.newton_iterations, self.predictor_used, self._easy = 0, 0, 0, 0
         self.extrapolation_used = 0  # sub-steps started from the extrapolated increment
+        self.guard_rejections = self._backoff = self._skip = 0
         self._last_increment: tuple[np.ndarray, float] | None = None  # (x_n - x_prev, h_prev)
         self._cpu_start = time.process_time()
         self.compression_contact = float("nan")
@@ -752,6 +800,8 @@ class SlidingRun:
         res.stats = {"cutbacks": self.cutbacks, "newton_iterations": self.newton_iterations,
                      "predictor_used": self.predictor_used,
                      "extrapolation_used": self.extrapolation_used,
+                     # extrapolated starts the guard rejected (solved again from the others)
+                     "extrapolation_rejected": self.guard_rejections,
                      "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size),
                      "stabilised_steps": self.stabilised_steps,
                      "lu_fallbacks": sum(n.lu_fallbacks for n in self._solvers()),
