@@ -17,7 +17,11 @@ s replayed).
 from __future__ import annotations
 
 import argparse
+import contextlib
+import json
 from pathlib import Path
+
+import rubberfriction
 
 from rubberfriction.driver.multiscale.campaign import make_planner
 from rubberfriction.driver.multiscale.scales import build_scales
@@ -34,8 +38,37 @@ class MissingRun(LookupError):
     """The campaign needs a run its store does not hold."""
 
 
+@contextlib.contextmanager
+def _keys_of(version: str | None):
+    """Run keys as the campaign's code version made them (the version is part of every key,
+    ``driver.runtime.store.run_key``): a store of an older release replays with this one."""
+    if not version:
+        yield
+        return
+    saved = rubberfriction.__version__
+    rubberfriction.__version__ = version
+    try:
+        yield
+    finally:
+        rubberfriction.__version__ = saved
+
+
+def campaign_version(folder: Path) -> str | None:
+    """The code version of the campaign in ``folder`` (its ``campaign.json``), if recorded."""
+    try:
+        return json.loads((folder / "campaign.json").read_text()).get("code_version") or None
+    except (OSError, ValueError):
+        return None
+
+
 def replay_folder(folder: Path, ranks: list[int], scene_file: Path | None = None) -> list[Replay]:
-    """The campaign of ``folder`` replayed on each rank count (``UNLIMITED``: the critical path)."""
+    """The campaign of ``folder`` replayed on each rank count (``UNLIMITED``: the critical path),
+    with the run keys of the code version that computed it."""
+    with _keys_of(campaign_version(folder)):
+        return _replay_folder(folder, ranks, scene_file)
+
+
+def _replay_folder(folder: Path, ranks: list[int], scene_file: Path | None) -> list[Replay]:
     scene = load_scene(scene_file or folder / "scene.toml")
     store = Store(folder / "store")
 
@@ -74,7 +107,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"bench farm: {err}")
         return 1
     serial = rows[0].busy
-    print(f"{args.folder}: {rows[0].runs} runs, {serial:.1f} s of run time")
+    version = campaign_version(args.folder)
+    print(f"{args.folder}: {rows[0].runs} runs, {serial:.1f} s of run time"
+          + (f" (code {version})" if version else ""))
     print(f"{'ranks':>10} {'wall s':>10} {'speed-up':>9} {'efficiency':>10}")
     for r in rows[:-1]:
         print(f"{r.workers:>10d} {r.makespan:>10.1f} {serial / r.makespan:>9.2f} "

@@ -31,8 +31,15 @@
    that needs more Newton iterations is solved again from the others) and without the
    extrapolation, side by side and repeated (A B C A B C): Newton iterations, wall time,
    mu_force, how often each start won and was rejected, and the ratios to the run without it.
+6. Branches (``--part branches``): the three-wave cell of ``tests/test_shortcut.py`` at 18
+   (p, v, amplitude) frictionless and with mu 0.5, two periods, from the last state and the
+   translation, with the guarded extrapolation (as shipped) and unguarded: mu_force, its
+   difference to the first and the Newton iterations.  Where the equilibrium is unique the
+   three agree to round-off; where it is not, the run-in path can differ (README "Start
+   iterate").
 
-    rubberfriction bench sliding [--part accuracy|stability|both|iterations|linear-solvers|start]
+    rubberfriction bench sliding [--part accuracy|stability|both|iterations|linear-solvers|start
+                                         |branches]
                                  [--quick]
                                  [--wall-limit S] [--penalty-alpha A] [--element E] [--json FILE]
                                  [--scale micro1|micro2]
@@ -201,6 +208,50 @@ def linear_solvers(pressure: float, velocity: float, slide_fraction: float,
 START_SCALES = {"macro": 0.3, "meso": 1.0, "micro1": 2.0, "micro2": None}
 
 
+#: the three-wave cell of ``tests/test_shortcut.py``: (harmonic, amplitude mm, phase) on 1 mm
+THREE_WAVES = ((1, 0.004, 0.0), (2, 0.002, 1.0), (3, 0.0012, 2.5))
+
+
+def start_branches(friction: float | None, guard: int = SlidingRun.EXTRAPOLATION_GUARD
+                   ) -> list[dict]:
+    """The three-wave cell (p 0.02 / 0.1 / 1 MPa, v 1 / 100 / 1e4 mm/s, amplitudes x1 / x10; 24
+    contact elements, two periods) from the last state and the translation, from all three
+    starts with the extrapolation guarded, and unguarded: mu_force and the relative difference
+    to the first (module docstring, part 6)."""
+    x = np.arange(192) / 192.0
+    variants = {"other starts": (("last", "translation"), 0),
+                f"guard {guard}": (SlidingRun.START_CANDIDATES, guard),
+                "unguarded": (SlidingRun.START_CANDIDATES, 0)}
+    rows = []
+    for p in (0.02, 0.1, 1.0):
+        for v in (1.0, 100.0, 1e4):
+            for amp in (1.0, 10.0):
+                h = sum(a * amp * np.cos(2 * np.pi * k * x + ph) for k, a, ph in THREE_WAVES)
+                spec = SlidingSpec(surface_x=x, surface_h=h, period=1.0, pressure=p, velocity=v,
+                                   compound=load_compound("tread_default"), h_contact=1.0 / 24,
+                                   slide_distance=2.0, steady_state=True, friction=friction)
+                row = {"pressure": p, "velocity": v, "amplitude": amp}
+                for name, (candidates, g) in variants.items():
+                    run = SlidingRun(spec, block_mesh, sliding_contact)
+                    run.start_candidates, run.extrapolation_guard = candidates, g
+                    t0 = time.perf_counter()
+                    r = run.run()
+                    row[name] = {"status": r.status, "mu_force": r.mu_force,
+                                 "newton_iterations": run.newton_iterations,
+                                 "wall_s": time.perf_counter() - t0}
+                ref = row["other starts"]["mu_force"]
+                text = f"p {p:4g} v {v:6g} x{amp:<3g}: other starts mu {ref:.6g}"
+                for name in list(variants)[1:]:
+                    mu = row[name]["mu_force"]
+                    row[name]["difference"] = abs(mu - ref) / abs(ref) if ref else float("nan")
+                    text += (f" | {name} {mu:.6g} ({row[name]['difference']:.1e}, Newton "
+                             f"{row[name]['newton_iterations']} / "
+                             f"{row['other starts']['newton_iterations']})")
+                print(text, flush=True)
+                rows.append(row)
+    return rows
+
+
 def _guards(text: str) -> tuple[int, ...]:
     try:
         guards = tuple(int(g) for g in text.split(",") if g.strip())
@@ -340,7 +391,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="rubberfriction bench sliding", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--part", choices=["accuracy", "stability", "both", "iterations",
-                                       "linear-solvers", "start"],
+                                       "linear-solvers", "start", "branches"],
                     default="both")
     ap.add_argument("--quick", action="store_true", help="fewer levels (a smoke run)")
     ap.add_argument("--wall-limit", type=_number(0.0, strict=False), default=300.0,
@@ -373,6 +424,12 @@ def main(argv: list[str] | None = None) -> int:
         if a.json:
             with open(a.json, "w") as f:
                 json.dump({"linear_solvers": rows}, f, indent=1, default=float)
+        return 0
+    if a.part == "branches":
+        rows = [dict(r, friction=f) for f in (None, 0.5) for r in start_branches(f)]
+        if a.json:
+            with open(a.json, "w") as f:
+                json.dump({"branches": rows}, f, indent=1, default=float)
         return 0
     if a.part == "start":
         rows = start_candidates(a.pressure, a.velocity, a.slide_fraction,
