@@ -312,8 +312,8 @@ def start_candidates(pressure: float, velocity: float, slide_fraction: float,
             wall = sum(r["wall_s"] for r in old) / max(sum(r["wall_s"] for r in new), 1e-300)
             dmu = max(abs(a["mu_force"] - b["mu_force"]) / abs(b["mu_force"])
                       for a, b in zip(new, old))
-            print(f"  {name}: no extrapolation / {v}: Newton iterations x{its:.2f}, wall x{wall:.2f}; "
-                  f"relative mu_force difference {dmu:.2e}", flush=True)
+            print(f"  {name}: no extrapolation / {v}: Newton iterations x{its:.2f}, "
+                  f"wall x{wall:.2f}; relative mu_force difference {dmu:.2e}", flush=True)
     return rows
 
 
@@ -414,8 +414,8 @@ def main(argv: list[str] | None = None) -> int:
                     help="iterations: sliding distance in periods of the sample (0.1; a "
                          "campaign slides 1.5)")
     ap.add_argument("--guards", type=_guards, default=(SlidingRun.EXTRAPOLATION_GUARD,),
-                    help="start: the guards compared (Newton iterations allowed from the "
-                         "extrapolated start), comma-separated")
+                    help="start: the guards compared, branches: the first (Newton iterations "
+                         "allowed from the extrapolated start), comma-separated")
     ap.add_argument("--compare-jit", action="store_true",
                     help="iterations: repeat with dolfinx's default compiler flags, print ratios")
     a = ap.parse_args(argv)
@@ -426,7 +426,8 @@ def main(argv: list[str] | None = None) -> int:
                 json.dump({"linear_solvers": rows}, f, indent=1, default=float)
         return 0
     if a.part == "branches":
-        rows = [dict(r, friction=f) for f in (None, 0.5) for r in start_branches(f)]
+        rows = [dict(r, friction=f) for f in (None, 0.5)
+                for r in start_branches(f, guard=a.guards[0])]
         if a.json:
             with open(a.json, "w") as f:
                 json.dump({"branches": rows}, f, indent=1, default=float)

@@ -108,10 +108,10 @@ class ContactLike:
 #: a sub-step converging in at most this many Newton iterations counts as easy; EASY_STREAK easy
 #: sub-steps in a row double the sub-step length (one would make it oscillate: double, fail, halve)
 EASY_ITERATIONS = 6
+EASY_STREAK = 2
 #: after a rejected extrapolated start the next 1, 2, 4, ... (at most this many) sub-steps start
 #: without it, until one from it converges within the guard again
 MAX_BACKOFF = 32
-EASY_STREAK = 2
 #: trial steps (linear solves) a trust-region solve may take (driver.fe.trust_region)
 TRUST_REGION_STEPS = 60
 #: globalisations of the Newton solves (SlidingSpec.newton)
@@ -421,12 +421,12 @@ class SlidingRun:
     def _guarded_solve(self, predict, h: float, x_saved: np.ndarray):
         """Newton from the extrapolated start, allowed ``extrapolation_guard`` iterations.  A
         start near the continuation of the path converges within them (micro2: 4 on average);
-        one that needs more has left it, and may be heading for another equilibrium (the
-        three-wave cell's travelling face: 29 and 97 iterations at its first two sub-steps), so
-        the sub-step is solved again from the other starts (the iterations of both count) and
-        the next 1, 2, 4, ... MAX_BACKOFF sub-steps do without the extrapolation (where it does
-        not pay, as on smooth cells where the translation converges in 3, its rejections would
-        otherwise double their cost)."""
+        one that needs more has left it and may be heading for another equilibrium (on the
+        three-wave cell the unguarded starts that led off the other starts' path took 29 and 97
+        iterations), so the sub-step is solved again from the other starts (the iterations of
+        both count) and the next 1, 2, 4, ... MAX_BACKOFF sub-steps do without the extrapolation
+        (where it does not pay, as on smooth cells where the translation converges in 3, its
+        rejections would otherwise double their cost)."""
         plain = self.newton.settings
         self.newton.settings = dataclasses.replace(plain, max_iterations=self.extrapolation_guard)
         try:
@@ -458,10 +458,11 @@ class SlidingRun:
         displacement path: on steep micro cells the other starts are far from the solution
         (the translation interpolates contact nodes into the road's flanks and never wins there)
         and it cuts a micro2 period's Newton iterations 2.6x.  A start can choose the branch
-        where the discrete equilibrium is not unique; unguarded, on the frictionless three-wave
-        cell of ``tests/test_time_homogenisation.py`` it carries the rubber's contact face along
-        with the road into a second equilibrium (mu -1.58 after two periods against 0.0224), so
-        it is only used through the guard (README "Start iterate")."""
+        where the discrete equilibrium is not unique: unguarded, on the frictionless three-wave
+        cell of ``tests/test_sliding.py`` it ends at mu 0.0243 against 0.0224 from the other
+        starts, and where the stabilised sub-steps started from it too, in an equilibrium whose
+        contact face travels with the road (mu -0.72); so it is used through the guard only and
+        never in the stabilisation ladder (README "Start iterate")."""
         wanted = tuple(c for c in self.start_candidates if c not in exclude)
         candidates: list[tuple[str, Any]] = [("last", None)]
         if predict is not None and "translation" in wanted:
