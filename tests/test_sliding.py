@@ -57,6 +57,20 @@ def test_viscoelastic_full_contact_sinusoid_closed_form(contact, element):
     assert abs(res.mu_force - res.mu_energy) < 0.02 * exact
 
 
+def _from_starts(spec: SlidingSpec, variants: dict[str, tuple[tuple[str, ...], int]]) -> dict:
+    """The run from each (Newton start candidates, extrapolation guard), by name; all succeed."""
+    from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
+    from rubberfriction.driver.sliding.run import SlidingRun
+
+    res = {}
+    for name, (candidates, guard) in variants.items():
+        run = SlidingRun(spec, block_mesh, sliding_contact)
+        run.start_candidates, run.extrapolation_guard = candidates, guard
+        res[name] = run.run()
+        assert res[name].ok, res[name].reason
+    return res
+
+
 def test_the_start_iterate_changes_the_newton_path_not_the_answer():
     """The full-contact viscoelastic sinusoid (a unique solution) from each Newton start of
     SlidingRun._start_iterate: the last state only, the last state and the translation (exact
@@ -64,23 +78,17 @@ def test_the_start_iterate_changes_the_newton_path_not_the_answer():
     as shipped (all three, the extrapolation guarded).  mu_force equal to 1e-6 (Newton's
     tolerance is 1e-8 of p L); the extrapolation, offered against the last state, is chosen in
     most sliding sub-steps and saves Newton iterations (a count: deterministic)."""
-    from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
     from rubberfriction.driver.sliding.run import SlidingRun
 
     x, h = sinusoid(0.002, 1.0, 128)
     spec = SlidingSpec(surface_x=x, surface_h=h, period=1.0, pressure=0.1, velocity=10.0,
                        compound=load_compound("tread_default"), h_contact=1.0 / 16,
                        slide_distance=0.5, step_length=0.5 / 16)
-    res = {}
-    for name, candidates, guard in (("last", ("last",), 0),
-                                    ("translation", ("last", "translation"), 0),
-                                    ("extrapolation", ("last", "extrapolation"), 0),
-                                    ("shipped", SlidingRun.START_CANDIDATES,
-                                     SlidingRun.EXTRAPOLATION_GUARD)):
-        run = SlidingRun(spec, block_mesh, sliding_contact)
-        run.start_candidates, run.extrapolation_guard = candidates, guard
-        res[name] = run.run()
-        assert res[name].ok, res[name].reason
+    res = _from_starts(spec, {"last": (("last",), 0),
+                              "translation": (("last", "translation"), 0),
+                              "extrapolation": (("last", "extrapolation"), 0),
+                              "shipped": (SlidingRun.START_CANDIDATES,
+                                          SlidingRun.EXTRAPOLATION_GUARD)})
     last = res["last"]
     for r in res.values():
         assert r.mu_force == pytest.approx(last.mu_force, rel=1e-6)
@@ -104,20 +112,14 @@ def test_the_guard_keeps_the_extrapolated_start_on_the_branch_of_the_other_start
     mu_force equal to 1e-6, and the guard did reject starts."""
     from test_shortcut import spec as three_waves
 
-    from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
     from rubberfriction.driver.sliding.run import SlidingRun
 
     spec = dataclasses.replace(three_waves(0.05, 100.0), h_contact=1.0 / 24, converge_tol=0.0,
                                slide_distance=2.0, compression_time=100.0)
-    res = {}
-    for name, candidates, guard in (("plain", ("last", "translation"), 0),
-                                    ("unguarded", SlidingRun.START_CANDIDATES, 0),
-                                    ("shipped", SlidingRun.START_CANDIDATES,
-                                     SlidingRun.EXTRAPOLATION_GUARD)):
-        run = SlidingRun(spec, block_mesh, sliding_contact)
-        run.start_candidates, run.extrapolation_guard = candidates, guard
-        res[name] = run.run()
-        assert res[name].ok, res[name].reason
+    res = _from_starts(spec, {"plain": (("last", "translation"), 0),
+                              "unguarded": (SlidingRun.START_CANDIDATES, 0),
+                              "shipped": (SlidingRun.START_CANDIDATES,
+                                          SlidingRun.EXTRAPOLATION_GUARD)})
     assert res["plain"].mu_force > 0.02
     assert res["unguarded"].mu_force > 0.0  # not the travelling face (the ladder's start)
     assert abs(res["unguarded"].mu_force / res["plain"].mu_force - 1.0) > 0.05  # another path
