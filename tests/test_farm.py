@@ -797,14 +797,19 @@ def test_replay_schedules_stages_in_hand_out_order_on_n_workers():
 def test_bench_farm_replays_a_finished_campaign_from_its_store(tmp_path: Path, toy):
     """The scene's own planner over the stored runs: one rank takes the sum of the stored wall
     times exactly; more ranks never take longer than fewer, nor less than the critical path; a
+    store of another code version (part of every run key) replays with the keys of its own; a
     run missing from the store is named."""
+    import rubberfriction
     from rubberfriction.driver.bench.farm import UNLIMITED, MissingRun, main, replay_folder
     from rubberfriction.driver.multiscale.campaign import run_scene
     from rubberfriction.driver.multiscale.scene import load_scene
 
     (tmp_path / "scene.toml").write_text(SCENE)
     out = tmp_path / "out"
-    r = run_scene(load_scene(str(tmp_path / "scene.toml")), output=out, runner=toy, quiet=True)
+    with pytest.MonkeyPatch.context() as mp:  # an older release computed this campaign
+        mp.setattr(rubberfriction, "__version__", "0.0.1")
+        r = run_scene(load_scene(str(tmp_path / "scene.toml")), output=out, runner=toy,
+                      quiet=True)
     store = Store(out / "store")
     total = sum(store.outcome(k).wall_time for k in store.keys())
     rows = replay_folder(out, [1, 2, 4, UNLIMITED], tmp_path / "scene.toml")
