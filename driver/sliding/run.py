@@ -185,9 +185,6 @@ class SlidingRun:
         self.spec = spec  # the current attempt's spec (base_spec, or a refined copy)
         self.start_candidates = self.START_CANDIDATES
         self.extrapolation_guard = self.EXTRAPOLATION_GUARD
-        self.guard_rejections = 0
-        self._backoff = self._skip = 0  # sub-steps without the extrapolated start after rejections
-        self._x_start = None
         # wall_limit > 0: seconds after which the run stops with a structured failure (failure
         # kind "wall_limit"; no further fallbacks). A machine-dependent control, so not in the spec.
         self.wall_limit = float(wall_limit)
@@ -331,9 +328,9 @@ class SlidingRun:
             hybrid = self.trust is not None and self.trust is not self.newton
             x_start = self.sp.w.x.array.copy() if hybrid else None
             if start == "extrapolation" and self.extrapolation_guard > 0:
-                res = self._guarded_solve(predict, h, x_saved)
-                if hybrid:
-                    x_start = self._x_start
+                res, redo_start = self._guarded_solve(predict, h, x_saved)
+                if hybrid and redo_start is not None:
+                    x_start = redo_start
             else:
                 res = self.newton.solve()
             self.newton_iterations += res.iterations
@@ -418,7 +415,8 @@ class SlidingRun:
         self.sp.w.x.array[:] = x_saved
         return False, res
 
-    def _guarded_solve(self, predict, h: float, x_saved: np.ndarray):
+    def _guarded_solve(self, predict, h: float, x_saved: np.ndarray
+                       ) -> tuple[Any, np.ndarray | None]:
         """Newton from the extrapolated start, allowed ``extrapolation_guard`` iterations.  A
         start near the continuation of the path converges within them (micro2: 4 on average);
         one that needs more has left it and may be heading for another equilibrium (on the
@@ -426,25 +424,25 @@ class SlidingRun:
         iterations), so the sub-step is solved again from the other starts (the iterations of
         both count) and the next 1, 2, 4, ... MAX_BACKOFF sub-steps do without the extrapolation
         (where it does not pay, as on smooth cells where the translation converges in 3, its
-        rejections would otherwise double their cost)."""
+        rejections would otherwise double their cost).  Returns Newton's result and, after a
+        rejection, the start of the solve again (None when the extrapolated start converged)."""
         plain = self.newton.settings
         self.newton.settings = dataclasses.replace(plain, max_iterations=self.extrapolation_guard)
         try:
             res = self.newton.solve()
         finally:
             self.newton.settings = plain
-        self._x_start = None
         if res.converged:
             self._backoff = 0
-            return res
+            return res, None
         self.guard_rejections += 1
         self._backoff = min(2 * self._backoff or 1, MAX_BACKOFF)
         self._skip = self._backoff
         self.newton_iterations += res.iterations
         self.sp.w.x.array[:] = x_saved
         self._start_iterate(predict, h, x_saved, exclude=("extrapolation",))
-        self._x_start = self.sp.w.x.array.copy()
-        return self.newton.solve()
+        redo_start = self.sp.w.x.array.copy()
+        return self.newton.solve(), redo_start
 
     def _start_iterate(self, predict, h: float, x_saved: np.ndarray,
                        exclude: tuple[str, ...] = ()) -> str:
@@ -657,6 +655,7 @@ class SlidingRun:
         s = self.spec
         self.cutbacks, self.newton_iterations, self.predictor_used, self._easy = 0, 0, 0, 0
         self.extrapolation_used = 0  # sub-steps started from the extrapolated increment
+        # extrapolated starts the guard rejected; sub-steps without it after rejections
         self.guard_rejections = self._backoff = self._skip = 0
         self._last_increment: tuple[np.ndarray, float] | None = None  # (x_n - x_prev, h_prev)
         self._cpu_start = time.process_time()
