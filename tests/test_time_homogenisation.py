@@ -13,6 +13,7 @@ from mpi4py import MPI
 
 from rubberfriction.driver.sliding.window import (
     DRIFT_FACTOR,
+    earliest_convergence,
     error_estimate,
     converged_window,
     period_means,
@@ -103,6 +104,33 @@ def test_convergence_rule_rejects_a_window_that_drifts() -> None:
     drifting = np.repeat(np.array([0.5, 0.2605, 0.2347, 0.2746, 0.2250]), 2)
     assert converged_window(np.vstack([steady[::2], drifting[::2]]), 0.01, 2,
                             np.vstack([steady, drifting])) == 0
+
+
+def test_a_period_without_a_mean_puts_the_window_out_of_reach() -> None:
+    """earliest_convergence: a period whose mean is not finite (a step with no load on the
+    contact) can be in neither block, so converged_window needs 2 w periods after it; the run
+    stops when its budget ends sooner.  Checked against converged_window itself: steady periods
+    appended to the series pass exactly at the period earliest_convergence names."""
+    steady = 0.25
+    for w in (2, 3):
+        assert earliest_convergence(np.array([0.5, steady]), w) == 1 + 2 * w  # run-in only
+        assert earliest_convergence(np.array([math.nan, steady]), w) == 1 + 2 * w  # period 1
+        for bad in (2, 5, 9):  # 1-based period without a mean
+            means = np.full(bad, steady)
+            means[0], means[bad - 1] = 0.5, math.nan
+            first = earliest_convergence(means, w)
+            assert first == bad + 2 * w
+            n = bad
+            while converged_window(np.append(means, np.full(n - bad, steady)), 0.01, w) == 0:
+                n += 1
+            assert n == first, (w, bad)
+    # the default scene's micro2 run at 63 MPa (0.13.0): periods 3 to 11 of 12 had no mean;
+    # after period 9 no window of 2 x 2 periods fits in the budget of 12
+    means = np.array([0.129, 0.453] + [math.nan] * 7)
+    assert earliest_convergence(means, 2) == 13
+    # several quantities: a period without a mean in any row counts
+    assert earliest_convergence(np.vstack([np.full(6, steady), [0.5, 0.3, math.nan, 0.3, 0.3, 0.3]]),
+                                2) == 7
 
 
 def test_error_estimate_of_a_geometric_approach() -> None:
@@ -220,3 +248,44 @@ def test_the_converged_rule_waits_for_the_quantity_the_run_hands_on() -> None:
         from rubberfriction.driver.sliding.run import SlidingRun
         SlidingRun(dataclasses.replace(base, window_quantity="pressure"), block_mesh,
                    sliding_contact)
+
+
+def test_a_run_stops_when_its_window_is_out_of_reach() -> None:
+    """The full-contact sinusoid with a budget of 5 periods and w = 2, its contact made to carry
+    nothing (F_z = 0, mu undefined) in one step of period 2: no window of 2 x 2 periods can follow
+    within the budget (2 + 4 > 5), so the run stops after period 2, unconverged, and says why;
+    the same hole in period 1 (the run-in, never compared) changes nothing."""
+
+    class Hole:
+        """Zeroes F_z in the contact state of one sliding step (the state is read once per step,
+        before on_step)."""
+
+        def __init__(self, step: int) -> None:
+            self.step, self.next = step, 1
+
+        def on_start(self, run) -> None:
+            state = run.contact.state
+
+            def holed():
+                st = dict(state())
+                if self.next == self.step:
+                    st["Fz"] = 0.0
+                return st
+            run.contact.state = holed
+
+        def on_step(self, run, k, t) -> None:
+            self.next = k + 1
+
+    compound = load_compound("tread_default")
+    per_period = 32  # 16 elements per wavelength, steps of half an element
+    runs = {}
+    for period in (1, 2):
+        out = simulate(compound, amplitude=0.002, pressure=0.1, velocity=10.0, periods=5,
+                       converge_tol=0.01, steady_state=True,
+                       observers=(Hole((period - 1) * per_period + 5),))
+        runs[period] = out["result"]
+    assert runs[1].converged == 1.0 and runs[1].reason == ""
+    stopped = runs[2]
+    assert stopped.ok and stopped.converged == 0.0
+    assert stopped.stats["periods"] == pytest.approx(2.0)
+    assert "stopped after period 2 of 5" in stopped.reason

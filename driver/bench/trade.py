@@ -1,14 +1,15 @@
 """Benchmark: the speed-accuracy trade of the whole method at one mu point of the default road.
 
     rubberfriction bench trade [--pressure 0.3] [--velocity 100] [--out DIR]
-                               [--settings quick,el6,el12,el24,alpha10,alpha100,k2,k10,converged]
+                               [--settings quick,el6,el12,el24,alpha10,alpha100,k2,k10,step2,
+                                           converged]
     mpirun -n 2 rubberfriction bench trade ...      # the campaigns farm their runs over the ranks
 
 One (p, v) point of the default scene (four scales of the CAPTIF road) is computed with each
 setting: the quick defaults of the shipped scene, then one setting changed at a time (contact
 elements per shortest wavelength 6 / 12 / 24, normal penalty factor alpha 10 / 100, samples per
-scale k = j = 2 / 10), and the most converged setting (24 elements per wavelength, alpha 100, ten
-samples, half the convergence tolerance).  Printed per setting: mu with its 95 % confidence
+scale k = j = 2 / 10, the sliding step halved), and the most converged setting (24 elements per
+wavelength, alpha 100, ten samples, half the convergence tolerance, half the step).  Printed per setting: mu with its 95 % confidence
 interval over the samples, the runs it needs (failed, unconverged), and their cost: the sum of
 the runs' wall times (each run's own time, also when this bench found it in the store, so every
 row is the cost of computing that setting from scratch).  Last, how far the quick defaults are
@@ -38,8 +39,10 @@ SETTINGS: dict[str, tuple[str, dict[str, dict[str, Any]]]] = {
     "alpha100": ("penalty alpha 100", {"numerics": {"penalty_alpha": 100.0}}),
     "k2": ("2 samples per scale", {"samples": {"pressure": 2, "friction": 2}}),
     "k10": ("10 samples per scale", {"samples": {"pressure": 10, "friction": 10}}),
-    "converged": ("most converged (24 el., alpha 100, 10 samples, tol / 2)",
-                  {"numerics": {"elements_per_wavelength": 24, "penalty_alpha": 100.0},
+    "step2": ("sliding step / 2 (step_per_element 0.25)", {"numerics": {"step_per_element": 0.25}}),
+    "converged": ("most converged (24 el., alpha 100, 10 samples, tol / 2, step / 2)",
+                  {"numerics": {"elements_per_wavelength": 24, "penalty_alpha": 100.0,
+                                "step_per_element": 0.25},
                    "samples": {"pressure": 10, "friction": 10}}),
 }
 

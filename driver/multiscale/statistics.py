@@ -95,8 +95,9 @@ def why_unusable(outcome: Outcome) -> str:
     """Why a run does not enter averages: its failure, or why a successful run is left out."""
     if not outcome.ok:
         return first_line(outcome.reason)
-    if outcome.value("converged") == 0.0:
-        return "no stationary window within the sliding budget"
+    if outcome.value("converged") == 0.0:  # the run's own reason if it stopped early
+        return first_line(outcome.reason) if outcome.reason else \
+            "no stationary window within the sliding budget"
     if overstabilised(outcome):
         return (f"stabilisation carried {100 * outcome.value('stabilisation_share'):.2g} % of the "
                 f"friction work (tolerance {100 * STABILISATION_TOL:.0f} %)")

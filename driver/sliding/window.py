@@ -119,6 +119,19 @@ def converged_window(means: np.ndarray, tol: float, window_periods: int,
     return 0
 
 
+def earliest_convergence(means: np.ndarray, window_periods: int) -> int:
+    """The fewest whole periods after which :func:`converged_window` can pass, given the period
+    means so far.  A period without a finite mean (a step whose contact carries no load: mu is
+    undefined) cannot lie in either block, so at least 2 ``window_periods`` periods must follow
+    the last such period, as they must follow the run-in.  A run whose budget ends sooner can
+    stop at once: sliding on cannot converge (the default scene's micro2 run at 63 MPa had
+    such periods 3 to 11 of 12)."""
+    rows = np.atleast_2d(np.asarray(means, dtype=float))
+    bad = np.nonzero(~np.all(np.isfinite(rows[:, 1:]), axis=0))[0]
+    last = int(bad[-1]) + 2 if bad.size else 1  # the last period that cannot be compared (1-based)
+    return last + 2 * max(int(window_periods), 1)
+
+
 def error_estimate(means: np.ndarray, window_periods: int) -> float:
     """Estimated |window mean - steady value| / |window mean| for a run of whole periods.
 
@@ -135,4 +148,4 @@ def error_estimate(means: np.ndarray, window_periods: int) -> float:
     window_mean = float(np.mean(means[-window_periods:]))
     lag = 0.5 * (window_periods - 1)  # periods between the window's centre and its last period
     err = abs(d) * (lag + r / (1.0 - r))
-    return err / abs(window_mean) if window_mean else math.nan
+    return err / abs(window_mean) if window_mean and math.isfinite(err) else math.nan
