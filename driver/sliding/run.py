@@ -466,22 +466,21 @@ class SlidingRun:
         contact face travels with the road (mu -0.72); so it is used through the guard only and
         never in the stabilisation ladder (README "Start iterate")."""
         wanted = tuple(c for c in self.start_candidates if c not in exclude)
-        pb = self.problem
-        x = self.sp.w.x.array
         inc = self._last_increment
         if "extrapolation" in wanted and self._skip > 0:
             self._skip -= 1  # backing off after a rejected extrapolation (_guarded_solve)
         elif ("extrapolation" in wanted and inc is not None and inc[0].shape == x_saved.shape
                 and inc[1] > 0.0):
+            x = self.sp.w.x.array
             x[:] = x_saved + (h / inc[1]) * inc[0]
-            pb.constraints.set_prescribed(x)
+            self.problem.constraints.set_prescribed(x)
             self.extrapolation_used += 1
             return "extrapolation"
-        candidates: list[tuple[str, Any]] = [("last", None)]
-        if predict is not None and "translation" in wanted:
-            candidates.append(("translation", predict))
-        if len(candidates) < 2:
+        if predict is None or "translation" not in wanted:
             return "last"  # the last state (already the iterate): nothing to compare
+        pb = self.problem
+        x = self.sp.w.x.array
+        candidates: list[tuple[str, Any]] = [("last", None), ("translation", predict)]
         best, best_r = "last", math.inf
         best_x = x_saved
         for name, move in candidates:
