@@ -28,7 +28,8 @@
    of a period) with the sliding sub-steps started from the best of the last state, the
    translation of the deformation with the surface and the extrapolated last increment:
    unguarded, guarded (``--guards``, as shipped ``SlidingRun.EXTRAPOLATION_GUARD``: a start
-   that needs more Newton iterations is solved again from the others) and without the
+   that needs more Newton iterations is solved again from the others), the shipped guard with
+   every start's residual compared (``unseen_after = 0``, the rule until 0.13.0) and without the
    extrapolation, side by side and repeated (A B C A B C): Newton iterations, wall time,
    mu_force, how often each start won and was rejected, and the ratios to the run without it.
 6. Branches (``--part branches``): the three-wave cell of ``tests/test_shortcut.py`` at 18
@@ -269,9 +270,11 @@ def start_candidates(pressure: float, velocity: float, slide_fraction: float,
     """Each scale with and without the extrapolated Newton start (module docstring, part 5)."""
     both = SlidingRun.START_CANDIDATES
     plain = tuple(c for c in both if c != "extrapolation")
-    variants = {"unguarded": (both, 0),
-                **{f"guard {g}": (both, g) for g in guards},
-                "no extrapolation": (plain, 0)}
+    shipped = SlidingRun.EXTRAPOLATION_GUARD
+    variants = {"unguarded": (both, 0, 0),
+                **{f"guard {g}": (both, g, SlidingRun.UNSEEN_AFTER) for g in guards},
+                f"guard {shipped}, compared": (both, shipped, 0),
+                "no extrapolation": (plain, 0, 0)}
     rows = []
     for k, (name, p) in enumerate(START_SCALES.items()):
         if name not in scales:
@@ -281,10 +284,11 @@ def start_candidates(pressure: float, velocity: float, slide_fraction: float,
               f"p {spec.pressure:g} MPa, v {velocity:g} mm/s, slide {spec.slide_distance:g} mm",
               flush=True)
         for rep in range(repeats):
-            for label, (candidates, guard) in variants.items():
+            for label, (candidates, guard, unseen) in variants.items():
                 run = SlidingRun(spec, block_mesh, sliding_contact)
                 run.start_candidates = candidates
                 run.extrapolation_guard = guard
+                run.unseen_after = unseen
                 t0 = time.perf_counter()
                 r = run.run()
                 wall = time.perf_counter() - t0
@@ -314,6 +318,13 @@ def start_candidates(pressure: float, velocity: float, slide_fraction: float,
                       for a, b in zip(new, old))
             print(f"  {name}: no extrapolation / {v}: Newton iterations x{its:.2f}, "
                   f"wall x{wall:.2f}; relative mu_force difference {dmu:.2e}", flush=True)
+        a = [r for r in mine if r["variant"] == f"guard {shipped}, compared"]
+        b = [r for r in mine if r["variant"] == f"guard {shipped}"]
+        if a and b:
+            print(f"  {name}: compared / shipped (unseen after {SlidingRun.UNSEEN_AFTER}): wall "
+                  f"x{sum(r['wall_s'] for r in a) / sum(r['wall_s'] for r in b):.3f}, Newton "
+                  f"iterations {sum(r['newton_iterations'] for r in a)} / "
+                  f"{sum(r['newton_iterations'] for r in b)}", flush=True)
     return rows
 
 
