@@ -289,3 +289,31 @@ def test_a_run_stops_when_its_window_is_out_of_reach() -> None:
     assert stopped.ok and stopped.converged == 0.0
     assert stopped.stats["periods"] == pytest.approx(2.0)
     assert "stopped after period 2 of 5" in stopped.reason
+
+
+def test_a_run_that_cannot_converge_before_its_wall_limit_stops_early() -> None:
+    """The full-contact sinusoid (converges after 5 periods, about 0.2 s each) slowed to about
+    1.8 s per period (a sleep of 50 ms per sliding step) under a 6 s wall-time limit: after
+    period 2, three more periods before the window rule can first pass need more than the
+    time left at that pace, so the run stops there as a wall-limit failure that says so,
+    instead of running into the limit in period 3.  At its own pace, under the same limit, it
+    converges: a projection never stops a run before its second period ends (the run-in is not
+    a pace) nor one that can make it."""
+    import time as clock
+
+    from rubberfriction.driver.sliding.run import run_sliding
+
+    class Slow:
+        def on_step(self, run, k, t) -> None:
+            clock.sleep(0.05)
+
+    spec = simulate(load_compound("tread_default"), amplitude=0.002, pressure=0.1, velocity=10.0,
+                    periods=8, converge_tol=0.01, steady_state=True)["spec"]
+    t0 = clock.perf_counter()
+    stopped = run_sliding(spec, observers=(Slow(),), wall_limit=6.0)
+    wall = clock.perf_counter() - t0
+    assert not stopped.ok and stopped.stats["failure"] == "wall_limit"
+    assert "projected after period 2: 3 more period(s)" in stopped.reason, stopped.reason
+    assert wall < 6.0
+    done = run_sliding(spec, wall_limit=6.0)
+    assert done.ok and done.converged == 1.0 and done.stats["periods"] >= 5

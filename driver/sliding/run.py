@@ -145,9 +145,10 @@ class _Phase:
 class _WallLimit(Exception):
     """The run's wall-time limit passed (raised between sub-steps, caught in SlidingRun.run)."""
 
-    def __init__(self, t: float):
+    def __init__(self, t: float, projected: str = ""):
         super().__init__(t)
         self.t = t
+        self.projected = projected  # why the limit will pass before the run can converge
 
 
 class SlidingRun:
@@ -196,6 +197,7 @@ class SlidingRun:
         if not (np.isfinite(self.wall_limit) and self.wall_limit >= 0.0):
             raise ValueError(f"wall_limit: expected seconds >= 0 (0: no limit), got {wall_limit!r}")
         self._deadline = float("inf")
+        self._period_wall = 0.0  # wall clock at the last period end (_project_wall_time)
         # LU package of the Newton solves (driver.fe.newton.LINEAR_SOLVERS): the results agree to
         # round-off, so it is a machine choice, not part of the spec
         if linear_solver not in LINEAR_SOLVERS:
@@ -548,6 +550,7 @@ class SlidingRun:
         """Time spent outside the run's own work (an observer's lower-scale cascades in the thermal
         loop) does not count against ``wall_limit``: the deadline moves by ``seconds``."""
         self._deadline += max(float(seconds), 0.0)
+        self._period_wall += max(float(seconds), 0.0)  # nor against a period's pace
 
     def _notify(self, event: str, *args) -> None:
         for obs in list(self.observers):
@@ -642,8 +645,10 @@ class SlidingRun:
                 try:
                     result = self._attempt(formulation, step_factor)
                 except _WallLimit as stop:
-                    result = SlidingResult("failed", reason=f"wall-time limit of {self.wall_limit:g} s "
-                                           f"reached at t = {stop.t:.4g} s ({label})", t_reached=stop.t)
+                    why = (f"wall-time limit of {self.wall_limit:g} s: {stop.projected}"
+                           if stop.projected else
+                           f"wall-time limit of {self.wall_limit:g} s reached at t = {stop.t:.4g} s")
+                    result = SlidingResult("failed", reason=f"{why} ({label})", t_reached=stop.t)
                     result.stats.update(failure="wall_limit", cutbacks=self.cutbacks,
                                         newton_iterations=self.newton_iterations)
                 result.stats["fallback_level"] = i
@@ -757,6 +762,7 @@ class SlidingRun:
         start = history.snapshot() if history is not None else None
         self.converged, self.window_used = math.nan, 0  # this attempt's window (see __init__)
         out_of_reach = ""
+        self._period_wall = time.perf_counter()  # wall clock at the last period end
         for k in range(1, nsteps + 1):
             self.step_energy = self.step_friction_energy = 0.0
             self.step_stabilisation_energy = self.step_stabilisation_impulse = 0.0
@@ -792,17 +798,38 @@ class SlidingRun:
                     self.converged = float(self.window_used > 0)
                     if self.converged:
                         break
-                    if earliest_convergence(means, s.window_periods) > nsteps // per_period:
+                    earliest = earliest_convergence(means, s.window_periods)
+                    if earliest > nsteps // per_period:
                         out_of_reach = (f"no stationary window within the sliding budget: "
                                         f"stopped after period {k // per_period} of "
                                         f"{nsteps // per_period}, a period without a finite "
                                         f"mean (no load on the contact) leaves fewer than "
                                         f"{2 * s.window_periods} to compare")
                         break
+                    self._project_wall_time(k // per_period, earliest, t)
                 if history is not None and k < nsteps:
                     history.extrapolate_periodic(start)
                     start = history.snapshot()
         return self._result(rows, distance, "ok", out_of_reach, t)
+
+    def _project_wall_time(self, done: int, earliest: int, t: float) -> None:
+        """Stop a run that cannot reach a converged window before its wall-time limit: after
+        ``done`` >= 2 whole periods (the run-in is not a pace), the periods still needed before
+        the window rule can first pass (``earliest``, at least the next one) at the pace of the
+        period that just ended take longer than the time left.  Such a run would be stopped by
+        the limit anyway, later (a "timeout": recomputed on the next run of the scene).  The
+        default scene's micro2 runs at 63 and 191 MPa slid 4 to 6.5 of their 12 periods at
+        90-140 s each before the 600 s limit stopped them."""
+        now = time.perf_counter()
+        pace, self._period_wall = now - self._period_wall, now
+        if self.wall_limit <= 0.0 or done < 2:
+            return
+        need = max(earliest, done + 1) - done
+        left = self._deadline - now
+        if need * pace > left:
+            raise _WallLimit(t, f"projected after period {done}: {need} more period(s) before "
+                                f"a converged window is possible, at {pace:.0f} s per period, "
+                                f"with {max(left, 0.0):.0f} s left")
 
     def _solvers(self) -> list:
         """The Newton solvers of this attempt (two in the hybrid)."""
