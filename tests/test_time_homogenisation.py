@@ -129,8 +129,8 @@ def test_a_period_without_a_mean_puts_the_window_out_of_reach() -> None:
     means = np.array([0.129, 0.453] + [math.nan] * 7)
     assert earliest_convergence(means, 2) == 13
     # several quantities: a period without a mean in any row counts
-    assert earliest_convergence(np.vstack([np.full(6, steady), [0.5, 0.3, math.nan, 0.3, 0.3, 0.3]]),
-                                2) == 7
+    rows = np.vstack([np.full(6, steady), [0.5, 0.3, math.nan, 0.3, 0.3, 0.3]])
+    assert earliest_convergence(rows, 2) == 7
 
 
 def test_error_estimate_of_a_geometric_approach() -> None:
@@ -288,7 +288,7 @@ def test_a_run_stops_when_its_window_is_out_of_reach() -> None:
     stopped = runs[2]
     assert stopped.ok and stopped.converged == 0.0
     assert stopped.stats["periods"] == pytest.approx(2.0)
-    assert "stopped after period 2 of 5" in stopped.reason
+    assert "after period 2 the window rule cannot pass before period 6 of 5" in stopped.reason
 
 
 def test_a_run_that_cannot_converge_before_its_wall_limit_stops_early() -> None:

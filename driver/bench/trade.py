@@ -9,12 +9,12 @@ One (p, v) point of the default scene (four scales of the CAPTIF road) is comput
 setting: the quick defaults of the shipped scene, then one setting changed at a time (contact
 elements per shortest wavelength 6 / 12 / 24, normal penalty factor alpha 10 / 100, samples per
 scale k = j = 2 / 10, the sliding step halved), and the most converged setting (24 elements per
-wavelength, alpha 100, ten samples, half the convergence tolerance, half the step).  Printed per setting: mu with its 95 % confidence
-interval over the samples, the runs it needs (failed, unconverged), and their cost: the sum of
-the runs' wall times (each run's own time, also when this bench found it in the store, so every
-row is the cost of computing that setting from scratch).  Last, how far the quick defaults are
-from the most converged setting.  All campaigns share one store (``<out>/store``): a run two
-settings have in common is computed once.
+wavelength, alpha 100, ten samples, half the convergence tolerance, half the step).  Printed per
+setting: mu with its 95 % confidence interval over the samples, the runs it needs (failed,
+unconverged), and their cost: the sum of the runs' wall times (each run's own time, also when
+this bench found it in the store, so every row is the cost of computing that setting from
+scratch).  Last, how far the quick defaults are from the most converged setting.  All campaigns
+share one store (``<out>/store``): a run two settings have in common is computed once.
 """
 
 from __future__ import annotations

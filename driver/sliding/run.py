@@ -457,12 +457,12 @@ class SlidingRun:
         """Newton start of a sliding sub-step of length h, returned by name: of the last converged
         state, the translation prediction (``predict``, periodic cells) and the extrapolation of
         the last converged sub-step's increment (unless backing off after a rejected one, see
-        :meth:`_guarded_solve`), the one with the lowest
-        residual (each costs one residual assembly); ``exclude`` leaves candidates out.  Once the
-        extrapolation has won ``unseen_after`` comparisons in a row, as many next sub-steps
-        take it unseen, then one comparison decides again (a rejection by the guard starts the
-        count anew; unguarded, it is always compared): on micro cells it always wins and comparing cost 9 % of a micro2 period; on
-        meso cells the translation often wins and saves 10 % of the iterations.
+        :meth:`_guarded_solve`), the one with the lowest residual (each costs one residual
+        assembly); ``exclude`` leaves candidates out.  Once the extrapolation has won
+        ``unseen_after`` comparisons in a row, as many next sub-steps take it unseen, then one
+        comparison decides again (a rejection by the guard starts the count anew; unguarded, it
+        is always compared): on micro cells it always wins and comparing cost 9 % of a micro2
+        period; on meso cells the translation often wins and saves 10 % of the iterations.
 
         Extrapolation: x_n + (h / h_prev) (x_n - x_prev), the forward-Euler predictor of the
         displacement path: on steep micro cells the other starts are far from the solution
@@ -645,9 +645,9 @@ class SlidingRun:
                 try:
                     result = self._attempt(formulation, step_factor)
                 except _WallLimit as stop:
-                    why = (f"wall-time limit of {self.wall_limit:g} s: {stop.projected}"
-                           if stop.projected else
-                           f"wall-time limit of {self.wall_limit:g} s reached at t = {stop.t:.4g} s")
+                    why = (f": {stop.projected}" if stop.projected
+                           else f" reached at t = {stop.t:.4g} s")
+                    why = f"wall-time limit of {self.wall_limit:g} s{why}"
                     result = SlidingResult("failed", reason=f"{why} ({label})", t_reached=stop.t)
                     result.stats.update(failure="wall_limit", cutbacks=self.cutbacks,
                                         newton_iterations=self.newton_iterations)
@@ -801,10 +801,12 @@ class SlidingRun:
                     earliest = earliest_convergence(means, s.window_periods)
                     if earliest > nsteps // per_period:
                         out_of_reach = (f"no stationary window within the sliding budget: "
-                                        f"stopped after period {k // per_period} of "
-                                        f"{nsteps // per_period}, a period without a finite "
-                                        f"mean (no load on the contact) leaves fewer than "
-                                        f"{2 * s.window_periods} to compare")
+                                        f"after period {k // per_period} the window rule "
+                                        f"cannot pass before period {earliest} of "
+                                        f"{nsteps // per_period} (it compares "
+                                        f"{2 * s.window_periods} periods after the run-in and "
+                                        f"after any period without a finite mean: no load on "
+                                        f"the contact)")
                         break
                     self._project_wall_time(k // per_period, earliest, t)
                 if history is not None and k < nsteps:
