@@ -301,19 +301,20 @@ def test_a_run_that_cannot_converge_before_its_wall_limit_stops_early() -> None:
     a pace) nor one that can make it."""
     import time as clock
 
-    from rubberfriction.driver.sliding.run import run_sliding
-
     class Slow:
         def on_step(self, run, k, t) -> None:
             clock.sleep(0.05)
 
-    spec = simulate(load_compound("tread_default"), amplitude=0.002, pressure=0.1, velocity=10.0,
-                    periods=8, converge_tol=0.01, steady_state=True)["spec"]
+    def sinusoid(observers=()):
+        return simulate(load_compound("tread_default"), amplitude=0.002, pressure=0.1,
+                        velocity=10.0, periods=8, converge_tol=0.01, steady_state=True,
+                        observers=observers, wall_limit=6.0)["result"]
+
     t0 = clock.perf_counter()
-    stopped = run_sliding(spec, observers=(Slow(),), wall_limit=6.0)
+    stopped = sinusoid((Slow(),))
     wall = clock.perf_counter() - t0
     assert not stopped.ok and stopped.stats["failure"] == "wall_limit"
     assert "projected after period 2: 3 more period(s)" in stopped.reason, stopped.reason
     assert wall < 6.0
-    done = run_sliding(spec, wall_limit=6.0)
+    done = sinusoid()
     assert done.ok and done.converged == 1.0 and done.stats["periods"] >= 5

@@ -483,20 +483,17 @@ class SlidingRun:
         elif ("extrapolation" in wanted and inc is not None and inc[0].shape == x_saved.shape
                 and inc[1] > 0.0):
             candidates.append(("extrapolation", x_saved + (h / inc[1]) * inc[0]))
-            if self._unseen > 0:  # it has won every comparison lately: take it
-                self._unseen -= 1
-                self.extrapolation_unseen += 1
-                x = self.sp.w.x.array
-                x[:] = candidates[-1][1]
-                self.problem.constraints.set_prescribed(x)
-                self.extrapolation_used += 1
-                return "extrapolation"
         if len(candidates) < 2:
             return "last"  # the last state (already the iterate): nothing to compare
         pb = self.problem
         x = self.sp.w.x.array
         best, best_r = "last", math.inf
         best_x = x_saved
+        if candidates[-1][0] == "extrapolation" and self._unseen > 0:
+            self._unseen -= 1  # it has won every comparison lately: take it unseen
+            self.extrapolation_unseen += 1
+            best, best_x = candidates[-1][0], candidates[-1][1]
+            candidates = []
         for name, move in candidates:
             x[:] = x_saved
             if name == "translation":
@@ -512,7 +509,7 @@ class SlidingRun:
         pb.constraints.set_prescribed(x)
         self.predictor_used += best == "translation"
         self.extrapolation_used += best == "extrapolation"
-        if candidates[-1][0] == "extrapolation":
+        if candidates and candidates[-1][0] == "extrapolation":
             self._streak = self._streak + 1 if best == "extrapolation" else 0
             if 0 < self.unseen_after <= self._streak and self.extrapolation_guard > 0:
                 self._unseen = self.unseen_after

@@ -41,7 +41,7 @@ def simulate(compound: Compound, *, wavelength: float = 1.0, amplitude: float = 
              elements_per_wavelength: int = 16, segments: int = 128, periods: float = 3.0,
              step_fraction: float = 0.5, contact: str = "mortar", element: str = "Q1P0", observers=(),
              converge_tol: float = 0.0, steady_state: bool = False,
-             layers: tuple[tuple[float, float], ...] = ()) -> dict:
+             layers: tuple[tuple[float, float], ...] = (), wall_limit: float = 0.0) -> dict:
     """FE run and closed form; returns both mu estimates and the analytical value.
 
     layers: (thickness mm, T K) from the contact face up (``SlidingSpec.temperature_layers``);
@@ -51,6 +51,7 @@ def simulate(compound: Compound, *, wavelength: float = 1.0, amplitude: float = 
     observers: passed to ``run_sliding`` (outputs such as ``driver.sliding.outputs.FieldWriter``).
     ``converge_tol`` > 0: the converged time homogenisation with ``periods`` as the budget
     (``driver.sliding.window``); ``steady_state``: periodic extrapolation of the histories.
+    ``wall_limit``: passed to ``run_sliding`` (seconds, 0: none).
     """
     x = np.linspace(0.0, wavelength, segments + 1)[:-1]
     h = amplitude * np.cos(2.0 * np.pi * x / wavelength)
@@ -60,7 +61,7 @@ def simulate(compound: Compound, *, wavelength: float = 1.0, amplitude: float = 
                        slide_distance=periods * wavelength, step_length=step_fraction * hc,
                        converge_tol=converge_tol, steady_state=steady_state,
                        temperature_layers=tuple((float(d), float(T)) for d, T in layers))
-    res = run_sliding(spec, observers=observers)
+    res = run_sliding(spec, observers=observers, wall_limit=wall_limit)
     out = {"result": res, "spec": spec, "mu_force": res.mu_force, "mu_energy": res.mu_energy,
            "mu_exact": closed_form_mu(compound, wavelength, amplitude, pressure, velocity, temperature),
            "p_full_contact": full_contact_pressure(compound, wavelength, amplitude, velocity)}
