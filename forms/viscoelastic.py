@@ -228,6 +228,17 @@ class ViscoelasticHistory:
         self.time += self._dt
         return dE
 
+    def restore(self, H: np.ndarray, Sbar: np.ndarray) -> None:
+        """Take H^k and DEV{Sbar} of an earlier converged state (a run that slides on from another
+        run's final state, ``driver.sliding.spec.InitialState``) as the last converged step, at
+        this history's temperatures: the dissipation rate restarts from them."""
+        if H.shape != self.H.shape or Sbar.shape != self.Sbar_n.shape:
+            raise ValueError(f"history of shape {H.shape}, {Sbar.shape}: this mesh has "
+                             f"{self.H.shape}, {self.Sbar_n.shape}")
+        np.copyto(self.H, H)
+        np.copyto(self.Sbar_n, Sbar)
+        self._D_n = self.dissipation_density()
+
     def snapshot(self) -> HistorySnapshot:
         """The converged history now: where a period of a periodic steady state starts."""
         return HistorySnapshot(self.H.copy(), self.Sbar_n.copy(), self.time)

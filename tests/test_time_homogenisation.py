@@ -318,3 +318,20 @@ def test_a_run_that_cannot_converge_before_its_wall_limit_stops_early() -> None:
     assert wall < 6.0
     done = sinusoid()
     assert done.ok and done.converged == 1.0 and done.stats["periods"] >= 5
+
+
+def test_a_warm_run_has_no_run_in():
+    """A run that starts from an earlier run's state (run_in = 0) compares its first periods
+    too: four steady periods pass with w = 2, which a run from rest (run_in = 1) needs five for;
+    and the earliest pass moves the same way (2 w periods after the last one without a mean)."""
+    steady = np.full(4, 0.5)
+    assert converged_window(steady, 0.01, 2, run_in=0) == 2
+    assert converged_window(steady, 0.01, 2) == 0
+    assert converged_window(np.full(5, 0.5), 0.01, 2) == 2
+    assert earliest_convergence(steady[:1], 2, run_in=0) == 4
+    assert earliest_convergence(steady[:1], 2) == 5
+    hole = np.array([0.5, np.nan, 0.5])
+    assert earliest_convergence(hole, 2, run_in=0) == 6
+    assert earliest_convergence(hole, 2) == 6
+    assert earliest_convergence(np.array([np.nan, 0.5]), 2, run_in=0) == 5
+    assert earliest_convergence(np.array([np.nan, 0.5]), 2) == 5

@@ -302,6 +302,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                      "the mean contact surface temperature moved by this many K; 0: "
                                      "divisions / points", minimum=0.0),
         "max_points": Key("int", 16, "coupled: at most this many automatic points", minimum=1),
+        "warm_start": Key("bool", True, "coupled: each homogenisation point's lower-scale runs "
+                                        "slide on from the previous point's final states (the "
+                                        "rubber keeps its deformation and history); false: "
+                                        "every run from rest, as the thesis did"),
         "partitions": Key("int", 4, "coupled: temperature partitions n_p over partition_depth "
                                     "(thesis 8.3.3, 8.4.2)", minimum=1),
         "partition_depth": Key("float", 0.09, "coupled: depth below the contact face the "
@@ -501,6 +505,7 @@ class ThermalSceneConfig:
     hot_layer_rises: tuple[float, ...] = (0.0, 5.0, 10.0, 20.0, 40.0, 80.0)
     auto_dT: float = 0.0
     max_points: int = 16
+    warm_start: bool = True
     hot_layer: float = 0.005
     hot_transition: float = 0.020
     road_mechanics: str = "rigid"  # or "elastic"
@@ -982,6 +987,7 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
         partitions=t["partitions"], partition_depth=t["partition_depth"], mu_const=t["mu_const"],
         bulk_wlf=t["bulk_wlf"], hot_layer_rises=tuple(t["hot_layer_rises"]), hot_layer=t["hot_layer"],
         hot_transition=t["hot_transition"], auto_dT=t["auto_dT"], max_points=t["max_points"],
+        warm_start=t["warm_start"],
         road_mechanics=t["road_mechanics"], road_surface=t["road_surface"], road_start=t["road_start"])
 
 

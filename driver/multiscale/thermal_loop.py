@@ -42,7 +42,7 @@ from rubberfriction import validation as V
 from rubberfriction.driver.multiscale.cascade import CampaignPlanner, RoughCascade
 from rubberfriction.driver.multiscale.results import Point, PointResult, ScaleSet
 from rubberfriction.driver.runtime.farm import run_farm
-from rubberfriction.driver.sliding.spec import SlidingSpec
+from rubberfriction.driver.sliding.spec import InitialState, SlidingSpec
 from rubberfriction.driver.theory.adhesion import BellLaw
 from rubberfriction.driver.thermal.conduction import block_levels
 from rubberfriction.driver.thermal.macro import (
@@ -153,28 +153,65 @@ def _mu(result: PointResult) -> float:
     return float(result.mu.mean) if result.ok and result.mu is not None else math.nan
 
 
+#: a lower-scale run of a cascade: (branch, scale index, sample index)
+RunSlot = tuple[str, int, int]
+
+
 class LayeredSpecs:
-    """The cascade's spec factory with temperature layers on every run (step C)."""
+    """The cascade's spec factory with temperature layers on every run (step C).
 
-    def __init__(self, make_spec: Callable[..., SlidingSpec], partitions: Partitions | None):
+    Warm starts (``states``, a function of a store key giving that run's kept final state or
+    None): every run keeps its final state, and a run whose slot (branch, scale, sample) has a
+    parent in ``parents`` (the store key of the same slot's run at the previous homogenisation
+    point) slides on from the parent's state instead of from rest."""
+
+    def __init__(self, make_spec: Callable[..., SlidingSpec], partitions: Partitions | None,
+                 scales: Sequence[ScaleSet] = (), parents: dict[RunSlot, str] | None = None,
+                 states: Callable[[str], dict | None] | None = None):
         self.make_spec, self.partitions = make_spec, partitions
+        self.scales, self.parents, self.states = list(scales), dict(parents or {}), states
 
-    def __call__(self, *args: Any) -> SlidingSpec:
-        spec = self.make_spec(*args)
-        if self.partitions is None:
+    def __call__(self, point: Point, i: int, sample: Any, pressure: float, friction: Any,
+                 branch: str) -> SlidingSpec:
+        spec = self.make_spec(point, i, sample, pressure, friction, branch)
+        if self.partitions is not None:
+            spec = dataclasses.replace(spec, temperature_layers=self.partitions.layers,
+                                       temperature=self.partitions.background)
+        if self.states is None:
             return spec
-        return dataclasses.replace(spec, temperature_layers=self.partitions.layers,
-                                   temperature=self.partitions.background)
+        spec = dataclasses.replace(spec, keep_state=True)
+        index = next((n for n, s in enumerate(self.scales[i].samples) if s is sample), -1)
+        key = self.parents.get((branch, i, index))
+        state = self.states(key) if key else None
+        if state is None:
+            return spec
+        return dataclasses.replace(spec, initial_state=InitialState(**{**state, "source": key}))
+
+
+def run_slots(result: PointResult) -> dict[RunSlot, str]:
+    """The store keys of a cascade's runs that finished (status ok) by slot: where the next
+    homogenisation point's runs start from."""
+    out = {}
+    for runs in result.runs.values():
+        for task, outcome in runs:
+            if outcome.ok:
+                lab = task.label
+                out[(str(lab["branch"]), int(lab["scale"]), int(lab["sample"]))] = outcome.key
+    return out
 
 
 class CascadeRunner:
     """Runs one cascade of a point over all ranks (step D); rank 0 calls it, the workers wait in
     :meth:`serve` until rank 0 says "done".  ``progress``: None, or a function of the cascade's
-    title returning a new progress display (``runtime.progress.Progress``) for each cascade."""
+    title returning a new progress display (``runtime.progress.Progress``) for each cascade.
+    ``states``: warm starts (:class:`LayeredSpecs`), a function of a store key giving the final
+    state that run kept (``runtime.store.Store.load_state``); None: every run from rest."""
 
     def __init__(self, campaign: str, point: Point, scales: Sequence[ScaleSet], make_spec, k: int, j: int,
                  execute, comm=None, progress=None, max_failed_fraction: float = 0.25,
-                 adhesion: BellLaw | None = None):
+                 adhesion: BellLaw | None = None,
+                 states: Callable[[str], dict | None] | None = None):
+        self.states = states
         self.adhesion = adhesion  # the scene's bell law: alpha mu_A on the top scale of every cascade
         self.campaign, self.point, self.scales = campaign, point, list(scales)
         self.make_spec, self.k, self.j = make_spec, k, j
@@ -182,15 +219,21 @@ class CascadeRunner:
         self.max_failed = max_failed_fraction
         self.count = 0
 
-    def __call__(self, partitions: Partitions | None) -> PointResult:
-        return self.many([partitions])[0]
+    def __call__(self, partitions: Partitions | None,
+                 parents: dict[RunSlot, str] | None = None) -> PointResult:
+        """One cascade with these temperature layers; with warm starts (``states``) its runs
+        slide on from the final states of ``parents`` (slot -> store key, :func:`run_slots`)."""
+        return self.many([partitions], parents)[0]
 
-    def many(self, partitions: Sequence[Partitions | None]) -> list[PointResult]:
+    def many(self, partitions: Sequence[Partitions | None],
+             parents: dict[RunSlot, str] | None = None) -> list[PointResult]:
         """Independent cascades of the point (the hot-layer grid), one per entry of
         ``partitions``, farmed as one campaign so that their runs fill all ranks; the results
         in that order."""
         planners = [RoughCascade(self.campaign, self.point, self.scales,
-                                 LayeredSpecs(self.make_spec, parts), self.k, self.j,
+                                 LayeredSpecs(self.make_spec, parts, self.scales, parents,
+                                              self.states),
+                                 self.k, self.j,
                                  adhesion=self.adhesion, max_failed_fraction=self.max_failed)
                     for parts in partitions]
         if self.comm is not None and self.comm.Get_size() > 1:
@@ -218,15 +261,19 @@ class LoopObserver:
     cascade with the current profile and hands its mu to the macro contact (steps B-E)."""
 
     def __init__(self, coupler, distances: np.ndarray, settings: LoopSettings, cascade: CascadeRunner,
-                 mu_start: float, log: Callable[[str], None] | None = None):
+                 mu_start: float, log: Callable[[str], None] | None = None,
+                 parents: dict[RunSlot, str] | None = None):
         self.coupler, self.distances, self.settings = coupler, distances, settings
         self.cascade, self.mu_start, self.log = cascade, mu_start, log
+        self.start_parents = dict(parents or {})  # the isothermal cascade's runs (warm starts)
+        self.parents = dict(self.start_parents)  # each slot's latest finished run
         self.intervals: list[Interval] = []
         self.error: str | None = None
         self.next = 0  # index of the next planned point
 
     def on_start(self, run) -> None:  # a fallback attempt starts the slide again
         self.intervals = []
+        self.parents = dict(self.start_parents)
         self.error = None
         self.next = 0
         self.T_last = self.coupler.settings.T0
@@ -265,7 +312,8 @@ class LoopObserver:
         self.T_last = float(profile.mean[0])
         parts = partition_profile(profile, self.settings.n_partitions, self.settings.partition_depth)
         wall = time.perf_counter()
-        result = self.cascade(parts)
+        result = self.cascade(parts, self.parents)
+        self.parents.update(run_slots(result))  # a slot whose run failed keeps its last state
         wall = time.perf_counter() - wall
         run.exclude_from_wall_limit(wall)  # the macro run's wall clock counts its own work only
         mu_out = _mu(result)
@@ -312,7 +360,7 @@ def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSetting
     out.s_final = float(distances[-1])
     spec = dataclasses.replace(spec, friction=loop.mu_const + mu0)
     coupler = ThermalCoupler(rubber, thermal)
-    observer = LoopObserver(coupler, distances, loop, cascade, mu0, log)
+    observer = LoopObserver(coupler, distances, loop, cascade, mu0, log, run_slots(iso))
     out.macro = run_thermal_macro(spec, rubber, thermal, observers=(observer,), wall_limit=wall_limit,
                                   coupler=coupler)
     out.intervals = observer.intervals

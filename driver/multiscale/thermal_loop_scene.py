@@ -136,7 +136,9 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet,
         cascade = CascadeRunner(scene.name, Point(name, p, v), scales.sets, make_spec, scene.samples.pressure,
                                 scene.samples.friction, executor, comm, progress=progress,
                                 max_failed_fraction=scene.samples.max_failed_fraction,
-                                adhesion=scene.adhesion if scene.physics.adhesion else None)
+                                adhesion=scene.adhesion if scene.physics.adhesion else None,
+                                states=(executor.store.load_state
+                                        if t.mode == "coupled" and t.warm_start else None))
         wall = time.perf_counter()
         try:
             if t.mode == "hot-layer":

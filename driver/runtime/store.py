@@ -30,6 +30,8 @@ A single-scale run is a pure function of its :class:`~rubberfriction.driver.slid
         stats           attrs: cutbacks, newton_iterations, steps, wall_time, attempt (the
                         fallback that gave the result, e.g. "nts x2 mesh"), ...
         dissipation_by_depth/z, /d   (when the run gives it)
+      /state            the run's final state when it kept one (``SlidingSpec.keep_state``:
+                        the thermal loop's warm starts), fields as datasets and attrs
 
 * **atomic**: a run is written to a temporary file in the same folder, flushed and fsync'ed and
   then renamed onto ``<key>.h5`` (``os.replace``, atomic on POSIX).  A file named ``<key>.h5``
@@ -311,6 +313,16 @@ def spec_scalars(spec: Any) -> dict[str, Any]:
     return out
 
 
+def _put_state(group: Any, state: Any) -> None:
+    """A run's final state (a dataclass of arrays and scalars) into ``/state``."""
+    for f in dataclasses.fields(state):
+        v = getattr(state, f.name)
+        if isinstance(v, np.ndarray):
+            group.create_dataset(f.name, data=v)
+        else:
+            group.attrs[f.name] = _attr(v)
+
+
 # ----------------------------------------------------------------------------------------------
 # the store
 # ----------------------------------------------------------------------------------------------
@@ -422,6 +434,9 @@ class Store:
                     d = r.create_group("dissipation_by_depth")
                     d.create_dataset("z", data=np.asarray(dd[0], dtype=float))
                     d.create_dataset("d", data=np.asarray(dd[1], dtype=float))
+                state = getattr(result, "final_state", None)
+                if state is not None and dataclasses.is_dataclass(state):
+                    _put_state(f.create_group("state"), state)
                 f.flush()
             with open(tmp, "rb+") as fh:
                 os.fsync(fh.fileno())
@@ -485,6 +500,19 @@ class Store:
         return StoredRun(key, a["status"], a.get("reason", ""), a.get("failure", ""), values,
                          series, stats,
                          prov, label, inputs, dd)
+
+    def load_state(self, key: str) -> dict[str, Any] | None:
+        """The final state a run kept (``/state``: its fields, arrays as datasets, the rest as
+        attributes; the sliding run's ``InitialState``), or None if the run has none."""
+        if not self.has(key):
+            return None
+        with self._open(key) as f:
+            if "state" not in f:
+                return None
+            g = f["state"]
+            out: dict[str, Any] = {k: _decode(v) for k, v in g.attrs.items()}
+            out.update({k: np.asarray(v[()]) for k, v in g.items()})
+        return out
 
     def iter_runs(self) -> Iterator[StoredRun]:
         for key in self.keys():

@@ -73,10 +73,12 @@ from rubberfriction.driver.sliding.spec import (
     STABILISE_AFTER,
     STABILISED_ITERATIONS,
     STABILISED_STAGNATION,
+    InitialState,
     SlidingResult,
     SlidingSpec,
     default_h_contact,
     has_friction,
+    mesh_digest,
     penalty_modulus,
     refined,
     softened,
@@ -692,6 +694,7 @@ class SlidingRun:
         self.min_det_F = math.inf
         self.intrusion = -1.0  # deepest road vertex inside the rubber face over the sliding steps
         self.trust_solves = 0  # hybrid: sub-steps handed to the trust region
+        self.warm_started = False  # slid on from spec.initial_state (_warm_state)
         try:
             self.build(formulation)
         except (ValueError, RuntimeError) as err:
@@ -707,44 +710,18 @@ class SlidingRun:
         t_p = s.compression_time or L / (2.0 * np.pi * s.velocity)
         dt_p = t_p / s.compression_steps
         distance = s.slide_distance or 3.0 * (s.period if s.period > 0 else L)
-        self.t_planned = t_p + distance / s.velocity  # without the short initial contact
-        t = 0.0
-        # 1. initial contact under displacement control
-        delta, Fz = 0.0, 0.0
-        ddelta = 1e-4 * self.H
-        for _ in range(60):
-            target = delta + ddelta
-
-            # loads are linear in time over the step, so a cut-back sub-step takes a part of it
-            def load(tk, t0=t, lo=delta, hi=target):
-                self.cmap.update_value(self.top_z_dof, -(lo + (hi - lo) * (tk - t0) / dt_p))
-
-            ok, reason, _ = self._solve_step(t, dt_p, load)
-            if not ok:
-                return SlidingResult("failed", reason=f"initial contact: {reason}", t_reached=t)
-            t, delta = t + dt_p, target
-            Fz = -self._top_reaction()
-            if Fz >= 0.02 * F_target:
-                break
-            ddelta *= 2.0
+        warm = self._warm_state()
+        self.t_planned = (0.0 if warm else t_p) + distance / s.velocity  # w/o initial contact
+        rows, offset0 = [], 0.0
+        if warm is not None:  # slide on from an earlier run's final state (spec.InitialState)
+            self._restore(warm)
+            self.fext[:] = 0.0
+            self.fext[self.top_z_dof] = -F_target
+            t, offset0 = 0.0, warm.offset
         else:
-            return SlidingResult("failed", reason="initial contact: no load after 60 increments", t_reached=t)
-        # 2. compression to p over t_p under force control
-        self._switch_to_force_control()
-        F0 = min(Fz, F_target)
-        rows = []
-        for k in range(1, s.compression_steps + 1):
-
-            def load(tk, t0=t, k=k):
-                Fk = F0 + (F_target - F0) * (k - 1 + (tk - t0) / dt_p) / s.compression_steps
-                self.fext[:] = 0.0
-                self.fext[self.top_z_dof] = -Fk
-
-            ok, reason, _ = self._solve_step(t, dt_p, load)
-            if not ok:
-                return SlidingResult("failed", reason=f"compression: {reason}", t_reached=t)
-            t += dt_p
-        self.compression_contact = self.contact.state()["contact_length"] / L
+            t, failed = self._load_from_rest(t_p, dt_p, F_target)
+            if failed is not None:
+                return failed
         # 3. sliding at v with p held
         nsteps = int(np.ceil(distance / step_len))
         t_s = t
@@ -758,6 +735,7 @@ class SlidingRun:
         history = self.sp.history if s.steady_state else None
         start = history.snapshot() if history is not None else None
         self.converged, self.window_used = math.nan, 0  # this attempt's window (see __init__)
+        run_in = 0 if warm is not None else 1  # periods from rest the window rule leaves out
         out_of_reach = ""
         self._period_wall = time.perf_counter()  # wall clock at the last period end
         for k in range(1, nsteps + 1):
@@ -766,7 +744,7 @@ class SlidingRun:
 
             def load(tk):
                 self.fext[:] = keep
-                self.contact.set_master_offset(-s.velocity * (tk - t_s), 0.0)
+                self.contact.set_master_offset(offset0 - s.velocity * (tk - t_s), 0.0)
 
             ok, reason, _ = self._solve_step(t, dt_slide, load, predict, adaptive=True)
             if not ok:
@@ -791,17 +769,18 @@ class SlidingRun:
                     means = [period_means(arr[:, 0], q[name], L) for name in names]
                     halves = [period_means(arr[:, 0], q[name], 0.5 * L) for name in names]
                     self.window_used = converged_window(means, s.converge_tol, s.window_periods,
-                                                        halves)
+                                                        halves, run_in)
                     self.converged = float(self.window_used > 0)
                     if self.converged:
                         break
-                    earliest = earliest_convergence(means, s.window_periods)
+                    earliest = earliest_convergence(means, s.window_periods, run_in)
                     if earliest > nsteps // per_period:
+                        after = "the run-in and " if run_in else ""
                         out_of_reach = (f"no stationary window within the sliding budget: "
                                         f"after period {k // per_period} the window rule "
                                         f"cannot pass before period {earliest} of "
                                         f"{nsteps // per_period} (it compares "
-                                        f"{2 * s.window_periods} periods after the run-in and "
+                                        f"{2 * s.window_periods} periods after {after}"
                                         f"after any period without a finite mean: no load on "
                                         f"the contact)")
                         break
@@ -809,7 +788,85 @@ class SlidingRun:
                 if history is not None and k < nsteps:
                     history.extrapolate_periodic(start)
                     start = history.snapshot()
-        return self._result(rows, distance, "ok", out_of_reach, t)
+        res = self._result(rows, distance, "ok", out_of_reach, t)
+        if s.keep_state:
+            res.final_state = self._final_state(offset0 - s.velocity * (t - t_s))
+        return res
+
+    def _load_from_rest(self, t_p: float, dt_p: float, F_target: float
+                        ) -> tuple[float, SlidingResult | None]:
+        """Load history phases 1 and 2 (module docstring): the initial contact under displacement
+        control, then the compression to F_target over t_p.  Returns the time reached and None,
+        or the failed result."""
+        s, t = self.spec, 0.0
+        # 1. initial contact under displacement control
+        delta, Fz = 0.0, 0.0
+        ddelta = 1e-4 * self.H
+        for _ in range(60):
+            target = delta + ddelta
+
+            # loads are linear in time over the step, so a cut-back sub-step takes a part of it
+            def load(tk, t0=t, lo=delta, hi=target):
+                self.cmap.update_value(self.top_z_dof, -(lo + (hi - lo) * (tk - t0) / dt_p))
+
+            ok, reason, _ = self._solve_step(t, dt_p, load)
+            if not ok:
+                return t, SlidingResult("failed", reason=f"initial contact: {reason}", t_reached=t)
+            t, delta = t + dt_p, target
+            Fz = -self._top_reaction()
+            if Fz >= 0.02 * F_target:
+                break
+            ddelta *= 2.0
+        else:
+            return t, SlidingResult("failed", reason="initial contact: no load after 60 increments",
+                                    t_reached=t)
+        # 2. compression to p over t_p under force control
+        self._switch_to_force_control()
+        F0 = min(Fz, F_target)
+        for k in range(1, s.compression_steps + 1):
+
+            def load(tk, t0=t, k=k):
+                Fk = F0 + (F_target - F0) * (k - 1 + (tk - t0) / dt_p) / s.compression_steps
+                self.fext[:] = 0.0
+                self.fext[self.top_z_dof] = -Fk
+
+            ok, reason, _ = self._solve_step(t, dt_p, load)
+            if not ok:
+                return t, SlidingResult("failed", reason=f"compression: {reason}", t_reached=t)
+            t += dt_p
+        self.compression_contact = self.contact.state()["contact_length"] / self.L
+        return t, None
+
+    def _warm_state(self) -> InitialState | None:
+        """The spec's initial state if this attempt's mesh is the one it was computed on (a
+        refined fallback attempt starts from rest); stats ``warm_start`` 1 or 0."""
+        state = self.spec.initial_state
+        fits = (state is not None and state.mesh == mesh_digest(self.sp.node_X)
+                and state.w.shape == self.sp.w.x.array.shape)
+        self.warm_started = bool(fits)
+        return state if fits else None
+
+    def _restore(self, state: InitialState) -> None:
+        """Take an earlier run's final state as the converged state now: displacements and
+        pressures, the Prony histories at this run's temperatures, the contact's reference
+        positions at the road's offset then (no tangential history), force control."""
+        self._switch_to_force_control()
+        x = self.sp.w.x.array
+        x[:] = state.w
+        if self.sp.history is not None:
+            self.sp.history.restore(state.history, state.sbar)
+        self.problem.constraints.set_prescribed(x)
+        self.contact.reset_history(x, (state.offset, 0.0))
+
+    def _final_state(self, offset: float) -> InitialState:
+        """This attempt's converged state now, for a later run to start from (spec.keep_state)."""
+        h = self.sp.history
+        empty = np.zeros(0)
+        return InitialState("", self.sp.w.x.array.copy(),
+                            h.H.copy() if h is not None else empty,
+                            h.Sbar_n.copy() if h is not None else empty,
+                            float(offset % self.L) if self.spec.period > 0 else float(offset),
+                            mesh_digest(self.sp.node_X))
 
     def _project_wall_time(self, done: int, earliest: int, t: float) -> None:
         """Stop a run that cannot reach a converged window before its wall-time limit: after
@@ -867,7 +924,8 @@ class SlidingRun:
                      "rejected_steps": float(self.trust.rejected if self.trust else 0),
                      "trust_region_solves": float(self.trust_solves),
                      "window_start": lo, "window_end": hi,
-                     "compression_contact_fraction": self.compression_contact, **self._cpu_split()}
+                     "compression_contact_fraction": self.compression_contact,
+                     "warm_start": float(self.warm_started), **self._cpu_split()}
         if len(rows) == 0:
             return res
         Fz = series["Fz"]

@@ -7,6 +7,7 @@ and the automatic normal penalty's modulus are functions of the spec alone, so t
 
 from __future__ import annotations
 
+import hashlib
 import math
 import numbers
 from dataclasses import dataclass, field, replace
@@ -17,6 +18,33 @@ from rubberfriction.driver.sliding.sinusoid import effective_modulus
 from rubberfriction.driver.sliding.temperature import surface_temperature
 from rubberfriction.meshes.common import contact_divisions
 from rubberfriction.meshes.grading import geometric_sizes
+
+
+@dataclass(frozen=True, eq=False)
+class InitialState:
+    """Where a run starts instead of from rest: the final state of an earlier run on the same
+    mesh (the thermal loop's warm start, ``driver.multiscale.thermal_loop``).  The run skips the
+    initial contact and the compression and slides on from this state under its own load,
+    temperatures and friction; its first period then counts in the window rule (no run-in from
+    rest, ``window.converged_window``).  Plain arrays, hashed into the run's key by their bytes.
+
+    ``source``: the store key of the run it comes from (provenance); ``w``: the full solution
+    array (displacements and cell pressures); ``history``, ``sbar``: the Prony histories H^k and
+    DEV{Sbar} of the last converged step (``forms.viscoelastic.ViscoelasticHistory``);
+    ``offset``: the road's offset then, in [0, period); ``mesh``: the sha256 of the mesh's node
+    coordinates (:func:`mesh_digest`): a state fits only the mesh it was computed on."""
+
+    source: str
+    w: np.ndarray
+    history: np.ndarray
+    sbar: np.ndarray
+    offset: float = 0.0
+    mesh: str = ""
+
+
+def mesh_digest(node_X: np.ndarray) -> str:
+    """sha256 of a mesh's node coordinates (``InitialState.mesh``)."""
+    return hashlib.sha256(np.ascontiguousarray(node_X, dtype=float).tobytes()).hexdigest()
 
 
 @dataclass(frozen=True)
@@ -92,6 +120,12 @@ class SlidingSpec:
     # (default scene micro1 at 15 MPa, micro2 at 7.6 MPa), the collapsed one 1e-5 .. 1e-14 in
     # its last states; 0: inversion only
     min_jacobian: float = 1e-3
+    # a warm start (InitialState): the run slides on from an earlier run's final state; None: from
+    # rest (initial contact, compression, then sliding)
+    initial_state: InitialState | None = None
+    # keep the final state with the result (SlidingResult.final_state) so that a later run can
+    # start from it: the thermal loop's next homogenisation point (periodic cells only)
+    keep_state: bool = False
 
 
 @dataclass
@@ -122,6 +156,7 @@ class SlidingResult:
     road_intrusion: float = float("nan")
     dissipation_by_depth: tuple[np.ndarray, np.ndarray] | None = None
     stats: dict[str, float] = field(default_factory=dict)
+    final_state: InitialState | None = None  # with spec.keep_state, after a finished slide
 
     @property
     def ok(self) -> bool:

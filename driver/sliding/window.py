@@ -79,7 +79,7 @@ DRIFT_FACTOR = 2.0
 
 
 def converged_window(means: np.ndarray, tol: float, window_periods: int,
-                     halves: np.ndarray | None = None) -> int:
+                     halves: np.ndarray | None = None, run_in: int = 1) -> int:
     """The number w of last periods to average, 0 while the period means are not stationary.
 
     Stationary: the mean of the last w periods and that of the w before them differ by at most
@@ -102,10 +102,13 @@ def converged_window(means: np.ndarray, tol: float, window_periods: int,
     differ by twice the window's drift).
 
     ``means`` of several quantities (one row each, e.g. mu and the contact fraction): the same
-    w must pass for every row (and ``halves`` then has a row per quantity too)."""
+    w must pass for every row (and ``halves`` then has a row per quantity too).
+
+    ``run_in``: the first periods that never enter a block; 0 for a run that starts from an
+    earlier run's state (``spec.InitialState``) rather than from rest."""
     rows = np.atleast_2d(np.asarray(means, dtype=float))
     half = None if halves is None else np.atleast_2d(np.asarray(halves, dtype=float))
-    n = rows.shape[1] - 1  # the run-in period is not compared
+    n = rows.shape[1] - run_in  # the run-in periods are not compared
     for w in range(max(window_periods, 1), n // 2 + 1):
         a, b = rows[:, -w:].mean(axis=1), rows[:, -2 * w:-w].mean(axis=1)
         if not np.all(np.abs(a - b) <= tol * np.maximum(np.abs(0.5 * (a + b)), MU_FLOOR)):
@@ -119,16 +122,17 @@ def converged_window(means: np.ndarray, tol: float, window_periods: int,
     return 0
 
 
-def earliest_convergence(means: np.ndarray, window_periods: int) -> int:
+def earliest_convergence(means: np.ndarray, window_periods: int, run_in: int = 1) -> int:
     """The fewest whole periods after which :func:`converged_window` can pass, given the period
     means so far.  A period without a finite mean (a step whose contact carries no load: mu is
     undefined) cannot lie in either block, so at least 2 ``window_periods`` periods must follow
     the last such period, as they must follow the run-in.  A run whose budget ends sooner can
     stop at once: sliding on cannot converge (the default scene's micro2 run at 63 MPa had
-    such periods 3 to 11 of 12)."""
+    such periods 3 to 11 of 12).  ``run_in`` as in :func:`converged_window`."""
     rows = np.atleast_2d(np.asarray(means, dtype=float))
-    bad = np.nonzero(~np.all(np.isfinite(rows[:, 1:]), axis=0))[0]
-    last = int(bad[-1]) + 2 if bad.size else 1  # the last period that cannot be compared (1-based)
+    bad = np.nonzero(~np.all(np.isfinite(rows[:, run_in:]), axis=0))[0]
+    # the last period that cannot be compared (1-based)
+    last = int(bad[-1]) + 1 + run_in if bad.size else run_in
     return last + 2 * max(int(window_periods), 1)
 
 

@@ -1,0 +1,117 @@
+"""Warm starts (``SlidingSpec.initial_state``): a run that slides on from an earlier run's final
+state instead of from rest, as the thermal loop's homogenisation points do
+(``driver.multiscale.thermal_loop``: the rubber keeps its deformation and history while it heats).
+
+The full-contact sinusoid (tread_default, a 1 mm wave of 2 um amplitude, 0.1 MPa, 10 mm/s, the
+case of ``tests/test_temperature_layers.py``) converges from rest at T_ref and is then slid on:
+
+* under the same conditions: already steady, so the window rule, which leaves no run-in out of a
+  warm run, passes at its first chance (2 w = 4 periods) with the mu of the run from rest;
+* with a hot bottom partition (0.2 mm at T_ref + 20 K): the layered strip's closed form within
+  3 % (measured 0.05 %), and the run from rest with the same layers within 0.1 % (0.01 %);
+* on another mesh the state is not taken: the run starts from rest (stats ``warm_start`` 0).
+
+The store keeps the state bit for bit (``Store.load_state``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from rubberfriction.driver.runtime.store import Store, run_key
+from rubberfriction.driver.sliding.run import run_sliding
+from rubberfriction.driver.sliding.sinusoid import layered_strip_mu
+from rubberfriction.driver.sliding.spec import InitialState, SlidingSpec
+from rubberfriction.forms.material_files import load_compound
+
+TREAD = load_compound("tread_default")
+T_REF = TREAD.wlf.T_ref
+HOT = T_REF + 20.0
+AMPLITUDE, PRESSURE, VELOCITY = 0.002, 0.1, 10.0
+
+
+def _spec(layer_T: float, **kw) -> SlidingSpec:
+    x = np.linspace(0.0, 1.0, 129)[:-1]
+    hc = 1.0 / 16
+    return SlidingSpec(surface_x=x, surface_h=AMPLITUDE * np.cos(2.0 * np.pi * x), period=1.0,
+                       pressure=PRESSURE, velocity=VELOCITY, compound=TREAD, h_contact=hc,
+                       slide_distance=12.0, step_length=0.5 * hc, converge_tol=0.01,
+                       temperature_layers=((0.2, layer_T),), keep_state=True, **kw)
+
+
+@pytest.fixture(scope="module")
+def from_rest():
+    res = run_sliding(_spec(T_REF))
+    assert res.ok and res.converged == 1.0, res.reason
+    assert res.final_state is not None and res.stats["warm_start"] == 0.0
+    return res
+
+
+def _warm(spec: SlidingSpec, res) -> SlidingSpec:
+    return dataclasses.replace(spec, initial_state=dataclasses.replace(res.final_state, source="x"))
+
+
+def test_a_steady_state_slid_on_stays_steady(from_rest):
+    """Same conditions: the warm run converges after exactly 4 periods (the window rule's two
+    blocks of w = 2, no run-in) with mu and contact fraction of the run from rest within 0.1 %
+    (measured 0.012 % and 1e-11), and it ends where a period ends (the road's offset 0 again)."""
+    warm = run_sliding(_warm(_spec(T_REF), from_rest))
+    assert warm.ok and warm.converged == 1.0, warm.reason
+    assert warm.stats["warm_start"] == 1.0
+    assert warm.stats["periods"] == 4.0
+    assert from_rest.stats["periods"] > 4.0  # from rest the run-in comes on top
+    assert warm.mu_force == pytest.approx(from_rest.mu_force, rel=1e-3)
+    assert warm.contact_fraction == pytest.approx(from_rest.contact_fraction, rel=1e-3)
+    assert warm.final_state.offset == pytest.approx(0.0, abs=1e-9) or \
+        warm.final_state.offset == pytest.approx(1.0, abs=1e-9)
+
+
+def test_a_warm_run_into_a_hot_layer_gives_the_layered_closed_form(from_rest):
+    """A hot bottom partition (T_ref + 20 K) on the state converged at T_ref: the layered strip's
+    linear viscoelastic mu within 3 % (the tolerance of the runs from rest; measured 0.05 %) and
+    the run from rest under the same layers within 0.1 % (0.01 %); the hot layer moves mu by
+    more than 20 %."""
+    hot = _spec(HOT)
+    warm = run_sliding(_warm(hot, from_rest))
+    cold = run_sliding(hot)
+    assert warm.ok and cold.ok and warm.converged == 1.0, (warm.reason, cold.reason)
+    assert warm.stats["warm_start"] == 1.0
+    exact = layered_strip_mu(TREAD, 1.0, AMPLITUDE, PRESSURE, VELOCITY, 1.0, ((0.2, HOT),), T_REF)
+    assert abs(warm.mu_force - exact) < 0.03 * exact, (warm.mu_force, exact)
+    assert abs(warm.mu_force - cold.mu_force) < 1e-3 * cold.mu_force, (warm.mu_force, cold.mu_force)
+    assert abs(from_rest.mu_force - warm.mu_force) > 0.2 * warm.mu_force
+
+
+def test_a_state_of_another_mesh_is_not_taken(from_rest):
+    """Contact elements twice as short (another mesh, as in the refined fallback): the state does
+    not fit, so the run starts from rest and gives what a run from rest gives, to round-off."""
+    other = dataclasses.replace(_spec(T_REF), h_contact=1.0 / 32, step_length=1.0 / 64)
+    warm = run_sliding(_warm(other, from_rest))
+    assert warm.ok and warm.stats["warm_start"] == 0.0
+    cold = run_sliding(other)
+    assert warm.mu_force == pytest.approx(cold.mu_force, rel=1e-9)
+
+
+def test_the_store_keeps_the_final_state(tmp_path, from_rest):
+    """Store.put writes /state, Store.load_state gives it back bit for bit; the key of a spec
+    that starts from it depends on the state's bytes."""
+    store = Store(tmp_path / "store")
+    spec = _spec(T_REF)
+    key = run_key(spec)
+    store.put(key, spec, from_rest, wall_time=1.0)
+    state = InitialState(**{**store.load_state(key), "source": key})
+    kept = from_rest.final_state
+    for name in ("w", "history", "sbar"):
+        assert np.array_equal(getattr(state, name), getattr(kept, name))
+    assert (state.offset, state.mesh) == (kept.offset, kept.mesh)
+    warm = dataclasses.replace(spec, initial_state=state)
+    moved = dataclasses.replace(state, w=state.w + 1e-12)
+    assert run_key(warm) != run_key(dataclasses.replace(spec, initial_state=moved))
+    assert run_key(warm) == run_key(dataclasses.replace(spec, initial_state=state))
+    plain = dataclasses.replace(spec, keep_state=False)
+    store.put(run_key(plain), plain, dataclasses.replace(from_rest, final_state=None),
+              wall_time=1.0)
+    assert store.load_state(run_key(plain)) is None and store.load_state("0" * 64) is None
