@@ -115,3 +115,21 @@ def test_the_store_keeps_the_final_state(tmp_path, from_rest):
     store.put(run_key(plain), plain, dataclasses.replace(from_rest, final_state=None),
               wall_time=1.0)
     assert store.load_state(run_key(plain)) is None and store.load_state("0" * 64) is None
+
+
+def test_a_warm_run_is_rebuilt_from_the_store(tmp_path, from_rest):
+    """``rubberfriction rerun`` of a warm-started run: its spec is rebuilt with the initial state
+    read back from the run it came from (same key); without that run the error names it."""
+    from rubberfriction.driver.multiscale.specs import stored_spec
+
+    store = Store(tmp_path / "store")
+    parent = _spec(T_REF)
+    store.put(run_key(parent), parent, from_rest, wall_time=1.0)
+    state = InitialState(**{**store.load_state(run_key(parent)), "source": run_key(parent)})
+    warm = dataclasses.replace(_spec(HOT), initial_state=state)
+    store.put(run_key(warm), warm, dataclasses.replace(from_rest, final_state=None), wall_time=1.0)
+    rebuilt = stored_spec(store.load(run_key(warm)), states=store.load_state)
+    assert run_key(rebuilt) == run_key(warm)
+    store.remove(run_key(parent))
+    with pytest.raises(ValueError, match=f"final state of run {run_key(parent)[:12]}"):
+        stored_spec(store.load(run_key(warm)), states=store.load_state)

@@ -9,12 +9,14 @@ d = 0.03 mm) sampled on macro levels (first 0.005 mm, grading 1.1), handed down 
 partitions below 0.09 mm (and the finest the levels allow); mu, its change from the finest, wall.
 
 ``divisions`` (thesis 8.4.3, fig. 8.10): the shipped scene ``thermal_loop`` at 1 m/s with
-n_d = 1, 2, 4, 8 equal divisions: final mu, the wall time per interval (cascade), the share of
-each scale in the lower-scale runs' time and the cost of the coupled point against the
-isothermal point (its cascade alone, timed first; issue target: at most 3x with n_d = 4).  Every
-n_d and the isothermal point get their own store (``--store DIR``: ``DIR/isothermal``,
-``DIR/n_d=<n>``; default temporary folders), so nothing is reused between them; a rerun with the
-same ``--store`` reuses its runs and the times then say so.
+n_d = 1, 2, 4, 8 equal divisions, each with warm starts (every point's runs slide on from the
+point before, ``[thermal] warm_start``) and with every run from rest, side by side: final mu,
+the wall time per interval (cascade), the share of each scale in the lower-scale runs' time and
+the cost of the coupled point against the isothermal point (its cascade alone, timed first;
+issue target: at most 3x with n_d = 4).  Every loop and the isothermal point get their own
+store (``--store DIR``: ``DIR/isothermal``, ``DIR/n_d=<n>-warm``, ``DIR/n_d=<n>-rest``; default
+temporary folders), so nothing is reused between them; a rerun with the same ``--store`` reuses
+its runs and the times then say so.
 """
 
 from __future__ import annotations
@@ -105,11 +107,12 @@ def _divisions(store_dir: str | None) -> bool:
     print(f"thermal loop division study (thesis 8.4.3): scene thermal_loop at v = {v:g} mm/s, p = {p:g} MPa, "
           f"slide {t.slide_distance} mm, mu_const {t.mu_const}; stores in {folder}")
 
-    def cascade_runner(name: str) -> CascadeRunner:
+    def cascade_runner(name: str, warm: bool = False) -> CascadeRunner:
         executor = Executor(Store(folder / name), runner)
         return CascadeRunner(scene.name, Point(scene.conditions.compounds[0], p, v), scales.sets,
                              SpecBuilder(scene, comps), scene.samples.pressure,
-                             scene.samples.friction, executor)
+                             scene.samples.friction, executor,
+                             states=executor.store.load_state if warm else None)
 
     # the isothermal point: its cascade alone, on the partition bounds the loop uses at T0
     base = loop_settings(scene)
@@ -120,12 +123,14 @@ def _divisions(store_dir: str | None) -> bool:
     mu_iso = iso.mu.mean if iso.ok and iso.mu else float("nan")
     print(f"isothermal point: lower mu {mu_iso:.5f}, wall {w_iso:.1f} s"
           f"{f' ({reused} runs reused)' if reused else ''}")
-    print(f"{'n_d':>4} {'mu final':>9} {'lower mu':>9} {'T_s-T0':>7} {'wall s':>7} "
+    print("start: warm = each point's runs slide on from the point before ([thermal] warm_start),"
+          " rest = every run from rest (the thesis)")
+    print(f"{'n_d':>4} {'start':>5} {'mu final':>9} {'lower mu':>9} {'T_s-T0':>7} {'wall s':>7} "
           f"{'s/interval':>10} {'x iso':>6}  share per scale")
     ok = iso.ok
-    for n_d in (1, 2, 4, 8):
+    for n_d, start in ((n, st) for n in (1, 2, 4, 8) for st in ("warm", "rest")):
         settings = replace(base, divisions=n_d, points=(), auto_dT=0.0)
-        cascade = cascade_runner(f"n_d={n_d}")
+        cascade = cascade_runner(f"n_d={n_d}-{start}", warm=start == "warm")
         w = time.perf_counter()
         res = run_thermal_loop(spec, comp.thermal, thermal, settings, cascade)
         w = time.perf_counter() - w
@@ -139,7 +144,7 @@ def _divisions(store_dir: str | None) -> bool:
         per = np.mean([iv.wall for iv in res.intervals]) if res.intervals else np.nan
         T_s = res.intervals[-1].profile.mean[0] - T0 if res.intervals else np.nan
         shares = ", ".join(f"{k} {100 * s / total:.0f} %" for k, s in share.items())
-        print(f"{n_d:>4d} {res.mu:>9.5f} {res.mu - settings.mu_const:>9.5f} {T_s:>7.2f} "
+        print(f"{n_d:>4d} {start:>5} {res.mu:>9.5f} {res.mu - settings.mu_const:>9.5f} {T_s:>7.2f} "
               f"{w:>7.1f} {per:>10.2f} {w / w_iso:>6.2f}  {shares or 'all runs reused'}",
               flush=True)
     return ok

@@ -83,7 +83,8 @@ def _rerun(args: argparse.Namespace) -> int:
     try:
         key = find_key(store, args.key)
         stored = store.load(key)
-        spec = stored_spec(stored, compound_dir=Path(args.folder) / "compounds")
+        spec = stored_spec(stored, compound_dir=Path(args.folder) / "compounds",
+                           states=store.load_state)
     except ValueError as err:
         print(f"rerun: {err}", file=sys.stderr)
         return 2

@@ -11,14 +11,14 @@ import dataclasses
 import json
 import math
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
 from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scene import Scene, SceneError, surface_scale_names
 from rubberfriction.driver.runtime.store import Store, StoredRun, canonical
-from rubberfriction.driver.sliding.spec import SlidingSpec, default_h_contact
+from rubberfriction.driver.sliding.spec import InitialState, SlidingSpec, default_h_contact
 from rubberfriction.driver.surfaces.profile import UNIFORM_RTOL
 from rubberfriction.driver.surfaces.samples import refine_periodic
 from rubberfriction.forms.material_files import load_compound
@@ -157,7 +157,8 @@ def _before_fields(compound: Any, image: dict) -> Any:
         compound, hyperelastic=dataclasses.replace(compound.hyperelastic, **missing))
 
 
-def stored_spec(stored: StoredRun, compound_dir: Path | None = None) -> SlidingSpec:
+def stored_spec(stored: StoredRun, compound_dir: Path | None = None,
+                states: Callable[[str], dict | None] | None = None) -> SlidingSpec:
     """The SlidingSpec of a stored run, rebuilt from its run file: the surface arrays, the scalar
     inputs, the compound loaded again by its name (from ``compound_dir/<name>.toml`` where that
     file exists: a folder of kept runs holds the compound files as they were when it ran; else
@@ -166,7 +167,9 @@ def stored_spec(stored: StoredRun, compound_dir: Path | None = None) -> SlidingS
     The rebuilt spec is checked against the canonical image the run file holds (every field,
     arrays by their sha256, the compound by all its values), so a rerun computes exactly the
     stored inputs or refuses: a compound file that changed since the run, or a friction law
-    object (a mu(p, v) spline) that a run file does not hold, is an error naming the field."""
+    object (a mu(p, v) spline) that a run file does not hold, is an error naming the field.  A
+    warm-started run (``SlidingSpec.initial_state``) takes its initial state from the run it
+    came from: ``states`` (``Store.load_state``) gives that run's kept final state."""
     key = stored.key
     image = json.loads(stored.inputs["spec"])
     if image.get("__type__") != "SlidingSpec":
@@ -195,6 +198,13 @@ def stored_spec(stored: StoredRun, compound_dir: Path | None = None) -> SlidingS
             kw["friction"] = v
         elif f.name == "temperature_layers":
             kw[f.name] = tuple(tuple(float(x) for x in layer) for layer in v)
+        elif f.name == "initial_state" and isinstance(v, dict):
+            source = str(v.get("source", ""))
+            state = states(source) if states is not None and source else None
+            if state is None:
+                raise ValueError(f"run {key[:12]}: it slides on from the final state of run "
+                                 f"{source[:12]}, which this store does not hold")
+            kw[f.name] = InitialState(**{**state, "source": source})
         elif v in ("nan", "inf", "-inf"):
             kw[f.name] = float(v)
         else:

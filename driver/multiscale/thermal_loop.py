@@ -15,7 +15,14 @@ B. at each homogenisation point s_i (sliding distance) the rubber temperature be
 C. the profile becomes n_p partitions over ``partition_depth`` (8.3.3), the temperature layers of
    every lower-scale run (``SlidingSpec.temperature_layers``: WLF-shifted relaxation per cell);
 D. the whole cascade runs again with those layers (pressure branch down, friction branch up, all
-   scales and samples), through the campaign store: its keys contain the layer temperatures;
+   scales and samples), through the campaign store: its keys contain the layer temperatures.
+   Warm starts (``CascadeRunner(states=)``, the scene's ``[thermal] warm_start``): every run
+   slides on from the final state of the same run (branch, scale, sample) at the point before,
+   the isothermal cascade's at the first (``LayeredSpecs``, ``SlidingSpec.initial_state``): the
+   rubber keeps its deformation and Prony histories while it heats, as it does on the road,
+   and the run needs no compression and no run-in period (4 periods instead of 5 or more on
+   ``tests/test_thermal_loop.py``'s case).  The thesis restarted every lower-scale run from rest;
+   ``warm_start = false`` does that;
 E. the homogenised mu(s_i) goes back into the running macro contact (``Contact.set_friction``),
    which continues from its state at s_i (no recomputation from t = 0).
 
@@ -24,7 +31,8 @@ The last point is the end of the slide; its mu is the result, mu_const + mu(s_en
 
 Resume and MPI: the macro run is deterministic and runs on rank 0; every lower-scale run goes
 through the store, so a rerun of a killed loop recomputes the macro run (seconds) and only the
-lower-scale runs that are missing.  Each cascade is farmed over all ranks of ``comm``: the workers
+lower-scale runs that are missing.  A warm-started run's key contains its initial state (the
+parent's final state, read back from the store), so a resumed loop builds the same keys.  Each cascade is farmed over all ranks of ``comm``: the workers
 wait between homogenisation points (rank 0 tells them "cascade" or "done").
 """
 

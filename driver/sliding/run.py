@@ -16,6 +16,11 @@ Load history (thesis 6.2.2):
 3. sliding at v with p held: the master surface translates by -v t (periodic micro cell, the block
    stays) while the top edge is held in x; the friction force is the x-reaction of the top edge.
 
+A warm start (``spec.initial_state``, an earlier run's final state on the same mesh: the thermal
+loop's next homogenisation point) skips 1 and 2: the run slides on from that state, the road at
+its offset then, under its own load, temperatures and friction, and its first period is no
+run-in (``window.converged_window``).  ``spec.keep_state`` returns the final state for that.
+
 Micro cell: periodic boundary conditions x_r - x_l = X_r - X_l on the left/right edges (eq. 6.5)
 with the periodic master, so the cell slides over many periods.  Macro block: non-periodic.
 
