@@ -385,6 +385,10 @@ PYBIND11_MODULE(_contact, m) {
             c.reset_history(x, n, offset_of(offset));
           },
           py::arg("u"), py::arg("offset") = std::array<double, 2>{0.0, 0.0})
+      .def("set_elastic_gap", &rf::ContactInterface::set_elastic_gap, py::arg("gap"),
+           "Committed tangential elastic gaps per slave node (stick history of an earlier run)")
+      .def("committed_elastic_gap", &rf::ContactInterface::committed_elastic_gap,
+           "Committed tangential elastic gaps per slave node (0 where open)")
       .def(
           "evaluate",
           [](rf::ContactInterface& c, const DArray& u, const std::array<double, 2>& offset, double dt,

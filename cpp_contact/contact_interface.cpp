@@ -208,6 +208,13 @@ void ContactInterface::reset_history(const double* u, std::size_t n, const V2<do
   std::fill(ge_.begin(), ge_.end(), 0.0);
 }
 
+void ContactInterface::set_elastic_gap(const std::vector<double>& gap) {
+  if (gap.size() != ge_.size())
+    throw std::invalid_argument("set_elastic_gap: " + std::to_string(gap.size()) + " values for " +
+                                std::to_string(ge_.size()) + " slave nodes");
+  ge_ = gap;
+}
+
 MasterSegment ContactInterface::master_segment(const MasterRef& m) const {
   MasterSegment s;
   if (rigid_) {

@@ -93,6 +93,9 @@ class ContactInterface {
   /// History reference: positions at u and the rigid offset become the last converged state;
   /// tangential elastic gaps are cleared.
   void reset_history(const double* u, std::size_t n, const V2<double>& offset);
+  /// Committed tangential elastic gaps of the slave nodes (stick history), e.g. from
+  /// committed_elastic_gap() of an earlier run on the same slave: a run that slides on from it.
+  void set_elastic_gap(const std::vector<double>& gap);
 
   /// Search, project, integrate and apply the nodal law at u (full local solution array).
   void evaluate(const double* u, std::size_t n, const V2<double>& offset, double dt, double T_ref, bool with_blocks);

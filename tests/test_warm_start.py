@@ -133,3 +133,25 @@ def test_a_warm_run_is_rebuilt_from_the_store(tmp_path, from_rest):
     store.remove(run_key(parent))
     with pytest.raises(ValueError, match=f"final state of run {run_key(parent)[:12]}"):
         stored_spec(store.load(run_key(warm)), states=store.load_state)
+
+
+def test_a_frictional_run_slides_on_with_its_stick_history():
+    """With friction (mu 0.5) the state carries the contact's committed tangential elastic gaps
+    (nonzero on the contact nodes: the traction mu p over c_T where they slip); the warm run
+    starts from exactly them (read back when sliding starts), converges after 4 periods and
+    keeps the mu of the run from rest within 0.1 %."""
+
+    class Gap:
+        def on_start(self, run):
+            self.gap = run.contact.elastic_gap()
+
+    spec = _spec(T_REF, friction=0.5)
+    rest = run_sliding(spec)
+    assert rest.ok and rest.converged == 1.0, rest.reason
+    kept = rest.final_state.elastic_gap
+    assert kept.size and np.count_nonzero(kept) > kept.size // 2
+    seen = Gap()
+    warm = run_sliding(_warm(spec, rest), observers=[seen])
+    assert warm.ok and warm.stats["warm_start"] == 1.0 and warm.stats["periods"] == 4.0
+    assert np.array_equal(seen.gap, kept)
+    assert warm.mu_force == pytest.approx(rest.mu_force, rel=1e-3)

@@ -306,9 +306,17 @@ class Contact:
             self.evaluate(u)
         self._c.commit()
 
-    def reset_history(self, u: np.ndarray, offset=(0.0, 0.0)) -> None:
-        """Take u and offset as the last converged state (no tangential history)."""
+    def reset_history(self, u: np.ndarray, offset=(0.0, 0.0), elastic_gap: np.ndarray | None = None) -> None:
+        """Take u and offset as the last converged state; the tangential history (committed
+        elastic gaps per slave node, :meth:`elastic_gap`) is ``elastic_gap``, or none."""
         self._c.reset_history(np.ascontiguousarray(u, dtype=float), (float(offset[0]), float(offset[1])))
+        if elastic_gap is not None:
+            self._c.set_elastic_gap(np.asarray(elastic_gap, dtype=float))
+
+    def elastic_gap(self) -> np.ndarray:
+        """The committed tangential elastic gap of every slave node (0 where open): the stick
+        history a run that slides on from this state needs (:meth:`reset_history`)."""
+        return np.asarray(self._c.committed_elastic_gap(), dtype=float).copy()
 
     # --- outputs -------------------------------------------------------------------------------
     def state(self) -> dict:

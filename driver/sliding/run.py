@@ -854,14 +854,15 @@ class SlidingRun:
     def _restore(self, state: InitialState) -> None:
         """Take an earlier run's final state as the converged state now: displacements and
         pressures, the Prony histories at this run's temperatures, the contact's reference
-        positions at the road's offset then (no tangential history), force control."""
+        positions at the road's offset then with its stick history, force control."""
         self._switch_to_force_control()
         x = self.sp.w.x.array
         x[:] = state.w
         if self.sp.history is not None:
             self.sp.history.restore(state.history, state.sbar)
         self.problem.constraints.set_prescribed(x)
-        self.contact.reset_history(x, (state.offset, 0.0))
+        gap = state.elastic_gap if state.elastic_gap.size else None
+        self.contact.reset_history(x, (state.offset, 0.0), gap)
 
     def _final_state(self, offset: float) -> InitialState:
         """This attempt's converged state now, for a later run to start from (spec.keep_state)."""
@@ -871,7 +872,12 @@ class SlidingRun:
                             h.H.copy() if h is not None else empty,
                             h.Sbar_n.copy() if h is not None else empty,
                             float(offset % self.L) if self.spec.period > 0 else float(offset),
-                            mesh_digest(self.sp.node_X))
+                            mesh_digest(self.sp.node_X), self._contact_gap())
+
+    def _contact_gap(self) -> np.ndarray:
+        """The contact's committed tangential elastic gaps (empty where the contact has none)."""
+        gap = getattr(self.contact, "elastic_gap", None)
+        return gap() if callable(gap) else np.zeros(0)
 
     def _project_wall_time(self, done: int, earliest: int, t: float) -> None:
         """Stop a run that cannot reach a converged window before its wall-time limit: after

@@ -32,7 +32,9 @@ class InitialState:
     array (displacements and cell pressures); ``history``, ``sbar``: the Prony histories H^k and
     DEV{Sbar} of the last converged step (``forms.viscoelastic.ViscoelasticHistory``);
     ``offset``: the road's offset then, in [0, period); ``mesh``: the sha256 of the mesh's node
-    coordinates (:func:`mesh_digest`): a state fits only the mesh it was computed on."""
+    coordinates (:func:`mesh_digest`): a state fits only the mesh it was computed on;
+    ``elastic_gap``: the contact's committed tangential elastic gap per slave node (the stick
+    history of a frictional run, ``fe.contact.Contact.elastic_gap``; empty: none)."""
 
     source: str
     w: np.ndarray
@@ -40,6 +42,7 @@ class InitialState:
     sbar: np.ndarray
     offset: float = 0.0
     mesh: str = ""
+    elastic_gap: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 def mesh_digest(node_X: np.ndarray) -> str:
