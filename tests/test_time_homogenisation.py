@@ -335,3 +335,19 @@ def test_a_warm_run_has_no_run_in():
     assert earliest_convergence(hole, 2) == 6
     assert earliest_convergence(np.array([np.nan, 0.5]), 2, run_in=0) == 5
     assert earliest_convergence(np.array([np.nan, 0.5]), 2) == 5
+
+
+def test_one_period_blocks_compare_each_half_with_the_same_half_before():
+    """window_periods = 1: the last period against the one before (a warm run can stop after two
+    periods); the drift test compares each half with the same half of the period before, not
+    the two halves of one period, which are different stretches of road (here 0.3 and 0.7)."""
+    means = np.array([0.5, 0.5])
+    halves = np.array([0.3, 0.7, 0.3, 0.7])
+    assert converged_window(means, 0.01, 1, halves, run_in=0) == 1
+    assert converged_window(means, 0.01, 2, halves, run_in=0) == 0  # w = 2 needs four periods
+    # the same period means, but one half moved by 5 % and the other back: not steady
+    assert converged_window(means, 0.01, 1, np.array([0.3, 0.7, 0.315, 0.685]), run_in=0) == 0
+    # a trend of 0.8 % per period passes w = 1 (d <= tol), w = 2 needs d <= tol / 2
+    trend = 0.5 * 1.008 ** np.arange(4)
+    assert converged_window(trend[:2], 0.01, 1, np.repeat(trend[:2], 2), run_in=0) == 1
+    assert converged_window(trend, 0.01, 2, np.repeat(trend, 2), run_in=0) == 0

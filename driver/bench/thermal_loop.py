@@ -112,7 +112,8 @@ def _divisions(store_dir: str | None) -> bool:
         return CascadeRunner(scene.name, Point(scene.conditions.compounds[0], p, v), scales.sets,
                              SpecBuilder(scene, comps), scene.samples.pressure,
                              scene.samples.friction, executor,
-                             states=executor.store.load_state if warm else None)
+                             states=executor.store.load_state if warm else None,
+                             warm_window=t.warm_window_periods)
 
     # the isothermal point: its cascade alone, on the partition bounds the loop uses at T0
     base = loop_settings(scene)

@@ -14,6 +14,7 @@ a look.  For reproducing a result, or diagnosing a failed run without the campai
     rubberfriction rerun tests/data/failing_runs f280d52c --set penalty_alpha=30 --first-attempt
     rubberfriction rerun tests/data/failing_runs f280d52c --set newton=trust-region
     rubberfriction rerun rf-results/default 6b9a9635 --volumetric logarithmic
+    rubberfriction rerun rf-results/thermal_road 3f0c11 --from-rest --set slide_distance=600
 
 The compound is loaded again by its name; a folder of kept runs whose compound file has changed
 since holds the file as it was in ``FOLDER/compounds/<name>.toml``, which is taken first (the
@@ -52,6 +53,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--volumetric", choices=VOLUMETRIC_FORMS,
                    help="volumetric energy of the rubber (the compound's hyperelastic.volumetric; "
                         "forms/hyperelastic.py)")
+    p.add_argument("--from-rest", action="store_true",
+                   help="a warm-started run (the thermal loop's) from rest instead of from the "
+                        "state it slid on from")
     p.add_argument("--first-attempt", action="store_true",
                    help="only the first attempt of the fallback chain: see where it fails")
     p.add_argument("--out", metavar="DIR", help="write series.csv, mu.png, summary.json and the "
@@ -101,6 +105,8 @@ def _rerun(args: argparse.Namespace) -> int:
     except ValueError as err:
         print(f"rerun: {err}", file=sys.stderr)
         return 2
+    if args.from_rest:
+        spec = dataclasses.replace(spec, initial_state=None)
     if args.contact:
         spec = dataclasses.replace(spec, contact=args.contact)
     if args.volumetric:

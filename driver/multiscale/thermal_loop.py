@@ -171,13 +171,15 @@ class LayeredSpecs:
     Warm starts (``states``, a function of a store key giving that run's kept final state or
     None): every run keeps its final state, and a run whose slot (branch, scale, sample) has a
     parent in ``parents`` (the store key of the same slot's run at the previous homogenisation
-    point) slides on from the parent's state instead of from rest."""
+    point) slides on from the parent's state instead of from rest, comparing ``warm_window``
+    periods per block of its window rule where that is > 0 (``window.converged_window``)."""
 
     def __init__(self, make_spec: Callable[..., SlidingSpec], partitions: Partitions | None,
                  scales: Sequence[ScaleSet] = (), parents: dict[RunSlot, str] | None = None,
-                 states: Callable[[str], dict | None] | None = None):
+                 states: Callable[[str], dict | None] | None = None, warm_window: int = 0):
         self.make_spec, self.partitions = make_spec, partitions
         self.scales, self.parents, self.states = list(scales), dict(parents or {}), states
+        self.warm_window = warm_window  # > 0: window_periods of a warm-started run
 
     def __call__(self, point: Point, i: int, sample: Any, pressure: float, friction: Any,
                  branch: str) -> SlidingSpec:
@@ -193,7 +195,8 @@ class LayeredSpecs:
         state = self.states(key) if key else None
         if state is None:
             return spec
-        return dataclasses.replace(spec, initial_state=InitialState(**{**state, "source": key}))
+        spec = dataclasses.replace(spec, initial_state=InitialState(**{**state, "source": key}))
+        return dataclasses.replace(spec, window_periods=self.warm_window or spec.window_periods)
 
 
 def run_slots(result: PointResult) -> dict[RunSlot, str]:
@@ -213,13 +216,15 @@ class CascadeRunner:
     :meth:`serve` until rank 0 says "done".  ``progress``: None, or a function of the cascade's
     title returning a new progress display (``runtime.progress.Progress``) for each cascade.
     ``states``: warm starts (:class:`LayeredSpecs`), a function of a store key giving the final
-    state that run kept (``runtime.store.Store.load_state``); None: every run from rest."""
+    state that run kept (``runtime.store.Store.load_state``); None: every run from rest.
+    ``warm_window`` > 0: the warm runs' periods per block of the window rule (1: faster, looser;
+    scene key ``[thermal] warm_window_periods``)."""
 
     def __init__(self, campaign: str, point: Point, scales: Sequence[ScaleSet], make_spec, k: int, j: int,
                  execute, comm=None, progress=None, max_failed_fraction: float = 0.25,
                  adhesion: BellLaw | None = None,
-                 states: Callable[[str], dict | None] | None = None):
-        self.states = states
+                 states: Callable[[str], dict | None] | None = None, warm_window: int = 0):
+        self.states, self.warm_window = states, warm_window
         self.adhesion = adhesion  # the scene's bell law: alpha mu_A on the top scale of every cascade
         self.campaign, self.point, self.scales = campaign, point, list(scales)
         self.make_spec, self.k, self.j = make_spec, k, j
@@ -240,7 +245,7 @@ class CascadeRunner:
         in that order."""
         planners = [RoughCascade(self.campaign, self.point, self.scales,
                                  LayeredSpecs(self.make_spec, parts, self.scales, parents,
-                                              self.states),
+                                              self.states, self.warm_window),
                                  self.k, self.j,
                                  adhesion=self.adhesion, max_failed_fraction=self.max_failed)
                     for parts in partitions]

@@ -138,7 +138,8 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet,
                                 max_failed_fraction=scene.samples.max_failed_fraction,
                                 adhesion=scene.adhesion if scene.physics.adhesion else None,
                                 states=(executor.store.load_state
-                                        if t.mode == "coupled" and t.warm_start else None))
+                                        if t.mode == "coupled" and t.warm_start else None),
+                                warm_window=t.warm_window_periods)
         wall = time.perf_counter()
         try:
             if t.mode == "hot-layer":

@@ -105,7 +105,13 @@ def converged_window(means: np.ndarray, tol: float, window_periods: int,
     w must pass for every row (and ``halves`` then has a row per quantity too).
 
     ``run_in``: the first periods that never enter a block; 0 for a run that starts from an
-    earlier run's state (``spec.InitialState``) rather than from rest."""
+    earlier run's state (``spec.InitialState``) rather than from rest.
+
+    ``window_periods`` = 1 (the thermal loop's warm runs may ask for it, a trade of accuracy for
+    time): the last period against the one before; the two halves of one period are different
+    stretches of the road, so the drift test compares each half with the same half of the period
+    before instead.  A trend of d per period then passes the block test for d <= tol (w = 2:
+    d <= tol / 2)."""
     rows = np.atleast_2d(np.asarray(means, dtype=float))
     half = None if halves is None else np.atleast_2d(np.asarray(halves, dtype=float))
     n = rows.shape[1] - run_in  # the run-in periods are not compared
@@ -114,7 +120,10 @@ def converged_window(means: np.ndarray, tol: float, window_periods: int,
         if not np.all(np.abs(a - b) <= tol * np.maximum(np.abs(0.5 * (a + b)), MU_FLOOR)):
             continue
         if half is not None:
-            second, first = half[:, -w:].mean(axis=1), half[:, -2 * w:-w].mean(axis=1)
+            if w == 1:  # one period's halves are different stretches of road: each half
+                second, first = half[:, -2:], half[:, -4:-2]  # against the same half before
+            else:
+                second, first = half[:, -w:].mean(axis=1), half[:, -2 * w:-w].mean(axis=1)
             scale = np.maximum(np.abs(0.5 * (first + second)), MU_FLOOR)
             if not np.all(np.abs(second - first) <= DRIFT_FACTOR * tol * scale):
                 continue
