@@ -155,3 +155,23 @@ def test_a_frictional_run_slides_on_with_its_stick_history():
     assert warm.ok and warm.stats["warm_start"] == 1.0 and warm.stats["periods"] == 4.0
     assert np.array_equal(seen.gap, kept)
     assert warm.mu_force == pytest.approx(rest.mu_force, rel=1e-3)
+
+
+def test_rerun_from_rest_drops_the_initial_state(tmp_path, from_rest, capsys):
+    """``rubberfriction rerun DIR KEY --from-rest``: the warm run of the store again, from rest;
+    it reports the result of the run from rest (same inputs otherwise)."""
+    import json
+
+    from rubberfriction.driver.cli.main import main
+
+    store = Store(tmp_path / "store")
+    parent = _spec(T_REF)
+    store.put(run_key(parent), parent, from_rest, wall_time=1.0)
+    state = InitialState(**{**store.load_state(run_key(parent)), "source": run_key(parent)})
+    warm = dataclasses.replace(parent, initial_state=state)
+    store.put(run_key(warm), warm, dataclasses.replace(from_rest, final_state=None), wall_time=1.0)
+    out = tmp_path / "rerun.json"
+    assert main(["rerun", str(tmp_path), run_key(warm)[:10], "--from-rest", "--json", str(out)]) == 0
+    rerun = json.loads(out.read_text())
+    assert rerun["rerun"]["stats"]["warm_start"] == 0.0
+    assert rerun["rerun"]["mu_force"] == pytest.approx(from_rest.mu_force, rel=1e-9)
