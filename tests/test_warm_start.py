@@ -171,7 +171,8 @@ def test_rerun_from_rest_drops_the_initial_state(tmp_path, from_rest, capsys):
     warm = dataclasses.replace(parent, initial_state=state)
     store.put(run_key(warm), warm, dataclasses.replace(from_rest, final_state=None), wall_time=1.0)
     out = tmp_path / "rerun.json"
-    assert main(["rerun", str(tmp_path), run_key(warm)[:10], "--from-rest", "--json", str(out)]) == 0
+    args = ["rerun", str(tmp_path), run_key(warm)[:10], "--from-rest", "--json", str(out)]
+    assert main(args) == 0
     rerun = json.loads(out.read_text())
     assert rerun["rerun"]["stats"]["warm_start"] == 0.0
     assert rerun["rerun"]["mu_force"] == pytest.approx(from_rest.mu_force, rel=1e-9)

@@ -306,7 +306,8 @@ class Contact:
             self.evaluate(u)
         self._c.commit()
 
-    def reset_history(self, u: np.ndarray, offset=(0.0, 0.0), elastic_gap: np.ndarray | None = None) -> None:
+    def reset_history(self, u: np.ndarray, offset=(0.0, 0.0),
+                      elastic_gap: np.ndarray | None = None) -> None:
         """Take u and offset as the last converged state; the tangential history (committed
         elastic gaps per slave node, :meth:`elastic_gap`) is ``elastic_gap``, or none."""
         self._c.reset_history(np.ascontiguousarray(u, dtype=float), (float(offset[0]), float(offset[1])))

@@ -20,9 +20,10 @@ D. the whole cascade runs again with those layers (pressure branch down, frictio
    slides on from the final state of the same run (branch, scale, sample) at the point before,
    the isothermal cascade's at the first (``LayeredSpecs``, ``SlidingSpec.initial_state``): the
    rubber keeps its deformation and Prony histories while it heats, as it does on the road,
-   and the run needs no compression and no run-in period (4 periods instead of 5 or more on
-   ``tests/test_thermal_loop.py``'s case).  The thesis restarted every lower-scale run from rest;
-   ``warm_start = false`` does that;
+   and the run needs no compression and no run-in period: on ``tests/test_thermal_loop.py``'s
+   case 4 periods instead of 5 with the rule of the runs from rest, 2 with one-period blocks
+   (``warm_window``, the scenes' ``warm_window_periods = 1``).  The thesis restarted every
+   lower-scale run from rest; ``warm_start = false`` does that;
 E. the homogenised mu(s_i) goes back into the running macro contact (``Contact.set_friction``),
    which continues from its state at s_i (no recomputation from t = 0).
 
@@ -32,8 +33,9 @@ The last point is the end of the slide; its mu is the result, mu_const + mu(s_en
 Resume and MPI: the macro run is deterministic and runs on rank 0; every lower-scale run goes
 through the store, so a rerun of a killed loop recomputes the macro run (seconds) and only the
 lower-scale runs that are missing.  A warm-started run's key contains its initial state (the
-parent's final state, read back from the store), so a resumed loop builds the same keys.  Each cascade is farmed over all ranks of ``comm``: the workers
-wait between homogenisation points (rank 0 tells them "cascade" or "done").
+parent's final state, read back from the store), so a resumed loop builds the same keys.  Each
+cascade is farmed over all ranks of ``comm``: the workers wait between homogenisation points
+(rank 0 tells them "cascade" or "done").
 """
 
 from __future__ import annotations
@@ -180,6 +182,7 @@ class LayeredSpecs:
         self.make_spec, self.partitions = make_spec, partitions
         self.scales, self.parents, self.states = list(scales), dict(parents or {}), states
         self.warm_window = warm_window  # > 0: window_periods of a warm-started run
+        self._loaded: dict[str, dict | None] = {}  # states read (plan() asks for them too)
 
     def __call__(self, point: Point, i: int, sample: Any, pressure: float, friction: Any,
                  branch: str) -> SlidingSpec:
@@ -192,7 +195,9 @@ class LayeredSpecs:
         spec = dataclasses.replace(spec, keep_state=True)
         index = next((n for n, s in enumerate(self.scales[i].samples) if s is sample), -1)
         key = self.parents.get((branch, i, index))
-        state = self.states(key) if key else None
+        if key and key not in self._loaded:
+            self._loaded[key] = self.states(key)
+        state = self._loaded.get(key) if key else None
         if state is None:
             return spec
         spec = dataclasses.replace(spec, initial_state=InitialState(**{**state, "source": key}))
