@@ -205,10 +205,12 @@ def test_coupled_scene_writes_mu_with_and_without_flash_temperature(tmp_path: Pa
     rows = list(csv.DictReader(open(folder / "loop_results.csv")))
     assert len(rows) == 1 and rows[0]["status"] == "ok"
     assert float(rows[0]["mu_flash"]) < float(rows[0]["mu_isothermal"])
-    # the coupled point's cost against the isothermal point's (its cascade): more than the three
-    # cascades it ran (the macro run on top), a wall clock for each
+    # the coupled point's cost against the isothermal point's (its cascade), a wall clock for
+    # each: the coupled point runs that cascade and more (warm-started cascades cost less than
+    # it, so nothing tighter holds across machines)
     wall, wall_iso = float(rows[0]["wall"]), float(rows[0]["wall_isothermal"])
-    assert 0 < 3 * wall_iso < wall * 1.5 and float(rows[0]["cost_vs_isothermal"]) == pytest.approx(wall / wall_iso)
+    assert 0 < wall_iso < wall
+    assert float(rows[0]["cost_vs_isothermal"]) == pytest.approx(wall / wall_iso)
     # the macro run's stabilisation is reported: a share only where sub-steps were stabilised
     stabilised = float(rows[0]["macro_stabilised_steps"])
     share = float(rows[0]["macro_stabilisation_share"])
