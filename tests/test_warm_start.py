@@ -50,6 +50,18 @@ def from_rest():
     return res
 
 
+def _stored_pair(folder, from_rest, child: SlidingSpec) -> tuple[Store, str, SlidingSpec]:
+    """A store holding the run from rest (the parent, with its state) and ``child`` warm-started
+    from the state read back; returns the store, the parent's key and the warm spec."""
+    store = Store(folder / "store")
+    parent = _spec(T_REF)
+    key = run_key(parent)
+    store.put(key, parent, from_rest, wall_time=1.0)
+    warm = dataclasses.replace(child, initial_state=InitialState.stored(store.load_state(key), key))
+    store.put(run_key(warm), warm, dataclasses.replace(from_rest, final_state=None), wall_time=1.0)
+    return store, key, warm
+
+
 def _warm(spec: SlidingSpec, res) -> SlidingSpec:
     return dataclasses.replace(spec, initial_state=dataclasses.replace(res.final_state, source="x"))
 
@@ -102,7 +114,7 @@ def test_the_store_keeps_the_final_state(tmp_path, from_rest):
     spec = _spec(T_REF)
     key = run_key(spec)
     store.put(key, spec, from_rest, wall_time=1.0)
-    state = InitialState(**{**store.load_state(key), "source": key})
+    state = InitialState.stored(store.load_state(key), key)
     kept = from_rest.final_state
     for name in ("w", "history", "sbar"):
         assert np.array_equal(getattr(state, name), getattr(kept, name))
@@ -122,16 +134,11 @@ def test_a_warm_run_is_rebuilt_from_the_store(tmp_path, from_rest):
     read back from the run it came from (same key); without that run the error names it."""
     from rubberfriction.driver.multiscale.specs import stored_spec
 
-    store = Store(tmp_path / "store")
-    parent = _spec(T_REF)
-    store.put(run_key(parent), parent, from_rest, wall_time=1.0)
-    state = InitialState(**{**store.load_state(run_key(parent)), "source": run_key(parent)})
-    warm = dataclasses.replace(_spec(HOT), initial_state=state)
-    store.put(run_key(warm), warm, dataclasses.replace(from_rest, final_state=None), wall_time=1.0)
+    store, parent, warm = _stored_pair(tmp_path, from_rest, _spec(HOT))
     rebuilt = stored_spec(store.load(run_key(warm)), states=store.load_state)
     assert run_key(rebuilt) == run_key(warm)
-    store.remove(run_key(parent))
-    with pytest.raises(ValueError, match=f"final state of run {run_key(parent)[:12]}"):
+    store.remove(parent)
+    with pytest.raises(ValueError, match=f"final state of run {parent[:12]}"):
         stored_spec(store.load(run_key(warm)), states=store.load_state)
 
 
@@ -164,12 +171,7 @@ def test_rerun_from_rest_drops_the_initial_state(tmp_path, from_rest, capsys):
 
     from rubberfriction.driver.cli.main import main
 
-    store = Store(tmp_path / "store")
-    parent = _spec(T_REF)
-    store.put(run_key(parent), parent, from_rest, wall_time=1.0)
-    state = InitialState(**{**store.load_state(run_key(parent)), "source": run_key(parent)})
-    warm = dataclasses.replace(parent, initial_state=state)
-    store.put(run_key(warm), warm, dataclasses.replace(from_rest, final_state=None), wall_time=1.0)
+    _, _, warm = _stored_pair(tmp_path, from_rest, _spec(T_REF))
     out = tmp_path / "rerun.json"
     args = ["rerun", str(tmp_path), run_key(warm)[:10], "--from-rest", "--json", str(out)]
     assert main(args) == 0

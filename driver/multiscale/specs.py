@@ -204,7 +204,7 @@ def stored_spec(stored: StoredRun, compound_dir: Path | None = None,
             if state is None:
                 raise ValueError(f"run {key[:12]}: it slides on from the final state of run "
                                  f"{source[:12]}, which this store does not hold")
-            kw[f.name] = InitialState(**{**state, "source": source})
+            kw[f.name] = InitialState.stored(state, source)
         elif v in ("nan", "inf", "-inf"):
             kw[f.name] = float(v)
         else:

@@ -200,7 +200,7 @@ class LayeredSpecs:
         state = self._loaded.get(key) if key else None
         if state is None:
             return spec
-        spec = dataclasses.replace(spec, initial_state=InitialState(**{**state, "source": key}))
+        spec = dataclasses.replace(spec, initial_state=InitialState.stored(state, key))
         return dataclasses.replace(spec, window_periods=self.warm_window or spec.window_periods)
 
 

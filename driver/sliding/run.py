@@ -111,6 +111,8 @@ class ContactLike:
     def commit(self) -> None: ...
     def state(self) -> dict: ...  # pressure, active, weight, Fx, Fz, contact_length, dissipation
     def couplings(self) -> list: ...  # (rows, cols) the contact may write
+    def reset_history(self, u, offset, elastic_gap=None) -> None: ...  # warm start
+    def elastic_gap(self) -> np.ndarray: ...  # stick history (spec.keep_state)
 
 
 #: a sub-step converging in at most this many Newton iterations counts as easy; EASY_STREAK easy
@@ -872,12 +874,7 @@ class SlidingRun:
                             h.H.copy() if h is not None else empty,
                             h.Sbar_n.copy() if h is not None else empty,
                             float(offset % self.L) if self.spec.period > 0 else float(offset),
-                            mesh_digest(self.sp.node_X), self._contact_gap())
-
-    def _contact_gap(self) -> np.ndarray:
-        """The contact's committed tangential elastic gaps (empty where the contact has none)."""
-        gap = getattr(self.contact, "elastic_gap", None)
-        return gap() if callable(gap) else np.zeros(0)
+                            mesh_digest(self.sp.node_X), self.contact.elastic_gap())
 
     def _project_wall_time(self, done: int, earliest: int, t: float) -> None:
         """Stop a run that cannot reach a converged window before its wall-time limit: after

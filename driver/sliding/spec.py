@@ -44,6 +44,11 @@ class InitialState:
     mesh: str = ""
     elastic_gap: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
+    @classmethod
+    def stored(cls, fields: dict, source: str) -> "InitialState":
+        """The state a store kept (``runtime.store.Store.load_state``) of the run ``source``."""
+        return cls(**{**fields, "source": source})
+
 
 def mesh_digest(node_X: np.ndarray) -> str:
     """sha256 of a mesh's node coordinates (``InitialState.mesh``)."""
