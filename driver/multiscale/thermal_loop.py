@@ -463,16 +463,25 @@ class HotLayerResult:
 def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings, hot: HotLayerSettings,
                   cascade: CascadeRunner, *, wall_limit: float = 0.0,
                   log: Callable[[str], None] | None = None) -> HotLayerResult:
-    """Hot-layer mode: one cascade per surface temperature (independent: farmed together over all
-    ranks), a mu(T_S) law (linear in T between the grid points, constant beyond), then the
-    thermomechanical macro run with that law: mu follows the computed surface temperature node by
-    node, with no down-passing."""
+    """Hot-layer mode: one cascade per surface temperature, a mu(T_S) law (linear in T between
+    the grid points, constant beyond), then the thermomechanical macro run with that law: mu
+    follows the computed surface temperature node by node, with no down-passing.
+
+    From rest (``cascade.states`` None) all cascades are independent and farmed together over
+    all ranks.  With warm starts the T_S = T0 cascade runs first and the hotter ones, side by
+    side, slide on from its runs' final states (:class:`LayeredSpecs`): every T_S has the same
+    layer bounds, so the same meshes."""
     from rubberfriction.driver.fe.friction_law import fit_mu_pvT
 
     wall = time.perf_counter()
     T0 = thermal.T0
     temps = T0 + np.asarray(hot.rises, float)
-    results = cascade.many([hot_layer_partitions(T_S, T0, hot) for T_S in temps])  # side by side
+    parts = [hot_layer_partitions(T_S, T0, hot) for T_S in temps]
+    if cascade.states is None:
+        results = cascade.many(parts)  # side by side
+    else:
+        first = cascade(parts[0])
+        results = [first, *cascade.many(parts[1:], run_slots(first))]
     mus = [_mu(r) for r in results]
     if log:
         for T_S, r, mu in zip(temps, results, mus):
