@@ -143,10 +143,10 @@ def test_final_mu_converges_with_the_number_of_divisions(case: Case):
 class _Killed(CascadeRunner):
     """Dies (like a killed process) when the second homogenisation point starts its cascade."""
 
-    def __call__(self, partitions, parents=None):
+    def __call__(self, partitions, parents=None, keep=True):
         if self.count == 2:
             raise KeyboardInterrupt("killed for the test")
-        return super().__call__(partitions, parents)
+        return super().__call__(partitions, parents, keep)
 
 
 def test_the_macro_runs_wall_clock_leaves_out_the_cascades(case: Case):
@@ -160,9 +160,9 @@ def test_the_macro_runs_wall_clock_leaves_out_the_cascades(case: Case):
     slow = 6.0
 
     class Slow(CascadeRunner):
-        def __call__(self, partitions, parents=None):
+        def __call__(self, partitions, parents=None, keep=True):
             time.sleep(slow)
-            return super().__call__(partitions, parents)
+            return super().__call__(partitions, parents, keep)
 
     settings = LoopSettings(divisions=3, mu_const=0.6)
     plain = case.loop(1000.0, settings)
@@ -342,6 +342,8 @@ def test_warm_started_hot_layer_grid_gives_the_grid_from_rest(case: Case):
                 assert w["warm_start"] == f["warm_start"] == (1.0 if n > 0 else 0.0), (n, slot)
                 if n > 0:
                     assert w["periods"] <= c["periods"] and 2.0 <= f["periods"] <= w["periods"], (n, slot)
+                # only the T0 cascade's runs keep their states: the hotter ones start from them
+                assert (stores[1].load_state(w_out.key) is None) == (n > 0), (n, slot)
 
 
 def test_hot_layer_scene_writes_its_law(tmp_path: Path):
@@ -404,7 +406,8 @@ def test_warm_started_points_give_the_loop_from_rest(case: Case):
     slide on from the previous point's final states.  Every run of both points is warm started,
     slides no more periods than the same run from rest, and the points' mu agree with the loop
     whose runs all start from rest (the thesis' procedure) within 1 %, the window rule's
-    tolerance (measured: 0.2 and 0.6 % on the lower scales' mu, 4 periods per run against 5).
+    tolerance (measured: 0.2 and 0.6 % on the lower scales' mu, 4 periods per run against 5);
+    the last point's runs keep no state.
     With one-period blocks (``warm_window`` 1, the scenes' default) the warm runs slide 2
     periods at the least and the points' mu stay within 1 % too (measured 0.2 and 0.4 %, every
     run 2 periods)."""
@@ -427,3 +430,6 @@ def test_warm_started_points_give_the_loop_from_rest(case: Case):
                 assert w_stats["warm_start"] == 1.0 and c_stats["warm_start"] == 0.0
                 assert w_stats["periods"] <= c_stats["periods"], slot
                 assert 2.0 <= f_stats["periods"] <= w_stats["periods"], slot
+                # the last point's states are not kept: no later cascade starts from them
+                last = w_iv is warm.intervals[-1]
+                assert (stores["warm"].load_state(w_out.key) is None) == last, (w_iv.index, slot)

@@ -171,14 +171,17 @@ class LayeredSpecs:
     """The cascade's spec factory with temperature layers on every run (step C).
 
     Warm starts (``states``, a function of a store key giving that run's kept final state or
-    None): every run keeps its final state, and a run whose slot (branch, scale, sample) has a
-    parent in ``parents`` (the store key of the same slot's run at the previous homogenisation
-    point) slides on from the parent's state instead of from rest, comparing ``warm_window``
-    periods per block of its window rule where that is > 0 (``window.converged_window``)."""
+    None): every run keeps its final state if ``keep`` (a later cascade may start from it), and a
+    run whose slot (branch, scale, sample) has a parent in ``parents`` (the store key of the same
+    slot's run at the previous homogenisation point) slides on from the parent's state instead
+    of from rest, comparing ``warm_window`` periods per block of its window rule where that is
+    > 0 (``window.converged_window``)."""
 
     def __init__(self, make_spec: Callable[..., SlidingSpec], partitions: Partitions | None,
                  scales: Sequence[ScaleSet] = (), parents: dict[RunSlot, str] | None = None,
-                 states: Callable[[str], dict | None] | None = None, warm_window: int = 0):
+                 states: Callable[[str], dict | None] | None = None, warm_window: int = 0,
+                 keep: bool = True):
+        self.keep = keep
         self.make_spec, self.partitions = make_spec, partitions
         self.scales, self.parents, self.states = list(scales), dict(parents or {}), states
         self.warm_window = warm_window  # > 0: window_periods of a warm-started run
@@ -192,7 +195,7 @@ class LayeredSpecs:
                                        temperature=self.partitions.background)
         if self.states is None:
             return spec
-        spec = dataclasses.replace(spec, keep_state=True)
+        spec = dataclasses.replace(spec, keep_state=self.keep)
         index = next((n for n, s in enumerate(self.scales[i].samples) if s is sample), -1)
         key = self.parents.get((branch, i, index))
         if key and key not in self._loaded:
@@ -237,20 +240,22 @@ class CascadeRunner:
         self.max_failed = max_failed_fraction
         self.count = 0
 
-    def __call__(self, partitions: Partitions | None,
-                 parents: dict[RunSlot, str] | None = None) -> PointResult:
+    def __call__(self, partitions: Partitions | None, parents: dict[RunSlot, str] | None = None,
+                 keep: bool = True) -> PointResult:
         """One cascade with these temperature layers; with warm starts (``states``) its runs
-        slide on from the final states of ``parents`` (slot -> store key, :func:`run_slots`)."""
-        return self.many([partitions], parents)[0]
+        slide on from the final states of ``parents`` (slot -> store key, :func:`run_slots`)
+        and keep their own final states if ``keep`` (False: no later cascade starts from them;
+        about 1.4 MB a run saved on the default road)."""
+        return self.many([partitions], parents, keep)[0]
 
     def many(self, partitions: Sequence[Partitions | None],
-             parents: dict[RunSlot, str] | None = None) -> list[PointResult]:
+             parents: dict[RunSlot, str] | None = None, keep: bool = True) -> list[PointResult]:
         """Independent cascades of the point (the hot-layer grid), one per entry of
         ``partitions``, farmed as one campaign so that their runs fill all ranks; the results
         in that order."""
         planners = [RoughCascade(self.campaign, self.point, self.scales,
                                  LayeredSpecs(self.make_spec, parts, self.scales, parents,
-                                              self.states, self.warm_window),
+                                              self.states, self.warm_window, keep),
                                  self.k, self.j,
                                  adhesion=self.adhesion, max_failed_fraction=self.max_failed)
                     for parts in partitions]
@@ -330,7 +335,8 @@ class LoopObserver:
         self.T_last = float(profile.mean[0])
         parts = partition_profile(profile, self.settings.n_partitions, self.settings.partition_depth)
         wall = time.perf_counter()
-        result = self.cascade(parts, self.parents)
+        last = planned and self.next == len(self.distances)  # no later point starts from it
+        result = self.cascade(parts, self.parents, keep=not last)
         self.parents.update(run_slots(result))  # a slot whose run failed keeps its last state
         wall = time.perf_counter() - wall
         run.exclude_from_wall_limit(wall)  # the macro run's wall clock counts its own work only
@@ -481,7 +487,7 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings, 
         results = cascade.many(parts)  # side by side
     else:
         first = cascade(parts[0])
-        results = [first, *cascade.many(parts[1:], run_slots(first))]
+        results = [first, *cascade.many(parts[1:], run_slots(first), keep=False)]
     mus = [_mu(r) for r in results]
     if log:
         for T_S, r, mu in zip(temps, results, mus):
