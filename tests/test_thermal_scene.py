@@ -100,15 +100,18 @@ def test_shipped_thermal_scene_loads():
 def test_default_road_flash_scenes_differ_only_where_they_say():
     """thermal_road (coupled) and thermal_road_hot_layer (thesis 8.5.3) are the default scene's road,
     compound, pressure, velocities and numerics with three of its four scales, one sample per scale
-    and branch (thesis 8.5.3), and the thermal tables; the two differ only in the thermal mode."""
+    and branch (thesis 8.5.3), twice the slide periods and wall clock per run, and the thermal
+    tables; the two differ only in the thermal mode."""
     default, coupled, hot = (load_scene(n) for n in ("default", "thermal_road", "thermal_road_hot_layer"))
     assert coupled.surface.edges == default.surface.edges[:-1] == (20.0, 3.0, 0.3, 0.04)
     assert (coupled.surface.source, coupled.surface.seed) == (default.surface.source, default.surface.seed)
     assert coupled.conditions == default.conditions
     assert (coupled.samples.pressure, coupled.samples.friction) == (1, 1)
     assert coupled.numerics.max_slide_periods == 2 * default.numerics.max_slide_periods
+    assert coupled.numerics.run_timeout == 2 * default.numerics.run_timeout
     assert dataclasses.replace(coupled.numerics, scales=default.numerics.scales,
-                              max_slide_periods=default.numerics.max_slide_periods) == default.numerics
+                              max_slide_periods=default.numerics.max_slide_periods,
+                              run_timeout=default.numerics.run_timeout) == default.numerics
     assert coupled.thermal.mode == "coupled" and hot.thermal.mode == "hot-layer"
     assert (coupled.thermal.kappa, coupled.thermal.h_c, coupled.thermal.mu_const) == (0.8, 1.6, 0.0)
     assert dataclasses.replace(hot.thermal, mode="coupled") == coupled.thermal
