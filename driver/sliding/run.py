@@ -197,6 +197,7 @@ class SlidingRun:
             raise ValueError(f"min_jacobian = {spec.min_jacobian!r}: expected 0 <= det F limit < 1")
         self.base_spec = spec
         self.spec = spec  # the current attempt's spec (base_spec, or a refined copy)
+        self.refine = 1  # the current attempt's mesh refinement (InitialState.refine)
         self.start_candidates = self.START_CANDIDATES
         self.extrapolation_guard = self.EXTRAPOLATION_GUARD
         self.unseen_after = self.UNSEEN_AFTER
@@ -611,7 +612,9 @@ class SlidingRun:
         sliding steps (stabilisation), then contact elements MESH_REFINEMENT times shorter with
         each formulation: a slave bent over master features sharper than its elements (a peak
         poking through a contact element) has no smooth solution path at that resolution, and no
-        step length fixes that.
+        step length fixes that.  A warm start whose state was computed on a refined mesh
+        (``InitialState.refine``) begins with that mesh: the same slot at the previous
+        temperature converged only there, and only there does its state fit.
         """
         base = self.base_spec.contact
         first = [Attempt(base)]
@@ -624,7 +627,12 @@ class SlidingRun:
         if base == "mortar":
             first.append(Attempt("nts"))
         chain = first + [Attempt(first[-1].formulation, step_factor=0.25)]
-        return chain + [Attempt(f, refine=MESH_REFINEMENT) for f in dict.fromkeys(a.formulation for a in first)]
+        chain += [Attempt(f, refine=MESH_REFINEMENT) for f in dict.fromkeys(a.formulation for a in first)]
+        state = self.base_spec.initial_state
+        if state is not None and state.refine > 1:
+            lead = first[0]._replace(refine=int(state.refine))
+            chain = [lead] + [a for a in chain if a != lead]
+        return chain
 
     def run(self) -> SlidingResult:
         """The attempts in turn until one succeeds.  Under a wall-time limit a refined attempt that
@@ -646,6 +654,7 @@ class SlidingRun:
                                     f"{left:.0f} s left)")
                     continue
                 self.spec = softened(refined(self.base_spec, refine), att.tangent)
+                self.refine = refine
                 self.t_planned = 0.0
                 t_attempt = time.perf_counter()
                 try:
@@ -874,7 +883,7 @@ class SlidingRun:
                             h.H.copy() if h is not None else empty,
                             h.Sbar_n.copy() if h is not None else empty,
                             float(offset % self.L) if self.spec.period > 0 else float(offset),
-                            mesh_digest(self.sp.node_X), self.contact.elastic_gap())
+                            mesh_digest(self.sp.node_X), self.contact.elastic_gap(), self.refine)
 
     def _project_wall_time(self, done: int, earliest: int, t: float) -> None:
         """Stop a run that cannot reach a converged window before its wall-time limit: after

@@ -34,7 +34,9 @@ class InitialState:
     ``offset``: the road's offset then, in [0, period); ``mesh``: the sha256 of the mesh's node
     coordinates (:func:`mesh_digest`): a state fits only the mesh it was computed on;
     ``elastic_gap``: the contact's committed tangential elastic gap per slave node (the stick
-    history of a frictional run, ``fe.contact.Contact.elastic_gap``; empty: none)."""
+    history of a frictional run, ``fe.contact.Contact.elastic_gap``; empty: none); ``refine``:
+    the mesh refinement of the attempt that computed it (``refined``; > 1: that run converged
+    only on a fallback's finer mesh, so the run sliding on from it starts there)."""
 
     source: str
     w: np.ndarray
@@ -43,11 +45,12 @@ class InitialState:
     offset: float = 0.0
     mesh: str = ""
     elastic_gap: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    refine: int = 1
 
     @classmethod
     def stored(cls, fields: dict, source: str) -> "InitialState":
         """The state a store kept (``runtime.store.Store.load_state``) of the run ``source``."""
-        return cls(**{**fields, "source": source})
+        return cls(**{**fields, "source": source, "refine": int(fields.get("refine", 1))})
 
 
 def mesh_digest(node_X: np.ndarray) -> str:
