@@ -304,10 +304,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "max_points": Key("int", 16, "coupled: at most this many automatic points", minimum=1),
         "warm_start": Key("bool", True, "coupled: each homogenisation point's lower-scale runs "
                                         "slide on from the previous point's final states (the "
-                                        "rubber keeps its deformation and history); hot-layer: "
-                                        "the hotter cascades slide on from the T_S = T0 one's; "
-                                        "false: every run from rest, as the thesis did"),
-        "warm_window_periods": Key("int", 1, "warm_start: periods per block of a warm "
+                                        "rubber keeps its deformation and history); false: "
+                                        "every run from rest, as the thesis did (hot-layer mode "
+                                        "always)"),
+        "warm_window_periods": Key("int", 1, "coupled, warm_start: periods per block of a warm "
                                              "run's converged window (driver/sliding/window.py): "
                                              "1 stops a warm run after 2 periods where they "
                                              "agree; 2, the rule of the runs from rest, after 4 "

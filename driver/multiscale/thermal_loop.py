@@ -469,25 +469,21 @@ class HotLayerResult:
 def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings, hot: HotLayerSettings,
                   cascade: CascadeRunner, *, wall_limit: float = 0.0,
                   log: Callable[[str], None] | None = None) -> HotLayerResult:
-    """Hot-layer mode: one cascade per surface temperature, a mu(T_S) law (linear in T between
-    the grid points, constant beyond), then the thermomechanical macro run with that law: mu
-    follows the computed surface temperature node by node, with no down-passing.
+    """Hot-layer mode: one cascade per surface temperature (independent: farmed together over all
+    ranks, every run from rest), a mu(T_S) law (linear in T between the grid points, constant
+    beyond), then the thermomechanical macro run with that law: mu follows the computed surface
+    temperature node by node, with no down-passing.
 
-    From rest (``cascade.states`` None) all cascades are independent and farmed together over
-    all ranks.  With warm starts the T_S = T0 cascade runs first and the hotter ones, side by
-    side, slide on from its runs' final states (:class:`LayeredSpecs`): every T_S has the same
-    layer bounds, so the same meshes."""
+    No warm starts here: no physical path joins the grid's steady states, and slid on from the
+    T0 cascade's states the default road's micro runs at 1 m/s went astray (+10 K: 24 periods
+    without a stationary window; +40 K: 504 s of cut-backs to a micro mu of 0.21, from rest 0.31;
+    +80 K: projected past an hour; README "Flash temperature on the default road")."""
     from rubberfriction.driver.fe.friction_law import fit_mu_pvT
 
     wall = time.perf_counter()
     T0 = thermal.T0
     temps = T0 + np.asarray(hot.rises, float)
-    parts = [hot_layer_partitions(T_S, T0, hot) for T_S in temps]
-    if cascade.states is None:
-        results = cascade.many(parts)  # side by side
-    else:
-        first = cascade(parts[0])
-        results = [first, *cascade.many(parts[1:], run_slots(first), keep=False)]
+    results = cascade.many([hot_layer_partitions(T_S, T0, hot) for T_S in temps])  # side by side
     mus = [_mu(r) for r in results]
     if log:
         for T_S, r, mu in zip(temps, results, mus):

@@ -12,10 +12,9 @@ temperatures) and ``thermal/``:
   cascade plus mu_const) and with it (mu_const + the lower scales' mu at the end of the slide),
   their relative difference, the final surface temperature of the profile (eq. 8.1), the macro
   run's stabilised sub-steps and the dashpots' share of its friction work, wall time, the
-  isothermal cascade's wall time (what the isothermal point costs; hot-layer mode: the sum of the
-  T_S = T0 cascade's runs' times, as it runs side by side with the others from rest and before
-  them with warm starts) and the ratio of the two (nan where the store answered runs:
-  ``reused_runs``);
+  isothermal cascade's wall time (what the isothermal point costs; hot-layer mode: the sum of its
+  runs' times, its cascades run side by side) and the ratio of the two (nan where the store
+  answered runs: ``reused_runs``);
 * ``<point>/intervals.csv`` -- per homogenisation point: s, t, the mu used before it and the mu
   the cascade returned, the per-scale mu, the profile's surface value and spread, the partition
   temperatures and the cascade's wall time;
@@ -138,7 +137,8 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet,
                                 scene.samples.friction, executor, comm, progress=progress,
                                 max_failed_fraction=scene.samples.max_failed_fraction,
                                 adhesion=scene.adhesion if scene.physics.adhesion else None,
-                                states=executor.store.load_state if t.warm_start else None,
+                                states=(executor.store.load_state
+                                        if t.mode == "coupled" and t.warm_start else None),
                                 warm_window=t.warm_window_periods)
         wall = time.perf_counter()
         try:
@@ -181,7 +181,7 @@ def _row(name: str, p: float, v: float, res, T0: float) -> dict:
         s = res.macro.series if res.macro is not None else {}
         T_s = float(s["T_contact"][-1]) if s else math.nan
         T_std = math.nan
-        # the T0 cascade may run side by side with the others: its runs' time is its cost
+        # the isothermal cascade ran side by side with the others: its runs' time is its cost
         wall_iso = res.cascades[0].wall_time if res.cascades else math.nan
         cascades = res.cascades
     else:
