@@ -476,7 +476,7 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings, 
 
     No warm starts here: no physical path joins the grid's steady states, and slid on from the
     T0 cascade's states the default road's micro runs at 1 m/s went astray (+10 K: 24 periods
-    without a stationary window; +40 K: 504 s of cut-backs to a micro mu of 0.21, from rest 0.31;
+    without a stationary window; +40 K: 504 s of cut-backs to a micro mu of 0.21, 0.31 from rest;
     +80 K: projected past an hour; README "Flash temperature on the default road")."""
     from rubberfriction.driver.fe.friction_law import fit_mu_pvT
 
