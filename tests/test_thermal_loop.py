@@ -90,12 +90,13 @@ class Case:
 
         comp = self.compounds["tread_default"]
         executor = Executor(Store(self.folder / "store"), self.runner())
-        cascade = CascadeRunner("two_scale_thermal", Point("tread_default", 0.3, 1000.0), self.scales.sets,
-                                SpecBuilder(self.scene, self.compounds), 1, 1, executor)
+        cascade = CascadeRunner("two_scale_thermal", Point("tread_default", 0.3, 1000.0),
+                                self.scales.sets, SpecBuilder(self.scene, self.compounds), 1, 1,
+                                executor)
         spec = flat_road_spec(comp, pressure=0.3, velocity=1000.0, friction=0.5, block_length=4.0,
                               block_height=2.0, slide_distance=8.0, h_contact=0.25, T0=T0)
-        thermal = ThermalSettings(road=load_road("r1").thermal, T0=T0, road_depth=4.0, road_behind=4.0,
-                                  road_ahead=1.0)
+        thermal = ThermalSettings(road=load_road("r1").thermal, T0=T0, road_depth=4.0,
+                                  road_behind=4.0, road_ahead=1.0)
         return run_hot_layer(spec, comp.thermal, thermal, HotLayerSettings(mu_const=0.6), cascade)
 
 

@@ -627,7 +627,8 @@ class SlidingRun:
         if base == "mortar":
             first.append(Attempt("nts"))
         chain = first + [Attempt(first[-1].formulation, step_factor=0.25)]
-        chain += [Attempt(f, refine=MESH_REFINEMENT) for f in dict.fromkeys(a.formulation for a in first)]
+        formulations = dict.fromkeys(a.formulation for a in first)
+        chain += [Attempt(f, refine=MESH_REFINEMENT) for f in formulations]
         state = self.base_spec.initial_state
         if state is not None and state.refine > 1:
             lead = first[0]._replace(refine=int(state.refine))
