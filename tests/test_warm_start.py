@@ -147,7 +147,7 @@ def test_the_store_keeps_the_final_state(tmp_path, from_rest):
     for name in ("w", "history", "sbar"):
         assert np.array_equal(getattr(state, name), getattr(kept, name))
     assert (state.offset, state.mesh, state.refine) == (kept.offset, kept.mesh, kept.refine)
-    fine = dataclasses.replace(spec, slide_distance=13.0)  # another key; its state from a refined mesh
+    fine = dataclasses.replace(spec, slide_distance=13.0)  # another key, a state of a refined mesh
     store.put(run_key(fine), fine,
               dataclasses.replace(from_rest, final_state=dataclasses.replace(kept, refine=2)),
               wall_time=1.0)
