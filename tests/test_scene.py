@@ -48,8 +48,10 @@ def test_shipped_scenes_load_and_are_consistent():
     assert {"default", "two_sine"} <= set(shipped_scenes())
     d = load_scene(None)
     assert d.name == "default" and d.variant == "rough"
-    assert d.surface.source == "default_road" and d.surface.edges == (20.0, 3.0, 0.3, 0.04, 0.003)
-    assert d.n_scales == 4 and d.conditions.pressures == (0.3,)
+    assert d.surface.source == "default_road"
+    assert d.surface.stated_edges == (20.0, 3.0, 0.3, 0.04, 0.003)  # the thesis edges, cut by
+    assert d.surface.edges == (20.0, 3.0, 0.3)  # the slope rule (tests/test_surfaces_cutoff.py)
+    assert d.n_scales == 2 and d.conditions.pressures == (0.3,)
     assert len(d.conditions.velocities) >= 2
     assert d.conditions.T0 == pytest.approx(293.15)
     assert d.source == "embedded:default" and "[surface]" in d.text
@@ -133,14 +135,15 @@ def test_inconsistent_scale_edges():
     assert 'variant = "separated"' in msg and "exactly two scales" in msg and "gives 3" in msg
 
 
-def test_edges_the_road_cannot_resolve_fail_when_the_scales_are_built():
-    from rubberfriction.driver.multiscale.scales import build_scales
-
-    s = parse_scene('name = "t"\n[surface]\nedges = [20.0, 3.0, 0.0005]\n', "t.toml")
+def test_edges_the_road_cannot_resolve_fail_at_a_stated_cutoff_and_drop_under_the_rule():
+    text = 'name = "t"\n[surface]\nedges = [20.0, 3.0, 0.0005]\n'
     with pytest.raises(SceneError) as exc:
-        build_scales(s, 1)
+        parse_scene(text + "cutoff = 0.0005\n", "t.toml")
     msg = str(exc.value)
     assert "[surface]" in msg and "0.0005" in msg and "edges" in msg
+    s = parse_scene(text, "t.toml")  # the slope rule: the band no measurement resolves is dropped
+    assert s.surface.edges == (20.0, 3.0)
+    assert "no measurement resolves it" in s.surface.cutoff_report.rows[1].reason
 
 
 def test_physics_switches():
@@ -255,7 +258,7 @@ def test_numerics_per_scale_reach_only_that_scales_runs():
     assert (f1.element, b1.element) == ("Q1P0s", "Q1P0")
     assert run_key(f1) != run_key(b1)
     # the tables are found by the names the campaign labels its scales with, on roads too
-    road = load_scene("default")
+    road = load_scene("captif_stress")
     names = [s.name for s in build_scales(road, 1).sets]
     assert names == surface_scale_names(road.surface) == ["macro", "meso", "micro1", "micro2"]
 

@@ -144,16 +144,19 @@ def _run(args: argparse.Namespace) -> int:
         for w in scene.warnings:
             print(f"rubberfriction: warning: {w}", file=sys.stderr)
     from rubberfriction.driver.multiscale.campaign import check_scene, run_scene
+    from rubberfriction.driver.multiscale.scales import surface_lines
 
     if scene.physics.thermal:
         return _run_thermal(scene, args)
     if args.check:
         try:  # every compound and surface file the scene names is read, samples are cut
-            check_scene(scene)
+            scales = check_scene(scene)
         except SceneError as err:
             return _error(str(err))
         if _rank() == 0:
             print(_plan(scene))
+            for line in surface_lines(scene, scales):
+                print(line)
         return 0
 
     try:

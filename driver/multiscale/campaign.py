@@ -85,13 +85,13 @@ def runs_per_point(scene: Scene) -> tuple[int, str]:
 
 
 
-def check_scene(scene: Scene) -> None:
+def check_scene(scene: Scene) -> Scales:
     """What ``run --check`` does besides validating the TOML: load every compound the scene names
     and build its scales and samples (reads the surface files), so that bad material data or a
     surface that cannot give the samples fails before a campaign starts (SceneError naming the
-    field)."""
+    field).  Returns the scales."""
     load_compounds(scene)
-    build_scales(scene, max(scene.samples.pressure, scene.samples.friction))
+    return build_scales(scene, max(scene.samples.pressure, scene.samples.friction))
 
 
 def make_planner(scene: Scene, scales: Scales, make_spec: Callable[..., Any],

@@ -53,6 +53,7 @@ import numpy as np
 from rubberfriction.driver.adhesion.area import relative_area_ci95
 from rubberfriction.driver.multiscale import baseline
 from rubberfriction.driver.multiscale.results import PointResult
+from rubberfriction.driver.multiscale.scales import surface_lines
 from rubberfriction.driver.multiscale.separated import _law_from_dict
 from rubberfriction.driver.multiscale.statistics import (
     STABILISATION_TOL,
@@ -407,6 +408,8 @@ def summary_text(result: Any) -> str:
     note = timeout_note(result.n_timed_out)
     if note:
         lines.append(f"  {note}")
+    if result.scales is not None and sc.variant == "rough" and sc.surface.source != "sines":
+        lines.extend("  " + line for line in surface_lines(sc, result.scales))
     for r in result.points:
         head = f"  {r.point.id}: "
         if not r.ok:

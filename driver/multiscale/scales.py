@@ -14,13 +14,8 @@ import numpy as np
 
 from rubberfriction.driver.multiscale.results import ScaleSet
 from rubberfriction.driver.multiscale.scene import Scene, SceneError, surface_scale_names
-from rubberfriction.driver.surfaces import (
-    SurfaceError,
-    default_road,
-    extract_samples,
-    load_profile,
-    multiscale_from_measurements,
-)
+from rubberfriction.driver.multiscale.roads import road_builder, tip_rows
+from rubberfriction.driver.surfaces import SurfaceError, extract_samples
 
 
 @dataclass(frozen=True)
@@ -90,12 +85,6 @@ def build_scales(scene: Scene, n_samples: int) -> Scales:
                                          "wavelengths": list(s.wavelengths)})
     try:
         road = _multiscale_road(scene)
-        if s.names:
-            for sc, nm in zip(road.scales, s.names):
-                sc.name = nm
-        if s.block_lengths:
-            for sc, b in zip(road.scales, s.block_lengths):
-                sc.block_length = float(b)
         samples = road.extract_samples(n=n_samples, seed=s.seed, top_fraction=s.top_fraction)
     except SurfaceError as err:
         raise SceneError(f"{scene.source}: [surface] (source = {s.source!r}, edges = "
@@ -107,14 +96,26 @@ def build_scales(scene: Scene, n_samples: int) -> Scales:
     return Scales(sets, full, road.describe(), road.to_dict())
 
 
+def surface_lines(scene: Scene, scales: Scales) -> list[str]:
+    """What ``run --check`` and the report say of the scales: the cut-off rule's table (each
+    stated band measured or generated, its 1D rms slope, the cumulative 2D slope, kept, shortened
+    or dropped and why) and the sharpest tip of each scale's samples against its element size."""
+    report = scene.surface.cutoff_report
+    lines = [] if report is None else report.lines()
+    tips = tip_rows(scales.sets,
+                    lambda name: scene.numerics.for_scale(name).elements_per_wavelength)
+    lines.append("  resolution (sharpest asperity tip of the samples / contact element size):")
+    lines.extend("  " + t.line() + ("  <- a tip narrower than one element" if t.ratio < 1 else "")
+                 for t in tips)
+    return lines
+
+
 def _multiscale_road(scene: Scene) -> Any:
-    """The band profiles of a measured or default road (``[surface]`` source default_road or files)."""
+    """The band profiles of a road (``[surface]`` source default_road, four_scale or files) at the
+    edges its cut-off rule kept."""
     s = scene.surface
-    if s.source == "default_road":
-        return default_road(edges=s.edges)
-    profiles = [load_profile(p) for p in s.files]
-    return multiscale_from_measurements(profiles, s.edges, names=list(s.names) or None,
-                                        block_lengths=list(s.block_lengths) or None, name=scene.name)
+    return road_builder(s.source, s.files, surface_scale_names(s), s.block_lengths,
+                        scene.name)(tuple(s.edges))
 
 
 def macro_road(scene: Scene, start: float, length: float, dx: float) -> tuple[np.ndarray, np.ndarray]:

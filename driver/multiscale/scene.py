@@ -29,11 +29,14 @@ from __future__ import annotations
 from dataclasses import dataclass, field, fields, replace
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
 import tomllib
 
 from rubberfriction import validation as V
+from rubberfriction.driver.multiscale.roads import ROAD_SOURCES, resolve_road
+from rubberfriction.driver.surfaces.cutoff import SLOPE_SLACK, CutoffReport, parse_cutoff
+from rubberfriction.driver.surfaces.errors import SurfaceError
 from rubberfriction.driver.surfaces.multiscale import scale_names
 from rubberfriction.driver.theory.adhesion import BellLaw
 from rubberfriction.forms.material_files import available, resolve_data_path
@@ -80,9 +83,19 @@ SCHEMA: dict[str, dict[str, Key]] = {
     "surface": {
         "source": Key("str", "default_road",
                       "default_road: CAPTIF chipseal + self-affine fine extension "
-                      "(driver.surfaces.default_road); files: measured profiles listed in 'files'; "
+                      "(driver.surfaces.default_road); four_scale: synthetic self-affine road "
+                      "whose four scales reach a cumulative 2D rms slope of 1.3 at 3 um "
+                      "(driver.surfaces.four_scale); files: measured profiles listed in 'files'; "
                       "sines: one sine wave per scale (amplitudes, wavelengths)",
-                      choices=("default_road", "files", "sines")),
+                      choices=("default_road", "four_scale", "files", "sines")),
+        "cutoff": Key("cutoff", "slope",
+                      "the lowest scale (not for sines): \"slope\": measured bands down to the "
+                      "measurement's resolution, generated bands while the cumulative 2D rms slope "
+                      "stays <= max_slope (the crossing band shortened, lower ones dropped); "
+                      "\"resolution\": measured bands only; a wavelength in mm: the bands down "
+                      "to it"),
+        "max_slope": Key("float", 1.3, "cutoff = \"slope\": the largest cumulative 2D rms slope "
+                         "(Lorenz et al., J. Chem. Phys. 142, 194701, 2015)", above=0.0),
         "files": Key("strs", [], "source = files: profile files (relative to the scene file), one "
                                  "or more resolutions of one road; each band is cut from the "
                                  "coarsest file resolving it"),
@@ -409,6 +422,12 @@ class SurfaceConfig:
     wavelengths: tuple[float, ...]
     periods_per_block: int
     points_per_wavelength: int
+    cutoff: str | float = "slope"
+    max_slope: float = 1.3
+    #: edges as the scene states them; ``edges`` are those the cut-off rule keeps
+    stated_edges: tuple[float, ...] = ()
+    #: what the rule did, band by band (None for sines)
+    cutoff_report: CutoffReport | None = field(default=None, compare=False, repr=False)
 
     @property
     def n_scales(self) -> int:
@@ -610,6 +629,11 @@ def _check_value(origin: str, section: str, name: str, key: Key, value: Any) -> 
         if not isinstance(value, dict):
             V.fail(where, value, "a table { key = value, ... }", SceneError)
         return dict(value)
+    if k == "cutoff":
+        if isinstance(value, str):
+            return V.choice(where, value, ("slope", "resolution"), error=SceneError)
+        return V.number(where, value, what="\"slope\", \"resolution\" or a wavelength in mm",
+                        above=0.0, error=SceneError)
     if k == "opt_float":
         return None if value is None else V.number(where, value, **bounds)
     if k in ("floats", "strs"):
@@ -782,6 +806,8 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
     elif s["files"]:
         raise SceneError(f"{origin}: [surface].files: only for source = \"files\" (source is "
                          f"{s['source']!r})")
+    if s["source"] == "sines" and "cutoff" in given:
+        warnings.append("[surface].cutoff is ignored: source = \"sines\" has no spectrum to cut")
     surface = SurfaceConfig(**s)
     n = surface.n_scales
     for k in ("names", "block_lengths"):
@@ -792,6 +818,10 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
         raise SceneError(f"{origin}: [surface].block_lengths = {list(surface.block_lengths)}: "
                          f"expected "
                          "positive lengths in mm")
+    stated_names = surface_scale_names(surface)
+    if surface.source in ROAD_SOURCES:
+        surface = _cut(origin, surface, name=top["name"])
+        warnings.extend(_steep_band_warnings(surface.cutoff_report))
 
     # --- conditions -------------------------------------------------------------------------------
     c = vals["conditions"]
@@ -862,7 +892,8 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
         warnings.append("[separated] is ignored: variant = \"rough\"")
 
     numerics = NumericsConfig(**vals["numerics"],
-                              scales=_scale_numerics(origin, scale_tables, surface))
+                              scales=_scale_numerics(origin, scale_tables, surface, stated_names,
+                                                     warnings))
     for scale in [None, *surface_scale_names(surface)]:
         num = numerics if scale is None else numerics.for_scale(scale)
         if num.newton != "line-search" and num.element == "Q1P0s":
@@ -895,14 +926,56 @@ def surface_scale_names(surface: SurfaceConfig) -> list[str]:
     return list(surface.names) or scale_names(surface.n_scales)
 
 
-def _scale_numerics(origin: str, tables: dict[str, Any], surface: SurfaceConfig
+def _cut(origin: str, surface: SurfaceConfig, name: str) -> SurfaceConfig:
+    """The surface with the edges, names and block lengths its cut-off rule keeps."""
+    names = surface_scale_names(surface)
+    try:
+        rule = parse_cutoff(surface.cutoff, surface.max_slope)
+        road, report = resolve_road(surface.source, surface.files, surface.edges, names,
+                                    surface.block_lengths, rule, title=name)
+    except SurfaceError as err:
+        raise SceneError(f"{origin}: [surface] (source = {surface.source!r}, edges = "
+                         f"{list(surface.edges)}, {_cutoff_text(surface)}): {err}") from None
+    n = len(road.scales)
+    return replace(surface, edges=tuple(report.edges), names=tuple(names[:n]),
+                   block_lengths=tuple(surface.block_lengths[:n]),
+                   stated_edges=tuple(surface.edges), cutoff_report=report)
+
+
+def _cutoff_text(surface: SurfaceConfig) -> str:
+    c = surface.cutoff
+    return f"cutoff = {c!r}" if isinstance(c, str) else f"cutoff = {c:g} mm"
+
+
+def _steep_band_warnings(report: CutoffReport | None) -> list[str]:
+    """A stated cut-off that keeps generated bands beyond the slope limit: say so up front."""
+    if report is None or report.rule.kind == "slope":
+        return []
+    limit = report.rule.max_slope
+    steep = [r for r in report.rows if r.status != "dropped" and r.kind == "generated"
+             and r.cumulative_slope > limit * (1 + SLOPE_SLACK)]
+    return [f"[surface] {report.rule}: the generated band {r.name} ({r.band[0]:g}-"
+            f"{r.short_edge:.4g} mm, rms slope {r.rms_slope:.3g}) takes the cumulative 2D rms "
+            f"slope to {r.cumulative_slope:.3g} > max_slope {limit:g}: a self-affine continuation "
+            "this steep sharpens its tips below any contact element, so its runs may not converge "
+            "(the slope rule, cutoff = \"slope\", would stop before it)" for r in steep]
+
+
+def _scale_numerics(origin: str, tables: dict[str, Any], surface: SurfaceConfig,
+                    stated: Sequence[str] = (), warnings: list[str] | None = None
                     ) -> tuple[tuple[str, tuple[tuple[str, Any], ...]], ...]:
     """Validated ``[numerics.<scale>]`` tables: a scale of the scene, [numerics] keys but the
-    scene-wide ones, each value checked like the scene's."""
+    scene-wide ones, each value checked like the scene's.  A table of a scale the cut-off rule
+    dropped (one of ``stated``) is left out with a warning."""
     names = surface_scale_names(surface)
     keys = SCHEMA["numerics"]
     out = []
     for scale, table in tables.items():
+        if scale not in names and scale in stated:
+            if warnings is not None:
+                warnings.append(f"[numerics.{scale}] is ignored: the cut-off rule dropped scale "
+                                f"{scale}")
+            continue
         if scale not in names:
             raise SceneError(f"{origin}: unknown table [numerics.{scale}]"
                              f"{V.suggest(scale, names)}: a per-scale table is named after a "
