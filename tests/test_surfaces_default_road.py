@@ -125,6 +125,11 @@ def test_cli_split_takes_each_band_from_the_resolving_file(shared_data, tmp_path
 def test_cli_default_and_bench(tmp_path, capsys, monkeypatch):
     out = tmp_path / "default"
     assert cli.main(["surface", "default", "--out", str(out), "--samples", "2"]) == 0
+    assert "dropped" in capsys.readouterr().out  # the slope cut-off drops the generated bands
+    assert len(list(out.glob("*_sample*.csv"))) == 4
+    out = tmp_path / "default_to_3um"
+    assert cli.main(["surface", "default", "--out", str(out), "--samples", "2",
+                     "--cutoff", "0.003"]) == 0
     assert len(list(out.glob("*_sample*.csv"))) == 8
     s = json.loads((out / "summary.json").read_text())
     kinds = [sc["kind"] for sc in s["surface"]["scales"]]

@@ -92,7 +92,9 @@ def _cmd_analyse(args: argparse.Namespace) -> int:
         psd_1d,
         rms_from_psd,
     )
+    from rubberfriction.driver.surfaces.cutoff import cumulative_slope_2d
     from rubberfriction.driver.surfaces.plots import plot_analysis
+    from rubberfriction.driver.surfaces.samples import provenance_kind
 
     prof = _load(args.file, args)
     window = None if args.window == "none" else args.window
@@ -117,13 +119,25 @@ def _cmd_analyse(args: argparse.Namespace) -> int:
           + ("" if hfit.plateau_found else " (no plateau in range: xi_par is a lower bound)"))
     bands_out = []
     if args.edges:
-        for b in band_split(prof, args.edges, allow_unresolved=True):
+        bands = band_split(prof, args.edges, allow_unresolved=True)
+        cum = cumulative_slope_2d([b.rms_slope() for b in bands])
+        kind = provenance_kind(prof)
+        for b, c2 in zip(bands, cum):
             lo_b, hi_b = b.meta["band"]
             res = "" if b.meta["resolved"] else " (partly beyond the resolution)"
-            print(f"band {lo_b:g}-{hi_b:g} mm: rms height {b.rms_height():.5g} mm, rms slope "
-                  f"{b.rms_slope():.4g}{res}")
+            print(f"band {lo_b:g}-{hi_b:g} mm ({kind}): rms height {b.rms_height():.5g} mm, rms "
+                  f"slope {b.rms_slope():.4g}, cumulative 2D rms slope {c2:.4g}{res}")
             bands_out.append({"band_mm": [lo_b, hi_b], "rms_height_mm": b.rms_height(),
-                              "rms_slope": b.rms_slope(), "resolved": b.meta["resolved"]})
+                              "rms_slope": b.rms_slope(), "cumulative_slope_2d": float(c2),
+                              "kind": kind, "resolved": b.meta["resolved"]})
+        over = [i for i, c2 in enumerate(cum) if c2 > args.max_slope]
+        if over:
+            lo_b, hi_b = bands[over[0]].meta["band"]
+            keep = ("measured bands are kept by the slope rule; a generated continuation below "
+                    "would be dropped" if kind != "generated" else
+                    "the slope rule would shorten this band and drop the ones below")
+            print(f"the cumulative 2D rms slope passes max_slope {args.max_slope:g} in band "
+                  f"{lo_b:g}-{hi_b:g} mm: {keep} (scene key [surface] cutoff)")
     if args.plot:
         plot_analysis(prof, q, c, lam, ch, args.plot, edges=args.edges, psd_fit=pfit, hdc_fit=hfit)
         print(f"plot: {args.plot}")
@@ -176,10 +190,18 @@ def _cmd_split(args: argparse.Namespace) -> int:
 
 
 def _cmd_default(args: argparse.Namespace) -> int:
-    from rubberfriction.driver.surfaces import default_road
+    from rubberfriction.driver.surfaces import DEFAULT_EDGES, SurfaceError, default_road
+    from rubberfriction.driver.surfaces.cutoff import apply_cutoff, parse_cutoff
 
-    road = default_road(args.shared_data)
+    try:
+        rule = parse_cutoff(args.cutoff, args.max_slope)
+    except SurfaceError as err:
+        print(f"rubberfriction surface default: --{err}")
+        return 2
+    road, report = apply_cutoff(lambda e: default_road(args.shared_data, edges=e), DEFAULT_EDGES,
+                                rule)
     print(road.describe())
+    print("\n".join(report.lines()))
     samples = road.extract_samples(args.samples, args.seed, top_fraction=args.top_fraction)
     _write_samples(road, samples, Path(args.out))
     return 0
@@ -241,6 +263,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     a.add_argument("--hdc-range", nargs=2, type=float, metavar=("LO", "HI"),
                    help="lag range (mm) of the HDC fit (default 4 dx .. L/4)")
     a.add_argument("--edges", nargs="+", type=float, help="band edges (mm) to mark and report")
+    a.add_argument("--max-slope", type=float, default=1.3,
+                   help="cumulative 2D rms slope of the slope cut-off (default 1.3), reported "
+                        "with --edges")
     a.add_argument("--plot", help="PNG with profile, PSD and HDC")
     a.add_argument("--json", help="write the results as JSON")
     a.set_defaults(func=_cmd_analyse)
@@ -264,6 +289,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     d.add_argument("--seed", type=int, default=1)
     d.add_argument("--top-fraction", type=float, default=0.2)
     d.add_argument("--shared-data", help="folder with captif_chipseal_station0.dat")
+    d.add_argument("--cutoff", default="slope",
+                   help="lowest scale: slope (default), resolution or a wavelength in mm")
+    d.add_argument("--max-slope", type=float, default=1.3,
+                   help="cumulative 2D rms slope of the slope cut-off (default 1.3)")
     d.set_defaults(func=_cmd_default)
 
     g = sub.add_parser("generate", help="synthetic profiles to CSV")
