@@ -56,6 +56,7 @@ SCENE = textwrap.dedent('''
     [surface]
     source = "default_road"
     edges = [20.0, 3.0, 0.3, 0.04]
+    cutoff = 0.04
     [samples]
     pressure = 2
     friction = 3

@@ -185,11 +185,14 @@ def test_theory_request_from_a_loaded_scene() -> None:
     from rubberfriction.driver.multiscale.baseline import request_from_scene
     from rubberfriction.driver.multiscale.scene import load_scene
 
-    got = request_from_scene(load_scene("default"))
+    got = request_from_scene(load_scene("captif_stress"))
     assert got.surface == "default" and got.edges == (20.0, 3.0, 0.3, 0.04, 0.003)
     assert (got.lambda_max, got.lambda_min) == (20.0, 0.003) and not got.files and not got.sines
     assert got.compound == "tread_default" and got.pressure == 0.3
     assert got.velocities == (10.0, 100.0, 1000.0)
+    # the theory sees the scales the cut-off rule kept, as the FE does
+    got = request_from_scene(load_scene("default"))
+    assert got.edges == (20.0, 3.0, 0.3) and got.lambda_min == 0.3
     assert got.T0 == pytest.approx(293.15) and got.adhesion is None and got.notes == ()
 
 

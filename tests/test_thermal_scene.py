@@ -98,11 +98,12 @@ def test_shipped_thermal_scene_loads():
 
 
 def test_default_road_flash_scenes_differ_only_where_they_say():
-    """thermal_road (coupled) and thermal_road_hot_layer (thesis 8.5.3) are the default scene's road,
+    """thermal_road (coupled) and thermal_road_hot_layer (thesis 8.5.3) are captif_stress's road,
     compound, pressure, velocities and numerics with three of its four scales, one sample per scale
     and branch (thesis 8.5.3), twice the slide periods and wall clock per run, and the thermal
     tables; the two differ only in the thermal mode."""
-    default, coupled, hot = (load_scene(n) for n in ("default", "thermal_road", "thermal_road_hot_layer"))
+    # captif_stress: the default scene up to 0.16.0 (four scales of the default road, three speeds)
+    default, coupled, hot = (load_scene(n) for n in ("captif_stress", "thermal_road", "thermal_road_hot_layer"))
     assert coupled.surface.edges == default.surface.edges[:-1] == (20.0, 3.0, 0.3, 0.04)
     assert (coupled.surface.source, coupled.surface.seed) == (default.surface.source, default.surface.seed)
     assert coupled.conditions == default.conditions

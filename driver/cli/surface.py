@@ -189,19 +189,28 @@ def _cmd_split(args: argparse.Namespace) -> int:
     return 0
 
 
-def _cmd_default(args: argparse.Namespace) -> int:
+def _cmd_road(args: argparse.Namespace) -> int:
+    """``surface default`` / ``surface four-scale``: a shipped road cut by the lowest-scale rule,
+    its table, samples and (``--plot``) band PSDs with the cumulative slope."""
     from rubberfriction.driver.surfaces import DEFAULT_EDGES, SurfaceError, default_road
     from rubberfriction.driver.surfaces.cutoff import apply_cutoff, parse_cutoff
+    from rubberfriction.driver.surfaces.four_scale import FOUR_SCALE_EDGES, four_scale_road
+    from rubberfriction.driver.surfaces.plots import plot_road_scales
 
     try:
         rule = parse_cutoff(args.cutoff, args.max_slope)
     except SurfaceError as err:
-        print(f"rubberfriction surface default: --{err}")
+        print(f"rubberfriction surface {args.surface_command}: --{err}")
         return 2
-    road, report = apply_cutoff(lambda e: default_road(args.shared_data, edges=e), DEFAULT_EDGES,
-                                rule)
+    if args.surface_command == "four-scale":
+        road, report = apply_cutoff(four_scale_road, FOUR_SCALE_EDGES, rule)
+    else:
+        road, report = apply_cutoff(lambda e: default_road(args.shared_data, edges=e),
+                                    DEFAULT_EDGES, rule)
     print(road.describe())
     print("\n".join(report.lines()))
+    if args.plot:
+        print(f"plot: {plot_road_scales(road, report, args.plot)}")
     samples = road.extract_samples(args.samples, args.seed, top_fraction=args.top_fraction)
     _write_samples(road, samples, Path(args.out))
     return 0
@@ -283,17 +292,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     s.add_argument("--out", required=True, help="output folder")
     s.set_defaults(func=_cmd_split)
 
-    d = sub.add_parser("default", help="the embedded default road and its samples")
-    d.add_argument("--out", required=True, help="output folder")
-    d.add_argument("--samples", type=int, default=10)
-    d.add_argument("--seed", type=int, default=1)
-    d.add_argument("--top-fraction", type=float, default=0.2)
-    d.add_argument("--shared-data", help="folder with captif_chipseal_station0.dat")
-    d.add_argument("--cutoff", default="slope",
-                   help="lowest scale: slope (default), resolution or a wavelength in mm")
-    d.add_argument("--max-slope", type=float, default=1.3,
-                   help="cumulative 2D rms slope of the slope cut-off (default 1.3)")
-    d.set_defaults(func=_cmd_default)
+    for name, what in (("default", "the embedded default road (CAPTIF + generated extension)"),
+                       ("four-scale", "the synthetic four-scale road (driver.surfaces.four_scale)")):
+        d = sub.add_parser(name, help=f"{what}: its scales under the cut-off rule, samples")
+        d.add_argument("--out", required=True, help="output folder")
+        d.add_argument("--samples", type=int, default=10)
+        d.add_argument("--seed", type=int, default=1)
+        d.add_argument("--top-fraction", type=float, default=0.2)
+        if name == "default":
+            d.add_argument("--shared-data", help="folder with captif_chipseal_station0.dat")
+        d.add_argument("--cutoff", default="slope",
+                       help="lowest scale: slope (default), resolution or a wavelength in mm")
+        d.add_argument("--max-slope", type=float, default=1.3,
+                       help="cumulative 2D rms slope of the slope cut-off (default 1.3)")
+        d.add_argument("--plot", help="PNG: band PSDs and the cumulative slope")
+        d.set_defaults(func=_cmd_road)
 
     g = sub.add_parser("generate", help="synthetic profiles to CSV")
     g.add_argument("kind", choices=("self-affine", "two-sine", "sawtooth"))

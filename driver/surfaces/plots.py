@@ -7,7 +7,7 @@ switch), so plotting works headless and does not disturb other users of matplotl
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -25,6 +25,7 @@ __all__ = [
     "plot_analysis",
     "plot_samples",
     "plot_decompositions",
+    "plot_road_scales",
 ]
 
 
@@ -169,5 +170,41 @@ def plot_decompositions(result: dict[str, list[Profile]], path: str | Path, *,
             ax.plot(prof.x[m] - prof.x[0], prof.h[m], lw=0.7, color="k")
             ax.set_title(f"{key}: {band[0]:g}-{band[1]:g} mm", fontsize=7)
             ax.tick_params(labelsize=6)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_road_scales(road: Any, report: Any, path: str | Path, *,
+                     title: str | None = None) -> Path:
+    """The PSD of each kept band (log-binned periodogram of its band profile) with the stated
+    edges, and the cumulative 2D rms slope down the bands against the rule's max_slope
+    (``report``: a :class:`~rubberfriction.driver.surfaces.cutoff.CutoffReport`)."""
+    from rubberfriction.driver.surfaces.psd import psd_1d
+
+    fig = Figure(figsize=(10, 4.2))
+    ax, bx = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
+    for i, sc in enumerate(road.scales):
+        q, c = psd_1d(sc.profile, window="hann", detrend="linear")
+        lo, hi = 2 * np.pi / sc.band[0], 2 * np.pi / sc.band[1]
+        keep = (q >= lo) & (q <= hi) & (c > 0)
+        qb, cb, _ = log_bin(q[keep], c[keep], bins_per_decade=10)
+        ax.loglog(qb, cb, "o-", ms=3, color=f"C{i}", label=f"{sc.name} ({sc.kind})")
+    for e in report.stated_edges:
+        ax.axvline(2 * np.pi / e, color="0.7", lw=0.8, ls=":")
+    ax.set_xlabel("q = 2 pi / lambda (1/mm)")
+    ax.set_ylabel("C1D (mm^3)")
+    ax.legend(fontsize=8)
+    ax.set_title("band PSDs (dotted: stated edges)", fontsize=9)
+    rows = [r for r in report.rows if np.isfinite(r.cumulative_slope)]
+    x = np.arange(len(rows))
+    colours = ["C0" if r.status != "dropped" else "0.6" for r in rows]
+    bx.bar(x, [r.cumulative_slope for r in rows], color=colours)
+    bx.axhline(report.rule.max_slope, color="C3", ls="--",
+               label=f"max_slope {report.rule.max_slope:g}")
+    bx.set_xticks(x, [f"{r.name}\n{r.status}" for r in rows], fontsize=8)
+    bx.set_ylabel("cumulative 2D rms slope")
+    bx.legend(fontsize=8)
+    bx.set_title(str(report.rule), fontsize=9)
+    fig.suptitle(title or road.name, fontsize=10)
     fig.tight_layout()
     return _save(fig, path)
