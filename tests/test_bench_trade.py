@@ -24,3 +24,21 @@ def test_settings_change_one_choice_and_the_converged_one_refines_all() -> None:
     assert n.penalty_alpha == 100.0 and n.step_per_element < b.step_per_element
     assert n.convergence_tol == pytest.approx(0.5 * b.convergence_tol)
     assert best.samples.pressure == best.samples.friction == 10
+
+
+def test_per_scale_table_measures_each_scale_from_the_finest_setting() -> None:
+    from rubberfriction.driver.bench.trade import finest, scale_table
+
+    def row(mu_macro: float, mu_micro: float) -> dict:
+        return {"scales": {"macro": {"mu": mu_macro, "contact": 0.1, "pressure": 0.3,
+                                     "cost_s": 10.0},
+                           "micro": {"mu": mu_micro, "contact": 0.2, "pressure": 3.0,
+                                     "cost_s": 20.0}}}
+
+    rows = {"el6": row(0.50, 0.30), "el12": row(0.49, 0.27), "el24": row(0.48, 0.25)}
+    assert finest(list(rows)) == "el24" and finest(["quick", "step2"]) == "step2"
+    lines = scale_table(rows)
+    micro6 = next(line for line in lines if line.startswith("micro") and " el6 " in line)
+    assert micro6.rstrip().endswith("+20.0 %")  # 0.30 / 0.25 - 1
+    macro12 = next(line for line in lines if line.startswith("macro") and " el12 " in line)
+    assert macro12.rstrip().endswith("+2.1 %")  # 0.49 / 0.48 - 1
