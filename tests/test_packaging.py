@@ -112,3 +112,13 @@ def test_console_shows_no_build_chatter() -> None:
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd="/", check=True)
     assert "gcc" not in out.stdout + out.stderr
     assert "kept" in out.stderr
+
+
+def test_version_option_prints_the_package_version(capsys) -> None:
+    from rubberfriction import __version__
+    from rubberfriction.driver.cli.main import main
+
+    with pytest.raises(SystemExit) as exc:
+        main(["--version"])
+    assert exc.value.code == 0 and capsys.readouterr().out.split()[:2] == ["rubberfriction",
+                                                                         __version__]

@@ -12,6 +12,8 @@ import importlib
 import logging
 import sys
 
+import rubberfriction
+
 # (module, what it adds) -- kept in the order shown by --help.
 COMMAND_MODULES: tuple[str, ...] = (
     "rubberfriction.driver.cli.run",
@@ -26,10 +28,13 @@ COMMAND_MODULES: tuple[str, ...] = (
 
 
 def build_parser() -> argparse.ArgumentParser:
+    units = "units: mm, s, t, N, MPa, mJ, K"
     parser = argparse.ArgumentParser(
         prog="rubberfriction",
-        description="Multiscale FEM rubber friction on rough road surfaces (units: mm, s, t, N, MPa, mJ, K).",
+        description=f"Multiscale FEM rubber friction on rough road surfaces ({units}).",
     )
+    parser.add_argument("--version", action="version",
+                        version=f"rubberfriction {rubberfriction.__version__} ({units})")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in COMMAND_MODULES:
         try:
