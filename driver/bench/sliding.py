@@ -43,7 +43,8 @@
                                          |branches]
                                  [--quick]
                                  [--wall-limit S] [--penalty-alpha A] [--element E] [--json FILE]
-                                 [--scale micro1|micro2]
+                                 [--scale micro1|micro2] [--road default|four_scale]
+                                 [--grid quick|standard|full]
                                  [--pressure P] [--velocity V] [--slide-fraction F] [--guards 4,6]
                                  [--compare-jit]
 """
@@ -68,6 +69,7 @@ from rubberfriction.driver.fe.newton import LINEAR_SOLVERS
 from rubberfriction.driver.sliding.run import SlidingRun, block_mesh, run_sliding, sliding_contact
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.surfaces import default_road
+from rubberfriction.driver.surfaces.four_scale import four_scale_road
 from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
 from rubberfriction.forms import jit
 from rubberfriction.forms.material_files import load_compound
@@ -94,31 +96,42 @@ def accuracy(quick: bool) -> None:
 STABILITY_SCALES = {"micro1": 2, "micro2": 3}
 
 
-def rough_sample(scale: str = "micro1"):
-    """First sample of a scale of the default road: micro1 (0.3-0.04 mm band, period 0.3 mm) or
-    micro2 (0.04-0.003 mm, period 0.04 mm)."""
-    return default_road().extract_samples(1, seed=1)[STABILITY_SCALES[scale]][0]
+#: roads the stability sweep takes its samples from
+STABILITY_ROADS = {"default": default_road, "four_scale": four_scale_road}
+#: (velocities in m/s, pressures in MPa) of the stability grids; "full": 8 x 5 = 40 cases
+STABILITY_GRIDS = {
+    "quick": ((1e-6, 1e-2, 10.0), (0.01, 10.0)),
+    "standard": ((1e-6, 1e-4, 1e-2, 1.0, 10.0), (0.01, 0.1, 1.0, 10.0)),
+    "full": ((1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0), (0.01, 0.1, 1.0, 3.0, 10.0)),
+}
+
+
+def rough_sample(scale: str = "micro1", road: str = "default"):
+    """First sample of a scale of a road (the default road or the four-scale road): micro1
+    (0.3-0.04 mm band, period 0.3 mm) or micro2 (0.04-0.003 mm, period 0.04 mm)."""
+    return STABILITY_ROADS[road]().extract_samples(1, seed=1)[STABILITY_SCALES[scale]][0]
 
 
 def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str = "Q1P0",
-              scale: str = "micro1") -> list[dict]:
-    """The sweep of part 2 on the first sample of ``scale``; the rigid surface refined per
+              scale: str = "micro1", road: str = "default", grid: str = "standard"
+              ) -> list[dict]:
+    """The sweep of part 2 on the first sample of ``scale`` of ``road`` over the velocities and
+    pressures of ``grid`` (``quick`` takes the quick grid); the rigid surface refined per
     shortest wavelength of the band as the default scene's campaign does
     (``specs.refined_master``).  A run is usable when a campaign would average it
-    (``statistics.usable``) and its mu is finite."""
+    (``statistics.usable``) and its mu is finite; otherwise the row gives the reason."""
     comp = load_compound("tread_default")
-    sample = rough_sample(scale)
+    sample = rough_sample(scale, road)
     x, h = np.asarray(sample.x)[:-1], np.asarray(sample.h)[:-1]
     points = load_scene("default").numerics.master_points_per_wavelength
     x, h = refined_master(x, h, sample.period, float(sample.band[1]), points)
-    print(f"scale {scale} of the default road", end="; ")
+    print(f"scale {scale} of the {road} road", end="; ")
     print(f"stability sweep on a rough sample: period {sample.period:.4g} mm, rms height "
           f"{sample.rms_height:.3g} mm, rms slope {sample.rms_slope:.3g}, {x.size} segments; "
           f"penalty alpha {penalty_alpha:g}, element {element}, wall limit {wall_limit:g} s per run")
     print(f"{'v [m/s]':>8} {'p [MPa]':>8} {'status':>7} {'fallback':>8} {'cutbacks':>8} {'newton':>7} "
           f"{'wall [s]':>9} {'mu':>9} {'stab.':>7}  reason")
-    vs = (1e-6, 1e-2, 10.0) if quick else (1e-6, 1e-4, 1e-2, 1.0, 10.0)
-    ps = (0.01, 10.0) if quick else (0.01, 0.1, 1.0, 10.0)
+    vs, ps = STABILITY_GRIDS["quick" if quick else grid]
     rows = []
     for v in vs:
         for p in ps:
@@ -411,7 +424,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--penalty-alpha", type=_number(0.0, strict=True), default=100.0,
                     help="contact penalty factor of the stability runs (SlidingSpec.penalty_alpha)")
     ap.add_argument("--scale", choices=tuple(STABILITY_SCALES), default="micro1",
-                    help="stability: the default road's scale whose first sample is swept (micro1)")
+                    help="stability: the road's scale whose first sample is swept (micro1)")
+    ap.add_argument("--road", choices=tuple(STABILITY_ROADS), default="default",
+                    help="stability: the road the sample comes from (default)")
+    ap.add_argument("--grid", choices=tuple(STABILITY_GRIDS), default="standard",
+                    help="stability: velocities x pressures (standard 5 x 4; full 8 x 5: 1e-6 to "
+                         "10 m/s, 0.01 to 10 MPa)")
     ap.add_argument("--element", choices=ELEMENTS, default="Q1P0",
                     help="rubber element of the stability and iteration runs (SlidingSpec.element)")
     ap.add_argument("--json", metavar="FILE",
@@ -459,7 +477,8 @@ def main(argv: list[str] | None = None) -> int:
     if a.part in ("accuracy", "both"):
         accuracy(a.quick)
     if a.part in ("stability", "both"):
-        rows = stability(a.quick, a.wall_limit, a.penalty_alpha, a.element, a.scale)
+        rows = stability(a.quick, a.wall_limit, a.penalty_alpha, a.element, a.scale, a.road,
+                         a.grid)
         if a.json:
             with open(a.json, "w") as f:
                 json.dump({"stability": rows}, f, indent=1, default=float)
