@@ -93,7 +93,10 @@ def build_scales(scene: Scene, n_samples: int) -> Scales:
     full = None
     if scene.variant == "separated" and scene.separated is not None and scene.separated.reference:
         full = _full_sample(scene, road)
-    return Scales(sets, full, road.describe(), road.to_dict())
+    provenance = road.to_dict()
+    if s.cutoff_report is not None:  # the lowest-scale rule and what it kept (campaign.json)
+        provenance["cutoff"] = s.cutoff_report.to_dict()
+    return Scales(sets, full, road.describe(), provenance)
 
 
 def surface_lines(scene: Scene, scales: Scales) -> list[str]:
