@@ -193,6 +193,8 @@ def test_theory_request_from_a_loaded_scene() -> None:
     # the theory sees the scales the cut-off rule kept, as the FE does
     got = request_from_scene(load_scene("default"))
     assert got.edges == (20.0, 3.0, 0.3) and got.lambda_min == 0.3
+    got = request_from_scene(load_scene("four_scale"))  # its own road, not the default one
+    assert got.surface == "four_scale" and got.lambda_min == 0.003
     assert got.T0 == pytest.approx(293.15) and got.adhesion is None and got.notes == ()
 
 

@@ -84,7 +84,7 @@ def request_from_args(args: argparse.Namespace) -> TheoryRequest:
     else:
         req = TheoryRequest(**{k: v for k, v in overrides.items() if v is not None})
     if args.surface:  # a profile file or the default road instead of the scene's surface
-        edges = req.edges if args.surface in ("default", "default_road") else None
+        edges = req.edges if args.surface in ("default", "default_road", "four_scale") else None
         req = replace(req, surface=args.surface, files=(), sines=(), edges=edges)
     return replace(req, adhesion=_adhesion(args, req.adhesion))
 
@@ -174,7 +174,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("scene", nargs="?", help="scene TOML or shipped scene name (as for run)")
-    p.add_argument("--surface", help="profile file or 'default' (embedded default road)")
+    p.add_argument("--surface", help="profile file, 'default' (embedded default road) or "
+                                     "'four_scale' (the four-scale road)")
     p.add_argument("--compound", help=f"compound name or TOML file (default {DEFAULT_COMPOUND})")
     p.add_argument("--pressure", type=float, help=f"nominal pressure, MPa (default {DEFAULT_PRESSURE:g})")
     p.add_argument("--velocities", type=float, nargs="+", metavar="V", help="sliding speeds, mm/s")

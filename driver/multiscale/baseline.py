@@ -33,6 +33,7 @@ from rubberfriction.driver.surfaces import (
     multiscale_from_measurements,
     psd_1d,
 )
+from rubberfriction.driver.surfaces.four_scale import four_scale_road
 from rubberfriction.driver.theory.adhesion import BellLaw
 from rubberfriction.driver.theory.curves import (
     MODELS,
@@ -97,7 +98,7 @@ def request_from_scene(scene: Scene, **overrides: Any) -> TheoryRequest:
     req = TheoryRequest(
         compound=str(cond.compound_paths[0]), pressure=float(cond.pressures[0]),
         velocities=tuple(float(v) for v in cond.velocities), T0=cond.T0,
-        surface="default", files=tuple(str(f) for f in surf.files) if surf.source == "files" else (),
+        surface="four_scale" if surf.source == "four_scale" else "default", files=tuple(str(f) for f in surf.files) if surf.source == "files" else (),
         sines=tuple(zip(surf.amplitudes, surf.wavelengths)) if surf.source == "sines" else (),
         edges=edges, lambda_max=edges[0] if edges else None,
         lambda_min=edges[-1] if edges else None, adhesion=scene.adhesion, notes=tuple(notes))
@@ -135,9 +136,10 @@ def _band_psd(road: Any) -> tuple[np.ndarray, np.ndarray]:
 def surface_psd(surface: str | None = "default", lambda_max: float | None = None,
                 lambda_min: float | None = None, *, files: Sequence[str] = (),
                 edges: tuple[float, ...] | None = None) -> SurfacePSD:
-    """Profile PSD (Persson convention) of a profile file, several files or the default road.
+    """Profile PSD (Persson convention) of a profile file, several files or a shipped road.
 
-    ``surface="default"``: the default road (with ``edges`` if given); ``files``: profiles of one
+    ``surface="default"``: the default road (with ``edges`` if given); ``"four_scale"``: the
+    four-scale road (driver.surfaces.four_scale); ``files``: profiles of one
     road at several resolutions, decomposed at ``edges`` like the multiscale driver; otherwise
     ``surface`` is one profile file.
     """
@@ -149,11 +151,12 @@ def surface_psd(surface: str | None = "default", lambda_max: float | None = None
         q, C = _band_psd(road)
         lam_hi, lam_lo = road.edges[0], road.edges[-1]
         source = ", ".join(Path(f).name for f in files)
-    elif surface in (None, "default", "default_road"):
-        road = default_road() if edges is None else default_road(edges=edges)
+    elif surface in (None, "default", "default_road", "four_scale"):
+        make = four_scale_road if surface == "four_scale" else default_road
+        road = make() if edges is None else make(edges=edges)
         q, C = _band_psd(road)
         lam_hi, lam_lo = road.edges[0], road.edges[-1]
-        source = road.name or "default road"
+        source = road.name or str(surface)
     else:
         prof = load_profile(surface)
         q, C = psd_1d(prof)
