@@ -192,3 +192,23 @@ def test_tip_radius_of_a_sine_is_one_over_its_curvature() -> None:
     h = a * np.sin(2 * np.pi * x / lam)
     h[-1] = h[0]
     assert smallest_tip_radius(x, h) == pytest.approx(1 / (a * (2 * np.pi / lam) ** 2), rel=1e-3)
+
+
+def test_a_finer_cut_of_the_four_scale_road_continues_the_same_road() -> None:
+    """Edges below 3 um add an ultra-fine 'scan'; the bands above stay the same realisation, and
+    max_slope 1.0 / 1.3 / 2.0 cut it at 11 um / 3 um / below 3 um (scene.with_surface)."""
+    from rubberfriction.driver.multiscale.scene import with_surface
+
+    design = four_scale_road()
+    finer = four_scale_road((20.0, 3.0, 0.3, 0.04, 0.003, 0.0002))
+    np.testing.assert_array_equal(finer.scales[2].profile.h, design.scales[2].profile.h)
+    assert finer.scales[3].rms_slope == pytest.approx(design.scales[3].rms_slope, rel=5e-3)
+    scene = load_scene("four_scale")
+    kept = {}
+    for m in (1.0, 1.3, 2.0):
+        s = with_surface(scene, max_slope=m, edges=finer.edges,
+                         names=("macro", "meso", "micro1", "micro2", "micro3"))
+        kept[m] = s.surface.edges[-1]
+        assert s.surface.cutoff_report.cumulative_slope <= m * (1 + 1e-6)
+    assert kept[1.0] == pytest.approx(0.0111, rel=0.01) and kept[1.3] == 0.003
+    assert 0.0002 < kept[2.0] < 0.003

@@ -428,6 +428,8 @@ class SurfaceConfig:
     stated_edges: tuple[float, ...] = ()
     #: what the rule did, band by band (None for sines)
     cutoff_report: CutoffReport | None = field(default=None, compare=False, repr=False)
+    #: the [surface] as the scene states it, before the rule (None: nothing was cut)
+    stated: SurfaceConfig | None = field(default=None, compare=False, repr=False)
 
     @property
     def n_scales(self) -> int:
@@ -939,7 +941,20 @@ def _cut(origin: str, surface: SurfaceConfig, name: str) -> SurfaceConfig:
     n = len(road.scales)
     return replace(surface, edges=tuple(report.edges), names=tuple(names[:n]),
                    block_lengths=tuple(surface.block_lengths[:n]),
-                   stated_edges=tuple(surface.edges), cutoff_report=report)
+                   stated_edges=tuple(surface.edges), cutoff_report=report, stated=surface)
+
+
+def with_surface(scene: Scene, **changes: Any) -> Scene:
+    """The scene with ``[surface]`` keys changed (``edges`` as stated, ``cutoff``, ``max_slope``,
+    ...) and its cut-off rule applied again (for studies of the lowest scale)."""
+    base = scene.surface.stated or scene.surface
+    bad = set(changes) - {f.name for f in fields(base)}
+    if bad:
+        raise SceneError(f"with_surface: unknown [surface] key(s) {sorted(bad)}")
+    surface = replace(base, **changes)
+    if surface.source in ROAD_SOURCES:
+        surface = _cut(scene.source, surface, name=scene.name)
+    return replace(scene, surface=surface)
 
 
 def _cutoff_text(surface: SurfaceConfig) -> str:

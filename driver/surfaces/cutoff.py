@@ -10,7 +10,8 @@ multiscale surface:
 * ``"slope"`` (default): bands cut from a measurement (a profile whose provenance does not say
   "generated") are kept down to the measurement's resolution; generated bands are added only
   while the cumulative 2D rms slope stays at or below ``max_slope``; the band that crosses it
-  is shortened to the wavelength where the limit is reached, lower bands are dropped;
+  is shortened to the wavelength where the limit is reached (dropped if less than half an
+  octave would remain), lower bands are dropped;
 * ``"resolution"``: measured bands only;
 * a wavelength in mm: the bands down to it (what the thesis did with its edges).
 
@@ -39,6 +40,8 @@ __all__ = ["DEFAULT_MAX_SLOPE", "CutoffRule", "BandRow", "CutoffReport", "apply_
 DEFAULT_MAX_SLOPE = 1.3
 #: Relative slack on max_slope (a surface designed to reach it exactly keeps its last band).
 SLOPE_SLACK = 1e-6
+#: A band the slope rule would shorten to less than half an octave is dropped instead.
+MIN_BAND_RATIO = 2.0**0.5
 
 
 @dataclass(frozen=True)
@@ -227,6 +230,11 @@ def apply_cutoff(build: Callable[[tuple[float, ...]], MultiScaleSurface],
                 else:
                     keep = i + 1
                     short = _crossing(sc.profile, sc.band[0], sc.band[1], before, rule.max_slope)
+                    if sc.band[0] / short < MIN_BAND_RATIO:
+                        keep, short = i, None
+                        notes[names[i]] = (f"the cumulative 2D slope reaches max_slope "
+                                           f"{rule.max_slope:g} within half an octave of its "
+                                           "long edge")
                 for nm in names[keep:n]:
                     notes.setdefault(nm, f"below the slope cut-off of scale {names[i]}")
                 break

@@ -7,7 +7,7 @@ self-affine spectrum (Hurst exponent H = 0.8, thesis ch. 2.3.1) over the thesis 
 four bands reaches ``FOUR_SCALE_SLOPE`` = 1.3 exactly at 3 um, the slope cut-off of Lorenz et
 al. (2015) (:mod:`.cutoff`).  As in the thesis (6.5.1) it comes as two "measurements" of one
 road: a coarse profile (300 mm at 4 um, for macro, meso and micro 1) and a fine one (3 mm at
-0.3 um, for micro 2), both periodic Gaussian random profiles of the same PSD
+0.3 um, for micro 2), and for edges below 3 um (cut-off studies) an ultra-fine one, all periodic Gaussian random profiles of the same PSD
 C1D(q) = C0 q^-(1+2H) for q >= 2 pi / 20 mm (flat below), made from a stated seed.  The
 amplitude is set on the realised bands (finite-difference slopes, as the cut-off rule measures
 them), so the rule keeps all four scales whatever the seed.
@@ -37,17 +37,25 @@ FOUR_SCALE_SEED = 42
 #: the two generated "measurements": (length, spacing) in mm
 COARSE = (300.0, 0.004)
 FINE = (3.0, 0.0003)
+#: length of the ultra-fine profile for edges below 3 um (its spacing: a tenth of the finest edge)
+ULTRA_LENGTH = 0.3
 
 
 def _profiles(seed: int, lam_min: float, scale: float) -> list[Profile]:
+    """The generated "measurements" of the road down to ``lam_min``: coarse and fine, and below
+    3 um an ultra-fine one (0.3 mm at lam_min / 10).  Each keeps its grid whatever ``lam_min``,
+    so the bands down to 3 um are the same realisation for any finer cut."""
     q_r, q_s = 2.0 * math.pi / FOUR_SCALE_EDGES[0], 2.0 * math.pi / lam_min
 
     def c1d(q: np.ndarray) -> np.ndarray:
         return scale**2 * self_affine_psd(q, H=FOUR_SCALE_H, C0=1.0, q_rolloff=q_r, q_cutoff=q_s)
 
-    seeds = np.random.SeedSequence(seed).generate_state(2)
+    grids = [COARSE, FINE]
+    if lam_min < FOUR_SCALE_EDGES[-1] * (1 - 1e-9):
+        grids.append((ULTRA_LENGTH, lam_min / 10.0))
+    seeds = np.random.SeedSequence(seed).generate_state(3)
     out = []
-    for (length, dx), s, what in zip((COARSE, FINE), seeds, ("coarse", "fine")):
+    for (length, dx), s, what in zip(grids, seeds, ("coarse", "fine", "ultra-fine")):
         prov = {"kind": "generated", "model": "four-scale self-affine road", "H": FOUR_SCALE_H,
                 "q_rolloff": q_r, "q_cutoff": q_s, "amplitude_factor": scale, "seed": seed,
                 "profile": what}
