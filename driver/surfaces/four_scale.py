@@ -37,14 +37,15 @@ FOUR_SCALE_SEED = 42
 #: the two generated "measurements": (length, spacing) in mm
 COARSE = (300.0, 0.004)
 FINE = (3.0, 0.0003)
-#: length of the ultra-fine profile for edges below 3 um (its spacing: a tenth of the finest edge)
-ULTRA_LENGTH = 0.3
+#: the ultra-fine profile for edges below 3 um (resolves bands down to 0.08 um); a fixed grid,
+#: so any cut of the road is one realisation
+ULTRA = (0.3, 0.00002)
 
 
 def _profiles(seed: int, lam_min: float, scale: float) -> list[Profile]:
     """The generated "measurements" of the road down to ``lam_min``: coarse and fine, and below
-    3 um an ultra-fine one (0.3 mm at lam_min / 10).  Each keeps its grid whatever ``lam_min``,
-    so the bands down to 3 um are the same realisation for any finer cut."""
+    3 um an ultra-fine one.  Each keeps its grid whatever ``lam_min``, so every cut of the road
+    is the same realisation."""
     q_r, q_s = 2.0 * math.pi / FOUR_SCALE_EDGES[0], 2.0 * math.pi / lam_min
 
     def c1d(q: np.ndarray) -> np.ndarray:
@@ -52,7 +53,7 @@ def _profiles(seed: int, lam_min: float, scale: float) -> list[Profile]:
 
     grids = [COARSE, FINE]
     if lam_min < FOUR_SCALE_EDGES[-1] * (1 - 1e-9):
-        grids.append((ULTRA_LENGTH, lam_min / 10.0))
+        grids.append(ULTRA)
     seeds = np.random.SeedSequence(seed).generate_state(3)
     out = []
     for (length, dx), s, what in zip(grids, seeds, ("coarse", "fine", "ultra-fine")):
