@@ -7,8 +7,9 @@ self-affine spectrum (Hurst exponent H = 0.8, thesis ch. 2.3.1) over the thesis 
 four bands reaches ``FOUR_SCALE_SLOPE`` = 1.3 exactly at 3 um, the slope cut-off of Lorenz et
 al. (2015) (:mod:`.cutoff`).  As in the thesis (6.5.1) it comes as two "measurements" of one
 road: a coarse profile (300 mm at 4 um, for macro, meso and micro 1) and a fine one (3 mm at
-0.3 um, for micro 2), and for edges below 3 um (cut-off studies) an ultra-fine one, all periodic Gaussian random profiles of the same PSD
-C1D(q) = C0 q^-(1+2H) for q >= 2 pi / 20 mm (flat below), made from a stated seed.  The
+0.3 um, for micro 2), and for edges below 3 um (cut-off studies) an ultra-fine one, all
+periodic Gaussian random profiles of the same PSD C1D(q) = C0 q^-(1+2H) for q >= 2 pi / 20 mm
+(flat below), made from a stated seed.  The
 amplitude is set on the realised bands (finite-difference slopes, as the cut-off rule measures
 them), so the rule keeps all four scales whatever the seed.
 """
