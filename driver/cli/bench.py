@@ -15,6 +15,7 @@ BENCHMARKS = {
     "farm": ("rubberfriction.driver.bench.farm",
              "a finished campaign replayed on N ranks: wall time, speed-up"),
     "trade": ("rubberfriction.driver.bench.trade", "speed-accuracy trade of one mu point: mesh, penalty, samples"),
+    "cutoff": ("rubberfriction.driver.bench.cutoff", "cut-off sensitivity: mu(v) at several max_slope, FE next to Persson"),
     "thermal": ("rubberfriction.driver.bench.thermal", "thermal macro scale: z-resolution study, T_R and T_C over v"),
     "thermal-loop": ("rubberfriction.driver.bench.thermal_loop",
                      "thermal multiscale loop: partitions n_p (8.4.2) and divisions n_d (8.4.3)"),
