@@ -32,6 +32,11 @@ CASES: dict[str, tuple[str, str]] = {
 }
 
 
+class SolverFailure(RuntimeError):
+    """A verification case whose nonlinear solve did not converge for the parameters given: the
+    ``verify`` command prints its message as one line and exits with status 1 (no traceback)."""
+
+
 def check(quantity: str, computed: float, analytical: float, tolerance: float | None = None) -> dict:
     """One computed-vs-analytical line of a verification result."""
     rel = abs(computed - analytical) / abs(analytical) if analytical != 0 else abs(computed)
