@@ -275,6 +275,8 @@ SlaveSegment ContactInterface::slave_segment(int e) const {
   SlaveSegment s;
   s.has_prev = p >= 0;
   s.has_next = q >= 0;
+  s.vertex_a = rigid_ && vertex_end(a);  // deformable master: see SlaveSegment::vertex_a
+  s.vertex_b = rigid_ && vertex_end(b);
   s.x = {xs_[static_cast<std::size_t>(s.has_prev ? p : a)], xs_[static_cast<std::size_t>(a)],
          xs_[static_cast<std::size_t>(b)], xs_[static_cast<std::size_t>(s.has_next ? q : b)]};
   return s;
@@ -289,6 +291,7 @@ void ContactInterface::search_mortar(std::vector<PairRecord>& pairs) const {
     MasterSegment seg;
     Overlap ov;
     std::array<int, 2> nodes;
+    V2<double> na, nb;  // projection normals at a and b against this master segment
   };
   std::vector<MasterRef> refs;
   std::vector<Cand> cands;
@@ -302,11 +305,19 @@ void ContactInterface::search_mortar(std::vector<PairRecord>& pairs) const {
       lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
       hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
     }
+    // a vertex end projects along the master's normal, whatever its direction: search around it
+    for (int k = 1; k <= 2; ++k) {
+      if (!(k == 1 ? s.vertex_a : s.vertex_b)) continue;
+      const V2<double>& p = s.x[static_cast<std::size_t>(k)];
+      lo = {std::min(lo.x, p.x - R), std::min(lo.y, p.y - R)};
+      hi = {std::max(hi.x, p.x + R), std::max(hi.y, p.y + R)};
+    }
     candidates(lo, hi, refs);
     cands.clear();
     for (const MasterRef& ref : refs) {
-      Cand c{ref, master_segment(ref), Overlap{}, master_nodes(ref)};
-      c.ov = overlap(s, na, nb, c.seg);
+      Cand c{ref, master_segment(ref), Overlap{}, master_nodes(ref), na, nb};
+      nodal_normals(s, c.seg, c.na, c.nb);
+      c.ov = overlap(s, c.na, c.nb, c.seg);
       if (c.ov.valid) cands.push_back(c);
     }
     if (cands.empty()) continue;
@@ -331,7 +342,7 @@ void ContactInterface::search_mortar(std::vector<PairRecord>& pairs) const {
       for (std::size_t k = 0; k < cands.size(); ++k) {
         const Cand& c = cands[k];
         if (mid < c.ov.lo || mid > c.ov.hi) continue;
-        const double g = normal_gap_at(s, na, nb, c.seg, mid);
+        const double g = normal_gap_at(s, c.na, c.nb, c.seg, mid);
         if (!(std::abs(g) <= r)) continue;
         if (std::abs(g) < best_abs) {
           best_abs = std::abs(g);
@@ -373,6 +384,10 @@ void ContactInterface::search_mortar(std::vector<PairRecord>& pairs) const {
             const int node = k == Breakpoint::master_q0 ? o.nodes[0] : o.nodes[1];
             const V2<double> q = k == Breakpoint::master_q0 ? o.seg.q0 : o.seg.q1;
             bp.xi = v;
+            if (s.vertex_a || s.vertex_b) {  // projected along o's normal at the vertex
+              bp.other_normal = true;
+              bp.vertex_normal = s.vertex_a ? o.na : o.nb;
+            }
             if (node >= 0 && node == c.nodes[0])
               bp.kind = Breakpoint::master_q0;
             else if (node >= 0 && node == c.nodes[1])

@@ -52,6 +52,12 @@ void nodal_normals(const SlaveSegment& s, V2<double>& na, V2<double>& nb) {
   normals_t(s.x, s.has_prev, s.has_next, na, nb);
 }
 
+void nodal_normals(const SlaveSegment& s, const MasterSegment& m, V2<double>& na, V2<double>& nb) {
+  normals_t(s.x, s.has_prev, s.has_next, na, nb);
+  if (s.vertex_a) na = -1.0 * m.outward_normal();
+  if (s.vertex_b) nb = -1.0 * m.outward_normal();
+}
+
 Overlap overlap(const SlaveSegment& s, const V2<double>& na, const V2<double>& nb, const MasterSegment& m) {
   // The overlap is the set of slave coordinates xi whose ray x(xi) + g n(xi) meets the master
   // segment itself, eta(xi) in [0, 1], with the master facing the slave there.  eta(xi) is a ratio
@@ -150,8 +156,12 @@ void integrate_piece(const SlaveSegment& s, const MasterSegment& m, const Breakp
                      int n_gauss, PairIntegrals& out) {
   const std::array<V2<D12>, 6> X = seed(s, m);
   const std::array<V2<D12>, 4> xs{X[0], X[1], X[2], X[3]};
+  // the master's normal seen from the slave, constant on the piece
+  const V2<D12> nu2 = -1.0 * m.outward_normal(X[4], X[5]);
   V2<D12> na, nb;
   normals_t(xs, s.has_prev, s.has_next, na, nb);
+  if (s.vertex_a) na = nu2;
+  if (s.vertex_b) nb = nu2;
   V2<double> na_v = values(na), nb_v = values(nb);
 
   // End points of the piece: exact values, derivatives by the implicit function theorem
@@ -168,11 +178,19 @@ void integrate_piece(const SlaveSegment& s, const MasterSegment& m, const Breakp
     const V2<D12> q = bp.kind == Breakpoint::master_q0   ? X[4]
                       : bp.kind == Breakpoint::master_q1 ? X[5]
                                                          : lift(bp.q, X[4].x);
-    const D12 F = projection_residual(xs, na, nb, q, bp.xi);
+    // a break point from another master segment's overlap: the vertex end's projection normal
+    // is that segment's (a constant), the other end's the same averaged slave normal
+    V2<D12> ea = na, eb = nb;
+    if (bp.other_normal) {
+      if (s.vertex_a) ea = lift(bp.vertex_normal, X[0].x);
+      if (s.vertex_b) eb = lift(bp.vertex_normal, X[0].x);
+    }
+    const V2<double> ea_v = values(ea), eb_v = values(eb);
+    const D12 F = projection_residual(xs, ea, eb, q, bp.xi);
     const V2<double> qv = values(q);
     const V2<double> xv = s.x[1] + bp.xi * (s.x[2] - s.x[1]);
-    const V2<double> nv = na_v + bp.xi * (nb_v - na_v);
-    const double dF = cross(-1.0 * (s.x[2] - s.x[1]), nv) + cross(qv - xv, nb_v - na_v);
+    const V2<double> nv = ea_v + bp.xi * (eb_v - ea_v);
+    const double dF = cross(-1.0 * (s.x[2] - s.x[1]), nv) + cross(qv - xv, eb_v - ea_v);
     D12 r = constant12(bp.xi);
     r -= F / dF;
     r.v = bp.xi;  // keep the converged value; F(xi) ~ 0 up to round-off
@@ -182,8 +200,6 @@ void integrate_piece(const SlaveSegment& s, const MasterSegment& m, const Breakp
   const D12 len = norm(X[2] - X[1]);
   const D12 half = (xhi - xlo) * 0.5;
 
-  // the master's normal seen from the slave, constant on the piece
-  const V2<D12> nu2 = -1.0 * m.outward_normal(X[4], X[5]);
   const GaussRule& rule = gauss_legendre(n_gauss);
   for (std::size_t g = 0; g < static_cast<std::size_t>(rule.n); ++g) {
     const D12 xi = xlo + half * (1.0 + rule.x[g]);

@@ -6,7 +6,8 @@
 //
 // Kinematics (5.36): the nodal slave normal n_A is the normal of the averaged base vector,
 // n_A = right_normal(x_next - x_prev)/|.| (x_A replaces a missing neighbour at a chain end). Inside
-// a slave segment the normal field is n(xi) = (1 - xi) n_a + xi n_b. Master nodes are projected
+// a slave segment the normal field is n(xi) = (1 - xi) n_a + xi n_b, with the master's normal at a
+// vertex end (SlaveSegment::vertex_a). Master nodes are projected
 // onto the slave segment along n(xi); a slave point x1(xi) is projected onto the master segment
 // along n(xi). The overlap of the two projections is the integration segment; Gauss points live
 // on the slave segment (da = |x_b - x_a| dxi). Integrals per segment piece:
@@ -29,6 +30,14 @@ namespace rf {
 struct SlaveSegment {
   std::array<V2<double>, 4> x;  ///< prev(a), a, b, next(b); prev/next equal a/b when absent
   bool has_prev = false, has_next = false;
+  /// a (b) is a vertex end (ContactInterface::vertex_end) against a rigid master: n(xi) takes
+  /// there the master's normal nu2 = -(outward master normal), the vertex's contact frame, not the
+  /// one-sided normal of the segment, which turns with the segment as a loaded corner tilts it
+  /// (past 90 degrees it faces away from the master, and the points next to the vertex lost
+  /// their pairing).  Per piece nu2 is its own master segment's, a constant of a rigid master;
+  /// a deformable master keeps the one-sided normal (nu2 of a neighbouring master segment
+  /// would depend on nodes outside the piece's slots)
+  bool vertex_a = false, vertex_b = false;
 };
 
 /// Current positions of a master segment c -> d and the sign of its outward normal
@@ -53,6 +62,10 @@ struct Breakpoint {
   Kind kind = slave_start;
   double xi = 0.0;         ///< value
   V2<double> q{0.0, 0.0};  ///< master node for `foreign` (constant coordinates)
+  /// Taken from another master segment's overlap on a slave segment with a vertex end: the
+  /// vertex projected along that segment's normal `vertex_normal` (a constant: rigid master)
+  bool other_normal = false;
+  V2<double> vertex_normal{0.0, 0.0};
 };
 
 /// Integrals of one slave segment against one master segment piece (or, for node-to-segment,
@@ -66,7 +79,10 @@ struct PairIntegrals {
   void set_zero();
 };
 
-/// Nodal normals n_a, n_b of a slave segment (values only).
+/// Nodal normals n_a, n_b of a slave segment (values only); a vertex end (vertex_a, vertex_b)
+/// takes the normal nu2 = -(outward normal) of master segment m.
+void nodal_normals(const SlaveSegment& s, const MasterSegment& m, V2<double>& na, V2<double>& nb);
+/// The averaged (one-sided at a chain end) slave normals alone, values only.
 void nodal_normals(const SlaveSegment& s, V2<double>& na, V2<double>& nb);
 
 /// Overlap of master segment m with slave segment s in slave coordinates: the slave ends are

@@ -17,6 +17,7 @@ Closed forms, evaluated here:
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 
@@ -24,7 +25,9 @@ import numpy as np
 import pytest
 
 from fe_helpers import checks_of, rel
+from rubberfriction.driver.cli.main import main
 from rubberfriction.driver.fe import friction_law as fl
+from rubberfriction.driver.verification import SolverFailure
 from rubberfriction.driver.verification import contact_cases as cc
 
 MU, PRESSURE, VELOCITY, LENGTH = 0.6, 0.2, 10.0, 1.0
@@ -54,7 +57,8 @@ def test_sliding_block(method, n_contact):
                          velocity=VELOCITY, length=LENGTH)
     by = checks_of(r, CHECKS)
     # 1. finite block, constant mu: all active nodes slip, -F_x/F_z = mu
-    assert by["finite block: slipping nodes"]["computed"] == by["finite block: slipping nodes"]["analytical"] > 0
+    slipping = by["finite block: slipping nodes"]
+    assert slipping["computed"] == slipping["analytical"] > 0
     assert rel(by["finite block: -F_x/F_z"]["computed"], MU) <= 5e-3
     # 2. periodic layer: every slave node in contact and slipping at v under a uniform p
     assert by["layer: slipping nodes"]["computed"] == by["layer: slipping nodes"]["analytical"] == n_contact + 1
@@ -99,16 +103,30 @@ def test_sharp_edged_block_slides_at_mu(case):
     assert rel(by["finite block: -F_x/F_z"]["computed"], mu) <= 5e-3
 
 
-@pytest.mark.parametrize("case", ["sharp, 16 elements", "sharp 20 x 8 mm block at 0.3 MPa"])
+#: the sharp-cornered 20 x 8 mm block of issue 42 (item 9) with 80 contact elements, as
+#: ``rubberfriction verify sliding-block --length 20 --height 8 --E 3 --nu 0.45 --pressure 0.3
+#: --mu 0.5 --edge-radius 0 --n-contact 80 [--frame master]`` runs it (default steps: automatic)
+CORNER_80 = dict(edge_radius=0.0, E=3.0, nu=0.45, pressure=0.3, mu=0.5, length=20.0, height=8.0,
+                 n_contact=80)
+
+
+@pytest.mark.parametrize("case", ["sharp, 16 elements", "sharp 20 x 8 mm block at 0.3 MPa",
+                                  "sharp 20 x 8 mm block at 0.3 MPa, 80 elements"])
 def test_master_frame_makes_full_slip_exact(case):
     """Contact frame "master" (every node's frame is the road's normal averaged over its support):
     in full slip each nodal traction has |t_T| = mu p along the road's tangent and p along its
-    normal, so -F_x/F_z = mu to round-off whatever the slave's bending -- required within 1e-9.
-    Slave frame: -0.16 % (16 elements) and +0.4 % (the 20 x 8 mm block at 0.3 MPa, 40 elements, the
-    issue's corner case; 0.486 with 80 elements, where the master frame does not converge)."""
+    normal, so -F_x/F_z = mu to round-off whatever the slave's bending -- required within 1e-9
+    (the issue asks for 0.5 %).  Slave frame: -0.16 % (16 elements) and +0.47 % (the 20 x 8 mm
+    block at 0.3 MPa, 40 elements).  With 80 elements the master-frame run stopped in Newton
+    (step 16 of 40, a traceback on the command line) until the corner's projection normal became
+    the road's (cpp_contact/README.md, "Frame of a chain end"); the default steps now slide the
+    block past gross sliding (19 steps, contact_cases.gross_sliding_steps; 12 left its corner
+    sticking).  This pins the frame and the solver, not the corner: the corner element is folded
+    (its end segment reversed, -176 degrees), see test_sharp_corner_at_80_elements_slave_frame."""
     kw = {"sharp, 16 elements": dict(edge_radius=0.0, n_contact=16),
           "sharp 20 x 8 mm block at 0.3 MPa": dict(edge_radius=0.0, E=3.0, pressure=0.3, mu=0.5, length=20.0,
-                                                   height=8.0, n_contact=40, steps=40, step_length=0.25)}[case]
+                                                   height=8.0, n_contact=40, steps=40, step_length=0.25),
+          "sharp 20 x 8 mm block at 0.3 MPa, 80 elements": CORNER_80}[case]
     mu = kw.get("mu", MU)
     r = cc.sliding_block(**{"mu": mu, **kw}, frame="master")
     by = checks_of(r, CHECKS)
@@ -117,6 +135,45 @@ def test_master_frame_makes_full_slip_exact(case):
     assert rel(by["finite block: -F_x/F_z"]["computed"], mu) <= 1e-9
 
 
+@pytest.mark.xfail(strict=True, reason="the sharp corner folds under at 80 elements: the front "
+                   "face is not a contact surface (issue 42, item 9; docs/notes-corners.md)")
+def test_sharp_corner_at_80_elements_slave_frame():
+    """The same block in the slave frame must slide at -F_x/F_z = mu within 0.5 % (steady full slip:
+    every traction on the road's friction cone).  It gives 0.49646 (-0.71 %; 0.48644, -2.7 %,
+    before the corner projected along the road's normal): the whole deficit is the corner's
+    neighbour, whose averaged normal (5.36) follows the folded end segment.  The corner is
+    pressed 10-20 x the mean pressure and dragged back by its concentrated friction force; the
+    front face above it, which is not a contact surface, rolls under the road (its first node
+    0.23 mm below the road) and the end segment reverses.  The bias grows with refinement (before:
+    -1.7 / -2.7 / -3.6 % with 60 / 80 / 120 elements), so it is no discretisation error of the
+    bottom face: the front face has to become a contact surface.  Strict: passing is news."""
+    r = cc.sliding_block(**CORNER_80)
+    by = checks_of(r, CHECKS)
+    slipping = by["finite block: slipping nodes"]
+    assert slipping["computed"] == slipping["analytical"] > 0
+    assert rel(by["finite block: -F_x/F_z"]["computed"], CORNER_80["mu"]) <= 5e-3
+
+
 def test_unknown_contact_frame_is_refused():
     with pytest.raises(ValueError, match="frame: got 'road'"):
         cc.sliding_block(frame="road", steps=1)
+
+
+def test_verify_reports_a_failed_solve_in_one_line(monkeypatch, capsys):
+    """A case whose Newton solve fails for the user's parameters ends ``rubberfriction verify``
+    with one line naming the case, the step and the reason, and status 1 (it was a traceback)."""
+    original = cc.CASE_FUNCTIONS["sliding-block"]
+
+    @functools.wraps(original)
+    def failing(**kw):
+        raise SolverFailure("sliding block (finite): step 16: Newton failed: no convergence in 40 "
+                            "iterations")
+
+    monkeypatch.setitem(cc.CASE_FUNCTIONS, "sliding-block", failing)
+    rc = main(["verify", "sliding-block", "--frame", "master", "--n-contact", "80"])
+    captured = capsys.readouterr()
+    assert rc == 1
+    assert captured.err.strip().splitlines() == [
+        "verify sliding-block: sliding block (finite): step 16: Newton failed: no convergence in "
+        "40 iterations"]
+    assert "Traceback" not in captured.out + captured.err

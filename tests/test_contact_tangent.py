@@ -249,3 +249,37 @@ def test_chain_end_frame_is_the_flat_masters_normal():
     Fz_ends = np.sum(w[ends] * p[ends])
     Fx_ends = -np.sum(w[ends] * t[ends])
     assert Fx_ends == pytest.approx(-0.5 * Fz_ends, rel=1e-14)
+
+
+@pytest.mark.parametrize("tilt_deg", [30.0, 101.0, 150.0])
+def test_chain_end_projects_along_the_flat_masters_normal(tilt_deg):
+    """A chain end is a vertex of the body: its frame is the master's normal, and so is the
+    direction along which the slave points next to it are projected.  End segment A-B of length
+    L tilted by `tilt_deg` below the road's x axis, its neighbour segment flat: projected along
+    -z near A (its normal field turns from B's averaged normal to -z at A, always facing the
+    road), the whole segment is covered, so A's mortar weight is L/2 and its weighted gap
+    Int N_A z da / Int N_A da = (2 z_A + z_B)/3 (z linear along the segment; the frame is -z, so
+    only the vertical distance counts) -- closed form, within 1e-12.
+    Before, the points next to A were projected along the one-sided normal of the end segment:
+    past 90 degrees of tilt (the sharp corner of the 20 x 8 mm block at 0.3 MPa, 80 contact
+    elements, tucks under like this) that normal faces away from the road, the part of the
+    segment next to A was not paired, A's weight fell to a fraction of L/2 and its own
+    penetration no longer entered its gap (the corner node sank 0.09 mm with a gap of 0.014 mm
+    under a 10 x stiffer penalty)."""
+    L, zB = 0.25, 0.004
+    t = np.radians(tilt_deg)
+    B = np.array([0.5, zB])
+    A = B + L * np.array([np.cos(t), -np.sin(t)])
+    X = np.array([[0.0, zB], [0.25, zB], B, A])
+    n = len(X)
+    slave = SlaveSurface(X, np.column_stack([2 * np.arange(n), 2 * np.arange(n) + 1]),
+                         np.column_stack([np.arange(n - 1), np.arange(1, n)]))
+    c = Contact(slave, RigidMaster(np.array([[-1.0, 0.0], [2.0, 0.0]])), friction=0.5,
+                penalty=PenaltySettings(c_N=100.0, c_T=10.0), search_radius=0.5)
+    st = c.evaluate(np.zeros(2 * n), dt=1.0)
+    assert st["weight"][n - 1] == pytest.approx(0.5 * L, rel=1e-12)
+    assert st["gap"][n - 1] == pytest.approx((2.0 * A[1] + B[1]) / 3.0, rel=1e-12)
+    assert np.array_equal(st["normal"][n - 1], [0.0, -1.0])
+    assert st["pressure"][n - 1] == pytest.approx(-100.0 * (2.0 * A[1] + B[1]) / 3.0, rel=1e-12)
+    errors, status = fd_check(c, np.full(2 * n, 1e-3), 2, dt=1.0)  # and the tangent stays exact
+    assert status[n - 1] > 0 and errors["u-u"] < RTOL, f"tangent error {errors['u-u']:.2e}"

@@ -13,7 +13,7 @@ import importlib
 import json
 import sys
 
-from rubberfriction.driver.verification import CASES
+from rubberfriction.driver.verification import CASES, SolverFailure
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -34,7 +34,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def _run_case(module):
     def run(args: argparse.Namespace) -> int:
-        result = module.run(args)
+        try:
+            result = module.run(args)
+        except SolverFailure as err:  # no equilibrium found for these parameters: one line
+            print(f"verify {args.case}: {err}", file=sys.stderr)
+            return 1
         print_result(result)
         if args.json:
             with open(args.json, "w") as f:

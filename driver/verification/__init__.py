@@ -32,6 +32,11 @@ CASES: dict[str, tuple[str, str]] = {
 }
 
 
+class SolverFailure(RuntimeError):
+    """A verification case whose nonlinear solve did not converge for the parameters given: the
+    ``verify`` command prints its message as one line and exits with status 1 (no traceback)."""
+
+
 def check(quantity: str, computed: float, analytical: float, tolerance: float | None = None) -> dict:
     """One computed-vs-analytical line of a verification result."""
     rel = abs(computed - analytical) / abs(analytical) if analytical != 0 else abs(computed)
@@ -62,8 +67,9 @@ def add_keyword_arguments(parser, fn) -> None:
         if isinstance(default, tuple):
             parser.add_argument(flag, dest=name, type=type(default[0]), nargs="+", default=list(default),
                                 help=f"(default: {' '.join(map(str, default))})")
-        elif default is None:
-            parser.add_argument(flag, dest=name, type=float, default=None, help="(default: automatic)")
+        elif default is None:  # an `int | None` parameter takes whole numbers, any other floats
+            kind = int if str(prm.annotation).replace(" ", "") in ("int|None", "Optional[int]") else float
+            parser.add_argument(flag, dest=name, type=kind, default=None, help="(default: automatic)")
         else:
             parser.add_argument(flag, dest=name, type=type(default), default=default, help=f"(default: {default})")
 
