@@ -162,7 +162,6 @@ void integrate_piece(const SlaveSegment& s, const MasterSegment& m, const Breakp
   normals_t(xs, s.has_prev, s.has_next, na, nb);
   if (s.vertex_a) na = nu2;
   if (s.vertex_b) nb = nu2;
-  V2<double> na_v = values(na), nb_v = values(nb);
 
   // End points of the piece: exact values, derivatives by the implicit function theorem
   // (one Newton correction in dual numbers around the converged value).
