@@ -9,4 +9,4 @@ installed (``scripts/setup.sh`` makes an editable install of the checkout), neve
 
 from __future__ import annotations
 
-__version__ = "0.16.0"
+__version__ = "0.17.0"
