@@ -108,6 +108,73 @@ def harmonic_shear(hyperelastic: MooneyRivlin, gamma, tau, *, omega: float, per_
             "energy_exact": float(np.pi * gamma0**2 * G_loss)}
 
 
+def _shear_C(gamma: np.ndarray) -> np.ndarray:
+    """C = F^T F of plane-strain simple shear u_x = gamma z, shape (..., 3, 3) (J = 1)."""
+    C = np.zeros(np.shape(gamma) + (3, 3))
+    C[..., 0, 0] = C[..., 2, 2] = 1.0
+    C[..., 0, 1] = C[..., 1, 0] = gamma
+    C[..., 1, 1] = 1.0 + gamma**2
+    return C
+
+
+def finite_shear_cycle_energy(hyperelastic: MooneyRivlin, gamma, tau, *, omega: float,
+                              gamma0: float, samples: int = 256) -> float:
+    """Energy dissipated per cycle and unit volume by the finite-strain model (eqs. 3.73-3.78)
+    in the periodic steady state of simple shear gamma0 sin(omega t), in closed form.
+
+    With J = 1, Cbar = C and the equilibrium part conservative, the cycle work is that of the
+    non-equilibrium stress: W = sum_k g_k/2 oint H^k : dC/dt dt, where the steady branch history
+    of H' = -H/tau_k + d DEV{Sbar}/dt has, harmonic by harmonic, H_n = i n w tau_k /
+    (1 + i n w tau_k) DEV{Sbar}_n.  DEV{Sbar}(C(t)) of Mooney-Rivlin in simple shear is a
+    polynomial of degree 6 in gamma: its Fourier series ends at the 6th harmonic, so
+    ``samples`` >= 16 equally spaced samples of a period give every integral exactly (to
+    round-off).  At small gamma0 it is pi gamma0^2 G'' (``harmonic_shear``)."""
+    if samples < 16:
+        raise ValueError(f"samples = {samples}: need >= 16 for the 6th harmonic")
+    g = np.asarray(gamma, float) / (1.0 - np.sum(gamma))
+    t = 2.0 * np.pi / omega * np.arange(samples) / samples
+    gam = gamma0 * np.sin(omega * t)
+    C = _shear_C(gam)
+    Ci = np.linalg.inv(C)
+    trC = np.trace(C, axis1=-2, axis2=-1)
+    c10, c01 = hyperelastic.C10, hyperelastic.C01
+    Sbar = 2.0 * ((c10 + c01 * trC)[:, None, None] * np.eye(3) - c01 * C)
+    S_dev = Sbar - np.einsum("tij,tij->t", Sbar, C)[:, None, None] / 3.0 * Ci
+    dC = np.zeros_like(C)  # dC/dt = dC/dgamma gamma'
+    dgam = gamma0 * omega * np.cos(omega * t)
+    dC[:, 0, 1] = dC[:, 1, 0] = dgam
+    dC[:, 1, 1] = 2.0 * gam * dgam
+    n = np.fft.fftfreq(samples, 1.0 / samples)  # harmonic numbers
+    S_hat = np.fft.fft(S_dev, axis=0)
+    work = 0.0
+    for gk, tk in zip(g, np.asarray(tau, float)):
+        x = 1j * n * omega * tk
+        H = np.fft.ifft((x / (1.0 + x))[:, None, None] * S_hat, axis=0).real
+        work += 0.5 * gk * float(np.mean(np.einsum("tij,tij->t", H, dC)))
+    return work * 2.0 * np.pi / omega
+
+
+def finite_harmonic_shear(hyperelastic: MooneyRivlin, gamma, tau, *, omega: float,
+                          gamma0: float, per_cycle: int = 64, cycles: int = 4,
+                          scheme: str = "linear") -> dict:
+    """The FE cell in simple shear gamma0 sin(omega t) at any amplitude: over the last cycle,
+    the viscous energy the history reports (``ViscoelasticHistory.commit_step``) and the loop
+    area oint sigma_xz dgamma (the work of the boundary, sigma_xz = P_xz for simple shear),
+    per unit volume (the cell is the unit square)."""
+    cell = ShearCell(hyperelastic, gamma, tau, scheme)
+    dt = 2.0 * np.pi / omega / per_cycle
+    t = dt * np.arange(1, per_cycle * cycles + 1)
+    stress, energy = np.empty_like(t), np.empty_like(t)
+    for i, ti in enumerate(t):
+        stress[i], energy[i] = cell.step(gamma0 * np.sin(omega * ti), dt)
+    gam = gamma0 * np.sin(omega * t[-per_cycle - 1:])
+    sig = stress[-per_cycle - 1:]
+    return {"energy_per_cycle": float(energy[-per_cycle:].sum()),
+            "loop_area": float(np.sum(0.5 * (sig[1:] + sig[:-1]) * np.diff(gam))),
+            "energy_exact": finite_shear_cycle_energy(hyperelastic, gamma, tau, omega=omega,
+                                                      gamma0=gamma0)}
+
+
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--C10", type=float, default=0.174, help="MPa (default: compound m1)")
     p.add_argument("--C01", type=float, default=0.300, help="MPa")
