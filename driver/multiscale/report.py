@@ -230,10 +230,11 @@ def energy_balance(o: Outcome) -> float:
     2.8), so 0 up to the O(dt^2) of the time integration.  The viscous dissipation is the exact
     one of the finite-strain model (``forms.viscoelastic``: branch stress work minus the change
     of the branches' stored energy; the small-strain density |H|^2 / (2 G tau) it replaced
-    overestimated by tens of per cent on steep contact).  What is left is physics of the window:
-    stored energy that changes over it (not a periodic steady state), the work of the normal
-    load while the block creeps, and the dashpots of stabilised sub-steps (in mu_force, not in
-    mu_energy; ``stabilisation_share``)."""
+    overestimated by tens of per cent on steep contact: +44 % on the default road's macro runs,
+    now within 0.1 %).  What is left is physics of the window: stored energy that changes over it
+    (not a periodic steady state), the work of the normal load while the block creeps, and
+    stabilised sub-steps and snap-throughs between equilibria, whose losses are in the friction
+    work but in no dissipation (``stabilisation_share``)."""
     mf, me = o.value("mu_force"), o.value("mu_energy")
     if not (math.isfinite(mf) and math.isfinite(me) and mf > 0.0):
         return math.nan
@@ -281,8 +282,8 @@ def energy_balance_line(points: Sequence[PointResult]) -> str:
         for k, (n_off, n, mean, big) in scales.items())
     if off:
         text += ("; those runs are not energy-consistent: their window is not a periodic steady "
-                 "state (stored energy changing, the load's creep work), stabilised sub-steps "
-                 "dissipate in dashpots, or the step is too coarse")
+                 "state (stored energy changing, the load's creep work), stabilised sub-steps or "
+                 "snap-throughs lose energy, or the step is too coarse")
     return text
 
 
