@@ -230,11 +230,12 @@ def energy_balance(o: Outcome) -> float:
     2.8), so 0 up to the O(dt^2) of the time integration.  The viscous dissipation is the exact
     one of the finite-strain model (``forms.viscoelastic``: branch stress work minus the change
     of the branches' stored energy; the small-strain density |H|^2 / (2 G tau) it replaced
-    overestimated by tens of per cent on steep contact: +44 % on the default road's macro runs,
-    now within 0.1 %).  What is left is physics of the window: stored energy that changes over it
-    (not a periodic steady state), the work of the normal load while the block creeps, and
-    stabilised sub-steps and snap-throughs between equilibria, whose losses are in the friction
-    work but in no dissipation (``stabilisation_share``)."""
+    overestimated on steep contact: +26 .. +48 % on 7 stored macro/meso runs of the default road,
+    now -1.1 .. +2.6 % on 5 of them and +4.5, +7.9 % at 300 and 100 mm/s, docs/notes-energy.md).
+    What is left: stored energy that changes over the window (not a periodic steady state), the
+    normal load's work while the block creeps, stabilised sub-steps and snap-throughs, whose
+    losses are in the friction work but in no dissipation (``stabilisation_share``), and the
+    time integration of both sides."""
     mf, me = o.value("mu_force"), o.value("mu_energy")
     if not (math.isfinite(mf) and math.isfinite(me) and mf > 0.0):
         return math.nan
