@@ -7,7 +7,10 @@ O(gamma^2)), every node prescribed.  Two histories:
   (e^(t_ramp/tau_k) - 1) / t_ramp],  g_k = gamma_k / gamma_inf  (long-term Mooney-Rivlin moduli);
 * harmonic shear gamma0 sin(omega t):  G', G'' from a least-squares fit of the stress (sin, cos
   and the known transients exp(-t/tau_k)), compared with eq. (3.34) in shear form
-  (E = 3G for an incompressible material), and the viscous energy per cycle with pi gamma0^2 G''.
+  (E = 3G for an incompressible material), and the viscous energy per cycle with pi gamma0^2 G'';
+* harmonic shear of finite amplitude (``--finite-amplitude``, default 0.5): the viscous energy
+  the history reports per cycle and the loop area against the closed form of the finite-strain
+  model (``finite_shear_cycle_energy``), the energy balance of thesis eq. 2.8.
 """
 
 from __future__ import annotations
@@ -184,6 +187,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--dt-factor", type=float, default=0.1, help="dt = factor * tau_min")
     p.add_argument("--scheme", default="linear", choices=["linear", "midpoint"],
                    help="history update: exact for linear-in-time Sbar (default) or the midpoint rule (3.76)")
+    p.add_argument("--finite-amplitude", type=float, default=0.5,
+                   help="simple-shear amplitude of the finite-strain energy check at omega = "
+                        "1/tau_min: dissipation and loop area per cycle against the closed form "
+                        "(0: skip)")
     p.add_argument("--omega", type=float, nargs="*", default=None,
                    help="frequencies [rad/s] for harmonic shear (default: 0.1, 1, 10 / tau_min)")
 
@@ -203,6 +210,16 @@ def run(args: argparse.Namespace) -> dict:
         checks += [check(f"G' at omega={w:g}", h["G_storage"], h["G_storage_exact"], 0.01),
                    check(f"G'' at omega={w:g}", h["G_loss"], h["G_loss_exact"], 0.01),
                    check(f"energy/cycle omega={w:g}", h["energy_per_cycle"], h["energy_exact"], 0.01)]
+    amp = getattr(args, "finite_amplitude", 0.5)
+    if amp > 0.0:  # the energy balance at finite strain: dissipation = loop area = closed form
+        w = 1.0 / tmin
+        cycles = max(4, int(np.ceil(12.0 * tmax * w / (2.0 * np.pi))) + 1)  # transient < e^-12
+        f = finite_harmonic_shear(hyp, args.gamma, args.tau, omega=w, gamma0=amp, cycles=cycles,
+                                  scheme=args.scheme)
+        checks += [check(f"dissipation/cycle, gamma0={amp:g}", f["energy_per_cycle"],
+                         f["energy_exact"], 0.01),
+                   check(f"loop area/cycle, gamma0={amp:g}", f["loop_area"], f["energy_exact"],
+                         0.01)]
     return {"case": "relaxation", "parameters": {"C10": args.C10, "C01": args.C01, "D1": args.D1,
                                                 "gamma": args.gamma, "tau": args.tau, "dt": dt,
                                                 "scheme": args.scheme},
