@@ -53,7 +53,11 @@ overestimates (x1.4 at simple-shear amplitude 0.5, x3 at 1, x4.6 for a 0.05 osci
 per step and point  D dt = 1/4 (T_n + T_n+1) : (Cbar_n+1 - Cbar_n) - (psi_n+1 - psi_n)
 (trapezoidal stress work minus the stored energy change: exact over a discrete cycle up to the
 O(dt^2) of the trapezoid, like the external work).  A period-end jump of the histories
-(``extrapolate_periodic``) changes psi without work and dissipates nothing.
+(``extrapolate_periodic``) changes psi without work and dissipates nothing.  psi is the small-strain
+branch energy, not a finite-strain potential of the branches, so a step's D at a point may be
+negative; over whole periods of a steady state (and summed over the window's steps) it is the
+work the stress did there.  On sub-stepped runs the sum must run over the committed sub-steps,
+as here: a trapezoid over whole steps of two sub-steps missed 6 % on a steep macro run.
 """
 
 from __future__ import annotations
