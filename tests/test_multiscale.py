@@ -498,7 +498,13 @@ def test_samples_and_summary_report_the_energy_balance(tmp_path: Path):
     """energy_balance = mu_energy / mu_force - 1 per run in samples.csv; the summary counts the
     runs beyond ENERGY_BALANCE_TOL and names the largest.  The toy runner's sample 1 dissipates
     1.5 x its friction work, sample 0 exactly its friction work."""
-    from rubberfriction.driver.multiscale.report import ENERGY_BALANCE_TOL, energy_balance_line, sample_rows
+    from rubberfriction.driver.multiscale.report import (
+        ENERGY_BALANCE_TOL,
+        energy_balance_by_scale,
+        energy_balance_line,
+        sample_rows,
+        scale_rows,
+    )
 
     sets = scales_with_distinct_samples(2)
 
@@ -516,6 +522,15 @@ def test_samples_and_summary_report_the_energy_balance(tmp_path: Path):
     n_off = sum(r["sample"] == 1 for r in rows)
     assert f"{n_off} of {len(rows)} runs beyond {100 * ENERGY_BALANCE_TOL:.0f} %" in line
     assert "largest 50 %" in line and "sample 1" in line and "not energy-consistent" in line
+    by_scale = energy_balance_by_scale([casc.result])
+    for name in {r["scale_name"] for r in rows}:
+        here = [r["energy_balance"] for r in rows if r["scale_name"] == name]
+        n_off, n, mean, big = by_scale[name]
+        assert (n_off, n) == (sum(b > ENERGY_BALANCE_TOL for b in here), len(here))
+        assert mean == pytest.approx(np.mean(here)) and big == pytest.approx(max(here))
+        assert f"{name} {n_off} of {n} (mean" in line
+    scales = scale_rows([casc.result])
+    assert all(math.isfinite(r["energy_balance_max"]) for r in scales)
 
 
 def test_samples_and_summary_report_the_stabilisation_share(tmp_path: Path):

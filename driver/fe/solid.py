@@ -259,9 +259,13 @@ class SolidProblem:
 
     # --- time stepping -----------------------------------------------------------------------
     def prepare_step(self, dt: float) -> None:
-        """History fields (Hstar, beta) of a step dt (eq. 3.76, ``ViscoelasticHistory``)."""
+        """History fields (Hstar, beta) of a step dt (eq. 3.76, ``ViscoelasticHistory``).  Called
+        at the last converged state: after a restored history (warm start) it also records that
+        state's Cbar, which the exact dissipation of the next step starts from."""
         if self.history is not None:
             c0 = time.process_time()
+            if self.history.Cbar_n is None:
+                self.history.Cbar_n = self._history_kinematics()[1]
             self.history.prepare_step(dt)
             self.cpu_history += time.process_time() - c0
 
@@ -270,20 +274,28 @@ class SolidProblem:
         if self.history is None:
             return 0.0
         c0 = time.process_time()
-        dE = self._commit_history()
+        dE = self.history.commit_step(*self._history_kinematics())
         self.cpu_history += time.process_time() - c0
         return dE
 
-    def _commit_history(self) -> float:
+    def _history_kinematics(self) -> tuple[np.ndarray, np.ndarray]:
+        """DEV{Sbar} and Cbar = J^(-2/3) C of the current state at the quadrature points, each
+        (n_points, 4) (``PLANE_SYM_COMPONENTS``): what the history update convolves (eq. 3.76)
+        and the strain its branch stresses work on (exact dissipation, ``forms.viscoelastic``)."""
         if self._sdev_expr is None:
             u, _ = self.split()
             F = deformation_gradient(u)
+            C = F.T * F
             # (3.76) convolves DEV{Sbar} taken with the C of its own time
-            Sdev = dev(self.fictitious_stress(), F.T * F)
-            self._sdev_expr = jit.expression(vector_from_plane_sym(Sdev), self.rule.points)
+            Sdev = dev(self.fictitious_stress(), C)
+            Cbar = ufl.det(F) ** (-2.0 / 3.0) * C
+            both = ufl.as_vector(list(vector_from_plane_sym(Sdev))
+                                 + list(vector_from_plane_sym(Cbar)))
+            self._sdev_expr = jit.expression(both, self.rule.points)
         cells = self.history.cells
-        Sbar = self._sdev_expr.eval(cells).reshape(cells.size * self.rule.points.shape[0], -1)
-        return self.history.commit_step(Sbar)
+        vals = self._sdev_expr.eval(cells).reshape(cells.size * self.rule.points.shape[0], -1)
+        n = vals.shape[1] // 2
+        return np.ascontiguousarray(vals[:, :n]), np.ascontiguousarray(vals[:, n:])
 
     def set_temperature(self, T_cell) -> None:
         """Temperature per cell (K) for the WLF shift of the relaxation times."""

@@ -121,7 +121,8 @@ class FieldWriter:
       of plane strain);
     * ``viscous_dissipation`` [mJ/mm^3], DG0: viscous energy dissipated per unit reference volume
       since the previous output (eq. 2.7 per cell; with every=1, the step's);
-    * ``dissipation_rate`` [MPa/s = mW/mm^3], DG0: the current dissipation density, cell average;
+    * ``dissipation_rate`` [MPa/s = mW/mm^3], DG0: the mean dissipation rate of the last step
+      (``ViscoelasticHistory.rate``, exact at finite strain), cell average;
     * ``temperature`` [K], DG0: only if the body has a temperature (WLF shift per cell).
 
     ``contact_pressure.csv`` (if ``contact_csv``): one row per contact-face node and output step,
@@ -193,7 +194,7 @@ class FieldWriter:
             dE = (D - self._D_last).reshape(self._cells.size, -1).sum(axis=1)
             self._D_last = D
             self._set("viscous_dissipation", dE / self.cell_volume)
-            rate = sp.history.dissipation_density().reshape(self._cells.size, -1)
+            rate = sp.history.rate.reshape(self._cells.size, -1)
             self._set("dissipation_rate", np.sum(rate * self._wq, axis=1) / self.cell_volume)
         if self._has_T:
             self._set("temperature", np.asarray(sp.history.T_cell, dtype=float))

@@ -7,7 +7,10 @@ O(gamma^2)), every node prescribed.  Two histories:
   (e^(t_ramp/tau_k) - 1) / t_ramp],  g_k = gamma_k / gamma_inf  (long-term Mooney-Rivlin moduli);
 * harmonic shear gamma0 sin(omega t):  G', G'' from a least-squares fit of the stress (sin, cos
   and the known transients exp(-t/tau_k)), compared with eq. (3.34) in shear form
-  (E = 3G for an incompressible material), and the viscous energy per cycle with pi gamma0^2 G''.
+  (E = 3G for an incompressible material), and the viscous energy per cycle with pi gamma0^2 G'';
+* harmonic shear of finite amplitude (``--finite-amplitude``, default 0.5): the viscous energy
+  the history reports per cycle and the loop area against the closed form of the finite-strain
+  model (``finite_shear_cycle_energy``), the energy balance of thesis eq. 2.8.
 """
 
 from __future__ import annotations
@@ -108,6 +111,73 @@ def harmonic_shear(hyperelastic: MooneyRivlin, gamma, tau, *, omega: float, per_
             "energy_exact": float(np.pi * gamma0**2 * G_loss)}
 
 
+def _shear_C(gamma: np.ndarray) -> np.ndarray:
+    """C = F^T F of plane-strain simple shear u_x = gamma z, shape (..., 3, 3) (J = 1)."""
+    C = np.zeros(np.shape(gamma) + (3, 3))
+    C[..., 0, 0] = C[..., 2, 2] = 1.0
+    C[..., 0, 1] = C[..., 1, 0] = gamma
+    C[..., 1, 1] = 1.0 + gamma**2
+    return C
+
+
+def finite_shear_cycle_energy(hyperelastic: MooneyRivlin, gamma, tau, *, omega: float,
+                              gamma0: float, samples: int = 256) -> float:
+    """Energy dissipated per cycle and unit volume by the finite-strain model (eqs. 3.73-3.78)
+    in the periodic steady state of simple shear gamma0 sin(omega t), in closed form.
+
+    With J = 1, Cbar = C and the equilibrium part conservative, the cycle work is that of the
+    non-equilibrium stress: W = sum_k g_k/2 oint H^k : dC/dt dt, where the steady branch history
+    of H' = -H/tau_k + d DEV{Sbar}/dt has, harmonic by harmonic, H_n = i n w tau_k /
+    (1 + i n w tau_k) DEV{Sbar}_n.  DEV{Sbar}(C(t)) of Mooney-Rivlin in simple shear is a
+    polynomial of degree 6 in gamma: its Fourier series ends at the 6th harmonic, so
+    ``samples`` >= 16 equally spaced samples of a period give every integral exactly (to
+    round-off).  At small gamma0 it is pi gamma0^2 G'' (``harmonic_shear``)."""
+    if samples < 16:
+        raise ValueError(f"samples = {samples}: need >= 16 for the 6th harmonic")
+    g = np.asarray(gamma, float) / (1.0 - np.sum(gamma))
+    t = 2.0 * np.pi / omega * np.arange(samples) / samples
+    gam = gamma0 * np.sin(omega * t)
+    C = _shear_C(gam)
+    Ci = np.linalg.inv(C)
+    trC = np.trace(C, axis1=-2, axis2=-1)
+    c10, c01 = hyperelastic.C10, hyperelastic.C01
+    Sbar = 2.0 * ((c10 + c01 * trC)[:, None, None] * np.eye(3) - c01 * C)
+    S_dev = Sbar - np.einsum("tij,tij->t", Sbar, C)[:, None, None] / 3.0 * Ci
+    dC = np.zeros_like(C)  # dC/dt = dC/dgamma gamma'
+    dgam = gamma0 * omega * np.cos(omega * t)
+    dC[:, 0, 1] = dC[:, 1, 0] = dgam
+    dC[:, 1, 1] = 2.0 * gam * dgam
+    n = np.fft.fftfreq(samples, 1.0 / samples)  # harmonic numbers
+    S_hat = np.fft.fft(S_dev, axis=0)
+    work = 0.0
+    for gk, tk in zip(g, np.asarray(tau, float)):
+        x = 1j * n * omega * tk
+        H = np.fft.ifft((x / (1.0 + x))[:, None, None] * S_hat, axis=0).real
+        work += 0.5 * gk * float(np.mean(np.einsum("tij,tij->t", H, dC)))
+    return work * 2.0 * np.pi / omega
+
+
+def finite_harmonic_shear(hyperelastic: MooneyRivlin, gamma, tau, *, omega: float,
+                          gamma0: float, per_cycle: int = 64, cycles: int = 4,
+                          scheme: str = "linear") -> dict:
+    """The FE cell in simple shear gamma0 sin(omega t) at any amplitude: over the last cycle,
+    the viscous energy the history reports (``ViscoelasticHistory.commit_step``) and the loop
+    area oint sigma_xz dgamma (the work of the boundary, sigma_xz = P_xz for simple shear),
+    per unit volume (the cell is the unit square)."""
+    cell = ShearCell(hyperelastic, gamma, tau, scheme)
+    dt = 2.0 * np.pi / omega / per_cycle
+    t = dt * np.arange(1, per_cycle * cycles + 1)
+    stress, energy = np.empty_like(t), np.empty_like(t)
+    for i, ti in enumerate(t):
+        stress[i], energy[i] = cell.step(gamma0 * np.sin(omega * ti), dt)
+    gam = gamma0 * np.sin(omega * t[-per_cycle - 1:])
+    sig = stress[-per_cycle - 1:]
+    return {"energy_per_cycle": float(energy[-per_cycle:].sum()),
+            "loop_area": float(np.sum(0.5 * (sig[1:] + sig[:-1]) * np.diff(gam))),
+            "energy_exact": finite_shear_cycle_energy(hyperelastic, gamma, tau, omega=omega,
+                                                      gamma0=gamma0)}
+
+
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--C10", type=float, default=0.174, help="MPa (default: compound m1)")
     p.add_argument("--C01", type=float, default=0.300, help="MPa")
@@ -117,6 +187,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--dt-factor", type=float, default=0.1, help="dt = factor * tau_min")
     p.add_argument("--scheme", default="linear", choices=["linear", "midpoint"],
                    help="history update: exact for linear-in-time Sbar (default) or the midpoint rule (3.76)")
+    p.add_argument("--finite-amplitude", type=float, default=0.5,
+                   help="simple-shear amplitude of the finite-strain energy check at omega = "
+                        "1/tau_min: dissipation and loop area per cycle against the closed form "
+                        "(0: skip)")
     p.add_argument("--omega", type=float, nargs="*", default=None,
                    help="frequencies [rad/s] for harmonic shear (default: 0.1, 1, 10 / tau_min)")
 
@@ -136,6 +210,16 @@ def run(args: argparse.Namespace) -> dict:
         checks += [check(f"G' at omega={w:g}", h["G_storage"], h["G_storage_exact"], 0.01),
                    check(f"G'' at omega={w:g}", h["G_loss"], h["G_loss_exact"], 0.01),
                    check(f"energy/cycle omega={w:g}", h["energy_per_cycle"], h["energy_exact"], 0.01)]
+    amp = getattr(args, "finite_amplitude", 0.5)
+    if amp > 0.0:  # the energy balance at finite strain: dissipation = loop area = closed form
+        w = 1.0 / tmin
+        cycles = max(4, int(np.ceil(12.0 * tmax * w / (2.0 * np.pi))) + 1)  # transient < e^-12
+        f = finite_harmonic_shear(hyp, args.gamma, args.tau, omega=w, gamma0=amp, cycles=cycles,
+                                  scheme=args.scheme)
+        checks += [check(f"dissipation/cycle, gamma0={amp:g}", f["energy_per_cycle"],
+                         f["energy_exact"], 0.01),
+                   check(f"loop area/cycle, gamma0={amp:g}", f["loop_area"], f["energy_exact"],
+                         0.01)]
     return {"case": "relaxation", "parameters": {"C10": args.C10, "C01": args.C01, "D1": args.D1,
                                                 "gamma": args.gamma, "tau": args.tau, "dt": dt,
                                                 "scheme": args.scheme},
