@@ -13,6 +13,7 @@ import logging
 import sys
 
 import rubberfriction
+from rubberfriction.validation import InputError
 
 # (module, what it adds) -- kept in the order shown by --help.
 COMMAND_MODULES: tuple[str, ...] = (
@@ -65,7 +66,20 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
-    return int(args.func(args) or 0)
+    try:
+        return int(args.func(args) or 0)
+    except InputError as err:  # bad input: one line, no traceback (real bugs still show theirs)
+        return report_input_error(err)
+
+
+def report_input_error(err: InputError) -> int:
+    """Print ``rubberfriction: error: <message>`` as one line on stderr (rank 0 only under MPI)
+    and return the command line's input-error status, 2."""
+    mpi = sys.modules.get("mpi4py.MPI")  # only if a command imported it: never start MPI here
+    if mpi is None or not mpi.Is_initialized() or mpi.COMM_WORLD.Get_rank() == 0:
+        message = " ".join(str(err).split())  # one line, whatever the message holds
+        print(f"rubberfriction: error: {message}", file=sys.stderr)
+    return 2
 
 
 if __name__ == "__main__":

@@ -17,11 +17,50 @@ Subcommands
 from __future__ import annotations
 
 import argparse
+import functools
 import json
+import re
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from rubberfriction.validation import InputError
+
+#: Keyword arguments of the surface library that are command-line options here: a library
+#: message's hint ``pass x_col= and h_col=`` reads ``pass --x-col and --h-col`` on the command
+#: line, ``units='auto'`` reads ``--units auto``.
+_KEYWORD_OPTIONS = ("x_col", "h_col", "dx", "dataset", "skiprows", "delimiter", "units", "max_gap",
+                    "long_gaps", "edges", "cutoff", "max_slope", "top_fraction", "samples", "seed")
+_NAMES = "|".join(_KEYWORD_OPTIONS)
+
+
+def option_message(message: str) -> str:
+    """A surface library message with its keyword arguments written as this command's options
+    (``x_col=`` -> ``--x-col``, ``units='auto'`` -> ``--units auto``, ``max_gap = 9.6`` ->
+    ``--max-gap 9.6``)."""
+    def flag(m: re.Match) -> str:
+        return "--" + m.group(1).replace("_", "-")
+
+    message = re.sub(rf"\b({_NAMES})=(['\"])([^'\"]*)\2", lambda m: f"{flag(m)} {m.group(3)}",
+                     message)
+    message = re.sub(rf"\b({_NAMES}) = ", lambda m: f"{flag(m)} ", message)
+    return re.sub(rf"\b({_NAMES})=", flag, message)
+
+
+def _options_in_errors(command: Callable[[argparse.Namespace], int]
+                       ) -> Callable[[argparse.Namespace], int]:
+    """Run a surface command; an input error's message names the options as typed here (the
+    ``rubberfriction`` command prints it as one line)."""
+    @functools.wraps(command)
+    def run(args: argparse.Namespace) -> int:
+        try:
+            return command(args)
+        except InputError as err:
+            raise type(err)(option_message(str(err))) from None
+
+    return run
 
 
 def _jsonable(obj: Any) -> Any:
@@ -192,16 +231,12 @@ def _cmd_split(args: argparse.Namespace) -> int:
 def _cmd_road(args: argparse.Namespace) -> int:
     """``surface default`` / ``surface four-scale``: a shipped road cut by the lowest-scale rule,
     its table, samples and (``--plot``) band PSDs with the cumulative slope."""
-    from rubberfriction.driver.surfaces import DEFAULT_EDGES, SurfaceError, default_road
+    from rubberfriction.driver.surfaces import DEFAULT_EDGES, default_road
     from rubberfriction.driver.surfaces.cutoff import apply_cutoff, parse_cutoff
     from rubberfriction.driver.surfaces.four_scale import FOUR_SCALE_EDGES, four_scale_road
     from rubberfriction.driver.surfaces.plots import plot_road_scales
 
-    try:
-        rule = parse_cutoff(args.cutoff, args.max_slope)
-    except SurfaceError as err:
-        print(f"rubberfriction surface {args.surface_command}: --{err}")
-        return 2
+    rule = parse_cutoff(args.cutoff, args.max_slope)  # a bad one: "--cutoff x: expected ..."
     if args.surface_command == "four-scale":
         road, report = apply_cutoff(four_scale_road, FOUR_SCALE_EDGES, rule)
     else:
@@ -277,7 +312,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         "with --edges")
     a.add_argument("--plot", help="PNG with profile, PSD and HDC")
     a.add_argument("--json", help="write the results as JSON")
-    a.set_defaults(func=_cmd_analyse)
+    a.set_defaults(func=_options_in_errors(_cmd_analyse))
 
     s = sub.add_parser("split", help="band-pass scales and periodic samples")
     s.add_argument("files", nargs="+", help="one or several measurements of the same surface")
@@ -290,7 +325,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="sample centres in the top fraction of the carrier (default 0.2)")
     s.add_argument("--filter", choices=("ideal", "cosine"), default="ideal")
     s.add_argument("--out", required=True, help="output folder")
-    s.set_defaults(func=_cmd_split)
+    s.set_defaults(func=_options_in_errors(_cmd_split))
 
     for name, what in (("default", "the embedded default road (CAPTIF + generated extension)"),
                        ("four-scale", "the synthetic four-scale road (driver.surfaces.four_scale)")):
@@ -306,7 +341,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         d.add_argument("--max-slope", type=float, default=1.3,
                        help="cumulative 2D rms slope of the slope cut-off (default 1.3)")
         d.add_argument("--plot", help="PNG: band PSDs and the cumulative slope")
-        d.set_defaults(func=_cmd_road)
+        d.set_defaults(func=_options_in_errors(_cmd_road))
 
     g = sub.add_parser("generate", help="synthetic profiles to CSV")
     g.add_argument("kind", choices=("self-affine", "two-sine", "sawtooth"))
@@ -322,7 +357,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     g.add_argument("--height", type=float, default=1.0, help="sawtooth peak to valley (mm)")
     g.add_argument("--orientation", choices=("sharp", "smooth"), default="sharp")
     g.add_argument("--steep-fraction", type=float, default=0.1)
-    g.set_defaults(func=_cmd_generate)
+    g.set_defaults(func=_options_in_errors(_cmd_generate))
 
     c = sub.add_parser("compare", help="fig. 6.5: HDC sinusoids vs PSD reconstruction vs filtering")
     c.add_argument("file")
@@ -330,4 +365,4 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     c.add_argument("--edges", nargs="+", type=float, required=True)
     c.add_argument("--seed", type=int, default=0)
     c.add_argument("--plot", help="PNG")
-    c.set_defaults(func=_cmd_compare)
+    c.set_defaults(func=_options_in_errors(_cmd_compare))

@@ -14,6 +14,70 @@ import json
 import sys
 
 from rubberfriction.driver.verification import CASES
+from rubberfriction.validation import InputError
+
+# Admissible values of the verification options, by parameter name (the same name means the same
+# quantity in every case): (lower bound, strict, upper bound, strict, what it is).  Checked before
+# a case runs, so an impossible parameter is one line naming the option as typed
+# (``--R -1: expected a radius > 0 mm``) rather than a failure deep inside a mesh or a solver.
+_POSITIVE = {
+    "R": "a radius", "E": "a Young's modulus", "P": "a load per unit depth",
+    "a_over_R": "a half-width ratio a/R", "pressure": "a pressure", "velocity": "a velocity",
+    "length": "a length", "height": "a height", "wavelength": "a wavelength",
+    "amplitude": "an amplitude", "depth": "a depth", "L1": "a bar length", "L2": "a bar length",
+    "k1": "a conductivity", "k2": "a conductivity", "width": "a width", "h0": "a conductance",
+    "h1": "a conductance", "c_N": "a penalty", "grading": "a grading factor",
+    "tolerance": "a tolerance", "p_ratio": "a pressure ratio", "n_contact": "an element count",
+    "master_points": "a point count", "n_upper": "an element count",
+    "n_lower": "an element count", "steps": "a step count", "step_length": "a step length",
+    "steps_per_period": "a step count", "periods": "a number of periods", "mesh": "an element count",
+    "elements_per_a": "element counts", "t_end": "an end time", "T0": "a temperature",
+    "T_top": "a temperature", "T_bottom": "a temperature", "temperature": "a temperature",
+    "block_length": "a length", "block_height": "a height", "h_x": "an element size",
+    "first_layer": "a layer thickness", "n_steps": "a step count", "h_c": "a conductance",
+    "elements": "an element count", "peclet": "Peclet numbers", "n": "cell counts",
+    "G": "a shear modulus", "K": "a bulk modulus", "tau": "relaxation times",
+    "dt_factor": "a time-step factor", "dt": "a time step", "slide": "a sliding distance",
+}
+_UNITS = {"R": "mm", "E": "MPa", "P": "N/mm", "pressure": "MPa", "velocity": "mm/s",
+          "length": "mm", "height": "mm", "wavelength": "mm", "amplitude": "mm", "depth": "mm",
+          "L1": "mm", "L2": "mm", "width": "mm", "step_length": "mm", "t_end": "s", "T0": "K",
+          "T_top": "K", "T_bottom": "K", "temperature": "K", "block_length": "mm",
+          "block_height": "mm", "h_x": "mm", "first_layer": "mm", "G": "MPa", "K": "MPa",
+          "tau": "s", "dt": "s", "slide": "mm", "edge_radius": "mm"}
+_NONNEGATIVE = {"mu": "a friction coefficient", "edge_radius": "a radius",
+                "beta": "a stabilisation factor", "gamma": "Prony weights", "omega": "frequencies",
+                "q": "a heat flux", "penetration": "a penetration"}
+_FRACTIONS = {"kappa": "a heat-split fraction", "steep_fraction": "a fraction of the period"}
+
+
+def check_parameters(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    """Raise an :class:`InputError` ``--OPTION VALUE: expected ...`` for the first option whose
+    value is impossible (a negative radius, a Poisson ratio of 0.5 or more, ...)."""
+    for action in parser._actions:
+        name, flag = action.dest, (action.option_strings or [""])[-1]
+        value = getattr(args, name, None)
+        if not flag or value is None or isinstance(value, (bool, str)):
+            continue
+        values = list(value) if isinstance(value, (list, tuple)) else [value]
+        if not all(isinstance(v, (int, float)) for v in values):
+            continue
+        shown = " ".join(f"{v:g}" for v in values)
+        unit = f" {_UNITS[name]}" if name in _UNITS else ""
+        if name == "nu":
+            ok, expected = all(-1.0 < v < 0.5 for v in values), "a Poisson ratio in (-1, 0.5)"
+        elif name in _POSITIVE:
+            ok, expected = all(v > 0 for v in values), f"{_POSITIVE[name]} > 0{unit}"
+        elif name in _NONNEGATIVE:
+            ok, expected = all(v >= 0 for v in values), f"{_NONNEGATIVE[name]} >= 0{unit}"
+        elif name in _FRACTIONS:
+            ok, expected = all(0 <= v <= 1 for v in values), f"{_FRACTIONS[name]} in [0, 1]"
+        else:
+            continue
+        finite = all(v == v and abs(v) != float("inf") for v in values)
+        if not (ok and finite):
+            raise InputError(f"{flag} {shown}: expected {'a finite value, ' if not finite else ''}"
+                             f"{expected}")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -29,11 +93,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         cp = cases.add_parser(name, help=help_text, description=help_text)
         module.add_arguments(cp)
         cp.add_argument("--json", metavar="FILE", help="write the result as JSON")
-        cp.set_defaults(func=_run_case(module))
+        cp.set_defaults(func=_run_case(module, cp))
 
 
-def _run_case(module):
+def _run_case(module, parser: argparse.ArgumentParser):
     def run(args: argparse.Namespace) -> int:
+        check_parameters(parser, args)  # an impossible one: one line, exit status 2
         result = module.run(args)
         print_result(result)
         if args.json:
