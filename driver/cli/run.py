@@ -25,6 +25,7 @@ from importlib import resources
 # MPI_THREAD_FUNNELED): the farm's dispatcher thread on rank 0 needs MPI_THREAD_MULTIPLE.
 from mpi4py import MPI  # isort: skip
 
+from rubberfriction import validation as V
 from rubberfriction.driver.multiscale.scene import (
     SCENES_PACKAGE,
     Scene,
@@ -227,6 +228,12 @@ def _run_thermal(scene: Scene, args: argparse.Namespace) -> int:
 
 def _study(args: argparse.Namespace) -> int:
     try:
+        V.option("--n", args.n, what="a number of samples", minimum=2, error=SceneError)
+        V.option("--orders", args.orders, what="a number of orders", minimum=1, error=SceneError)
+        V.option("--pressure", args.pressure, what="a pressure", above=0.0, maximum=1000.0,
+                 unit="MPa", error=SceneError)
+        V.option("--velocity", args.velocity, what="a velocity", above=0.0, maximum=1e5,
+                 unit="mm/s", error=SceneError)
         scene = load_scene(args.scene)
         if args.out:
             scene = scene.with_output(args.out)

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from rubberfriction import validation as V
 from rubberfriction.validation import InputError
 
 #: Keyword arguments of the surface library that are command-line options here: a library
@@ -49,12 +50,68 @@ def option_message(message: str) -> str:
     return re.sub(rf"\b({_NAMES})=", flag, message)
 
 
+#: (option, what, bounds) of the numeric options of the surface commands (those a command has).
+_NUMERIC_OPTIONS: tuple[tuple[str, str, str, dict[str, float]], ...] = (
+    ("dx", "--dx", "a sample spacing", {"above": 0.0}),
+    ("skiprows", "--skiprows", "a number of header lines", {"minimum": 0}),
+    ("max_gap", "--max-gap", "a gap length", {"above": 0.0}),
+    ("edges", "--edges", "band edges (wavelengths)", {"above": 0.0}),
+    ("psd_fit", "--psd-fit", "wavelengths", {"above": 0.0}),
+    ("hdc_range", "--hdc-range", "lags", {"above": 0.0}),
+    ("max_slope", "--max-slope", "an rms slope", {"above": 0.0}),
+    ("samples", "--samples", "a number of samples", {"minimum": 1}),
+    ("top_fraction", "--top-fraction", "a fraction of the carrier",
+     {"above": 0.0, "maximum": 1.0}),
+    ("length", "--length", "a profile length", {"above": 0.0}),
+    ("hurst", "--hurst", "a Hurst exponent", {"above": 0.0, "maximum": 1.0}),
+    ("rms", "--rms", "an rms height", {"above": 0.0}),
+    ("rolloff", "--rolloff", "a roll-off wavelength", {"above": 0.0}),
+    ("cutoff", "--cutoff", "a cut-off wavelength", {"above": 0.0}),
+    ("wavelength", "--wavelength", "a wavelength", {"above": 0.0}),
+    ("height", "--height", "a peak-to-valley height", {"above": 0.0}),
+    ("steep_fraction", "--steep-fraction", "a fraction of the period",
+     {"above": 0.0, "below": 1.0}),
+)
+_MM = {"dx", "max_gap", "edges", "psd_fit", "hdc_range", "length", "rms", "rolloff", "cutoff",
+       "wavelength", "height"}
+
+
+def check_options(args: argparse.Namespace) -> None:
+    """Raise an :class:`InputError` naming the first impossible option as typed
+    (``--dx -1: expected a sample spacing > 0 in mm``) before a surface command reads anything."""
+    for name, flag, what, bounds in _NUMERIC_OPTIONS:
+        value = getattr(args, name, None)
+        if isinstance(value, str):  # ``surface default --cutoff slope``: checked by parse_cutoff
+            continue
+        V.option(flag, value, what=what, unit="mm" if name in _MM else "", **bounds)
+    for name, flag, what in (("edges", "--edges", "at least two band edges in mm, descending"),
+                             ("psd_fit", "--psd-fit", "LAMBDA_LONG > LAMBDA_SHORT"),
+                             ("hdc_range", "--hdc-range", "LO < HI")):
+        value = getattr(args, name, None)
+        if value is None:
+            continue
+        descending = name != "hdc_range"
+        steps = np.diff(value)
+        if len(value) < 2 or not (np.all(steps < 0) if descending else np.all(steps > 0)):
+            raise InputError(f"{flag} {' '.join(f'{v:g}' for v in value)}: expected {what}")
+    units = getattr(args, "units", None)
+    if units is not None and units != "auto":
+        from rubberfriction.driver.surfaces.profile import UNIT_TO_MM, unit_factor
+
+        try:
+            unit_factor(units)
+        except InputError:
+            raise InputError(f"--units {units}: expected 'auto' or one of "
+                             f"{', '.join(sorted(set(UNIT_TO_MM)))}") from None
+
+
 def _options_in_errors(command: Callable[[argparse.Namespace], int]
                        ) -> Callable[[argparse.Namespace], int]:
-    """Run a surface command; an input error's message names the options as typed here (the
-    ``rubberfriction`` command prints it as one line)."""
+    """Run a surface command after checking its options; an input error's message names the
+    options as typed here (the ``rubberfriction`` command prints it as one line)."""
     @functools.wraps(command)
     def run(args: argparse.Namespace) -> int:
+        check_options(args)
         try:
             return command(args)
         except InputError as err:

@@ -14,7 +14,7 @@ import json
 import sys
 
 from rubberfriction.driver.verification import CASES
-from rubberfriction.validation import InputError
+from rubberfriction import validation as V
 
 # Admissible values of the verification options, by parameter name (the same name means the same
 # quantity in every case): (lower bound, strict, upper bound, strict, what it is).  Checked before
@@ -30,7 +30,8 @@ _POSITIVE = {
     "tolerance": "a tolerance", "p_ratio": "a pressure ratio", "n_contact": "an element count",
     "master_points": "a point count", "n_upper": "an element count",
     "n_lower": "an element count", "steps": "a step count", "step_length": "a step length",
-    "steps_per_period": "a step count", "periods": "a number of periods", "mesh": "an element count",
+    "steps_per_period": "a step count", "periods": "a number of periods",
+    "mesh": "an element count",
     "elements_per_a": "element counts", "t_end": "an end time", "T0": "a temperature",
     "T_top": "a temperature", "T_bottom": "a temperature", "temperature": "a temperature",
     "block_length": "a length", "block_height": "a height", "h_x": "an element size",
@@ -59,25 +60,15 @@ def check_parameters(parser: argparse.ArgumentParser, args: argparse.Namespace) 
         value = getattr(args, name, None)
         if not flag or value is None or isinstance(value, (bool, str)):
             continue
-        values = list(value) if isinstance(value, (list, tuple)) else [value]
-        if not all(isinstance(v, (int, float)) for v in values):
-            continue
-        shown = " ".join(f"{v:g}" for v in values)
-        unit = f" {_UNITS[name]}" if name in _UNITS else ""
+        unit = _UNITS.get(name, "")
         if name == "nu":
-            ok, expected = all(-1.0 < v < 0.5 for v in values), "a Poisson ratio in (-1, 0.5)"
+            V.option(flag, value, what="a Poisson ratio", above=-1.0, below=0.5)
         elif name in _POSITIVE:
-            ok, expected = all(v > 0 for v in values), f"{_POSITIVE[name]} > 0{unit}"
+            V.option(flag, value, what=_POSITIVE[name], above=0.0, unit=unit)
         elif name in _NONNEGATIVE:
-            ok, expected = all(v >= 0 for v in values), f"{_NONNEGATIVE[name]} >= 0{unit}"
+            V.option(flag, value, what=_NONNEGATIVE[name], minimum=0.0, unit=unit)
         elif name in _FRACTIONS:
-            ok, expected = all(0 <= v <= 1 for v in values), f"{_FRACTIONS[name]} in [0, 1]"
-        else:
-            continue
-        finite = all(v == v and abs(v) != float("inf") for v in values)
-        if not (ok and finite):
-            raise InputError(f"{flag} {shown}: expected {'a finite value, ' if not finite else ''}"
-                             f"{expected}")
+            V.option(flag, value, what=_FRACTIONS[name], minimum=0.0, maximum=1.0)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
