@@ -110,6 +110,10 @@ CASES: list[tuple[str, list[str], list[str]]] = [
      ["--edge-radius -1"]),
     ("thermal-kappa", ["verify", "thermal-bars", "--kappa", "2"], ["--kappa 2"]),
     ("relaxation-tau", ["verify", "relaxation", "--tau", "0.1", "-1"], ["--tau 0.1 -1"]),
+    ("sliding-frame", ["verify", "sliding-block", "--frame", "foo"], ["--frame foo", "master"]),
+    ("hertz-method", ["verify", "hertz", "--method", "mortr"], ["--method mortr", "'mortar'"]),
+    ("verify-compound", ["verify", "sawtooth", "--compound", "{tmp}/badc.toml"],
+     ["--compound", "C10 = -0.1"]),
     # run: scene values, compound files, surface files, missing files, command-line options
     ("pressure-huge", ["run", "{scene:p=1e9}", "--check"], ["[conditions].pressures", "1000"]),
     ("velocity-huge", ["run", "{scene:v=1e6}"], ["[conditions].velocities", "100000"]),
@@ -226,3 +230,16 @@ def test_option_message_and_option_check() -> None:
         V.option("--R", -1.0, what="a radius", above=0.0, unit="mm")
     assert V.option("--R", 2.0, what="a radius", above=0.0) == 2.0
     assert V.option("--R", None, what="a radius", above=0.0) is None
+
+
+def test_verify_defaults_pass_the_checks() -> None:
+    """The parameter checks reject nothing a case runs with by default (every case, every
+    option at its default, material files included)."""
+    from rubberfriction.driver.cli.verify import check_parameters
+
+    parser = cli_main.build_parser()
+    verify = parser._subparsers._group_actions[0].choices["verify"]
+    cases = verify._subparsers._group_actions[0].choices
+    assert "hertz" in cases and "sliding-block" in cases
+    for name, case_parser in cases.items():
+        check_parameters(case_parser, parser.parse_args(["verify", name]))

@@ -52,12 +52,38 @@ _NONNEGATIVE = {"mu": "a friction coefficient", "edge_radius": "a radius",
 _FRACTIONS = {"kappa": "a heat-split fraction", "steep_fraction": "a fraction of the period"}
 
 
+#: Options naming a material file (a shipped name or a TOML file).
+_MATERIALS = ("compound", "road", "base")
+
+
+def _choices() -> dict[str, tuple[str, ...]]:
+    """The admissible words of the string options (from the FE layer that checks them too)."""
+    from rubberfriction.driver.fe.contact import FRAMES, METHODS
+    from rubberfriction.driver.fe.solid import ELEMENTS
+
+    return {"method": tuple(METHODS), "element": tuple(ELEMENTS), "frame": tuple(FRAMES)}
+
+
 def check_parameters(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
     """Raise an :class:`InputError` ``--OPTION VALUE: expected ...`` for the first option whose
-    value is impossible (a negative radius, a Poisson ratio of 0.5 or more, ...)."""
+    value is impossible (a negative radius, a Poisson ratio of 0.5 or more, an unknown element
+    or compound, ...)."""
+    choices = _choices()
     for action in parser._actions:
         name, flag = action.dest, (action.option_strings or [""])[-1]
         value = getattr(args, name, None)
+        if flag and isinstance(value, str) and name in choices and not action.choices:
+            if value not in choices[name]:
+                raise V.InputError(f"{flag} {value}: expected one of "
+                                   f"{', '.join(choices[name])}"
+                                   f"{V.suggest(value, choices[name])}")
+        if flag and isinstance(value, str) and name in _MATERIALS:
+            from rubberfriction.forms.material_files import load_compound, load_road
+
+            try:  # read (and validated) here, so a bad file is named by its option
+                (load_road if name == "road" else load_compound)(value)
+            except ValueError as err:
+                raise V.InputError(f"{flag} {value}: {err}") from None
         if not flag or value is None or isinstance(value, (bool, str)):
             continue
         unit = _UNITS.get(name, "")
