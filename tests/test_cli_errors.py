@@ -130,7 +130,10 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("show", ["run", "--show", "nosuch"], ["--show 'nosuch'"]),
     ("study-n", ["samples-study", "{scene:}", "--n", "1"], ["--n 1"]),
     ("study-pressure", ["samples-study", "{scene:}", "--pressure", "2000"], ["--pressure 2000"]),
-    # theory and material
+    # theory, adhesion and material
+    ("adhesion-pressure", ["adhesion", "fit", "--dry", "{tmp}/good.csv", "--area",
+                           "{tmp}/good.csv", "--pressure", "-1", "--json", "{tmp}/fit.json"],
+     ["--pressure -1"]),
     ("theory-pressure", ["theory", "--pressure", "-1"], ["--pressure -1"]),
     ("theory-velocities", ["theory", "--velocities", "0"], ["--velocities 0"]),
     ("material-missing", ["material", "show", "nosuch"], ["nosuch", "not found"]),
