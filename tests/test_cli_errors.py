@@ -184,6 +184,23 @@ def test_bad_input_is_one_line(argv: list[str], expected: list[str], tmp_path: P
     assert set(after) - set(before) <= {"scene.toml"}, after  # nothing else was written
 
 
+@pytest.mark.parametrize("argv,expected", [
+    (["verify", "hertz", "--R", "abc"], "argument --R: invalid float value: 'abc'"),
+    (["surface", "split", "good.csv"], "required: --edges, --out"),
+    (["run", "--samples", "1"], "argument --samples: expected 2 arguments"),
+    (["surface", "analyse", "good.csv", "--window", "foo"], "argument --window"),
+    (["verify", "nosuch"], "invalid choice: 'nosuch'"),
+])
+def test_command_line_syntax_is_one_line(argv: list[str], expected: str,
+                                         capsys: pytest.CaptureFixture) -> None:
+    """argparse's own errors (bad type, missing or unknown option) are one line too, status 2."""
+    with pytest.raises(SystemExit) as exc:
+        cli_main.main(argv)
+    err = capsys.readouterr().err.strip().splitlines()
+    assert exc.value.code == 2
+    assert len(err) == 1 and expected in err[0] and "--help" in err[0], err
+
+
 def test_table_size() -> None:
     """The brief asks for at least 30 bad inputs."""
     assert len(CASES) >= 30

@@ -11,6 +11,7 @@ import argparse
 import importlib
 import logging
 import sys
+from typing import NoReturn
 
 import rubberfriction
 from rubberfriction.validation import InputError
@@ -28,9 +29,19 @@ COMMAND_MODULES: tuple[str, ...] = (
 )
 
 
+class OneLineParser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line on stderr (``rubberfriction verify hertz:
+    error: argument --R: invalid float value: 'abc' (see --help)``), exit status 2; its
+    sub-command parsers are of the same class (argparse's default ``parser_class``)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {' '.join(message.split())} (see {self.prog} "
+                     "--help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     units = "units: mm, s, t, N, MPa, mJ, K"
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog="rubberfriction",
         description=f"Multiscale FEM rubber friction on rough road surfaces ({units}).",
     )

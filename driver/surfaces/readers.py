@@ -148,7 +148,8 @@ def _guess_columns(names: list[str], ncol: int, first_rows: np.ndarray) -> tuple
         if integer and np.all(np.diff(idx) > 0):
             return 1, 2  # point number, x, h (CAPTIF layout)
     raise ProfileFormatError(
-        f"cannot tell which of the {ncol} columns are x and h; pass x_col= and h_col="
+        f"cannot tell which of the {ncol} columns are x and h; name them in a header line "
+        "(e.g. 'x, h, other') or pass x_col= and h_col="
     )
 
 
