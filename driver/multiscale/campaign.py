@@ -265,6 +265,7 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
     started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
     # compounds and scales before the output folder: bad material data or a surface file that
     # cannot give the samples is an input error that leaves no (empty) store behind
+    t0 = time.perf_counter()  # the campaign's wall time includes them, as before
     inputs = _on_rank0(lambda: (load_compounds(scene), build_scales(
         scene, max(scene.samples.pressure, scene.samples.friction))), comm)
     store = open_store(out, comm, fresh=fresh, folder=store_folder)
@@ -280,7 +281,6 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
             compounds, holder["scales"] = inputs
             return make_planner(scene, holder["scales"], SpecBuilder(scene, compounds), laws)
 
-        t0 = time.perf_counter()
         planner, outcomes = run_farm(planner_factory, executor, progress, comm)
         if rank != 0:
             return None
