@@ -61,6 +61,9 @@ def _files(tmp: Path) -> None:
     # a position column that is not one (the last row 1e12 mm away): numpy's "array is too big"
     far = np.r_[0.1 * np.arange(40), 1e12]
     (tmp / "farx.csv").write_text("x,h\n" + "".join(f"{a:.6g},{np.sin(a):.4f}\n" for a in far))
+    # positions 1700 km from the origin in 1 um steps: double precision cannot keep them uniform
+    rows = "".join(f"{1.7e9 + 1e-3 * i:.4f},{np.sin(i):.4f}\n" for i in range(200))
+    (tmp / "offset.csv").write_text("x,h\n" + rows)
     text = resolve_data_path("tread_default").read_text()
     assert "\nC10 = 0.174" in text  # the line the bad compound changes
     (tmp / "badc.toml").write_text(text.replace("\nC10 = 0.174", "\nC10 = -0.1"))
@@ -86,6 +89,8 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("x-col-unknown-name", ["surface", "analyse", "{tmp}/three.csv", "--x-col", "foo"],
      ["--x-col 'foo'"]),
     ("far-positions", ["surface", "analyse", "{tmp}/farx.csv"], ["farx.csv", "--x-col"]),
+    ("offset-positions", ["surface", "analyse", "{tmp}/offset.csv"],
+     ["offset.csv", "too large for the spacing"]),
     ("units", ["surface", "analyse", "{tmp}/good.csv", "--units", "parsec"],
      ["--units parsec", "mm"]),
     ("dx-zero", ["surface", "analyse", "{tmp}/onecol.csv", "--dx", "0"], ["--dx 0", "> 0"]),
