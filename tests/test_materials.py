@@ -536,7 +536,7 @@ def test_cli_show(capsys) -> None:
     E10 = d.complex_modulus(2 * np.pi * 10.0)
     assert f"{E10.real:.5g}" in out and f"{E10.imag / E10.real:.4f}" in out
     assert _cli(["material", "show", "r1"]) == 0 and "40000 MPa" in capsys.readouterr().out
-    assert _cli(["material", "show", "no_such_material"]) == 1
+    assert _cli(["material", "show", "no_such_material"]) == 2  # bad input: exit status 2
 
 
 def test_cli_fit_writes_loadable_compound(tmp_path: Path) -> None:

@@ -116,7 +116,11 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     from rubberfriction.driver.adhesion.plots import plot_fit
     from rubberfriction.validation import InputError
 
+    from rubberfriction import validation as V
+
     try:
+        V.option("--pressure", args.pressure, what="a pressure", above=0.0, unit="MPa")
+        V.option("--alpha", args.alpha, what="an adhesion share", minimum=0.0, maximum=1.0)
         t0 = time.perf_counter()
         inputs, groups, approach = _inputs(args)
         fit = fit_adhesion(inputs, args.pressure, approach=approach, alpha=args.alpha,

@@ -11,8 +11,10 @@ import argparse
 import importlib
 import logging
 import sys
+from typing import NoReturn
 
 import rubberfriction
+from rubberfriction.validation import InputError
 
 # (module, what it adds) -- kept in the order shown by --help.
 COMMAND_MODULES: tuple[str, ...] = (
@@ -27,9 +29,19 @@ COMMAND_MODULES: tuple[str, ...] = (
 )
 
 
+class OneLineParser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line on stderr (``rubberfriction verify hertz:
+    error: argument --R: invalid float value: 'abc' (see --help)``), exit status 2; its
+    sub-command parsers are of the same class (argparse's default ``parser_class``)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {' '.join(message.split())} (see {self.prog} "
+                     "--help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     units = "units: mm, s, t, N, MPa, mJ, K"
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog="rubberfriction",
         description=f"Multiscale FEM rubber friction on rough road surfaces ({units}).",
     )
@@ -65,7 +77,20 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
-    return int(args.func(args) or 0)
+    try:
+        return int(args.func(args) or 0)
+    except InputError as err:  # bad input: one line, no traceback (real bugs still show theirs)
+        return report_input_error(err)
+
+
+def report_input_error(err: InputError) -> int:
+    """Print ``rubberfriction: error: <message>`` as one line on stderr (rank 0 only under MPI)
+    and return the command line's input-error status, 2."""
+    mpi = sys.modules.get("mpi4py.MPI")  # only if a command imported it: never start MPI here
+    if mpi is None or not mpi.Is_initialized() or mpi.COMM_WORLD.Get_rank() == 0:
+        message = " ".join(str(err).split())  # one line, whatever the message holds
+        print(f"rubberfriction: error: {message}", file=sys.stderr)
+    return 2
 
 
 if __name__ == "__main__":

@@ -13,6 +13,7 @@ compound TOML whose Mooney-Rivlin, WLF and thermal data come from ``--base``.
 from __future__ import annotations
 
 import argparse
+import sys
 import tomllib
 from pathlib import Path
 
@@ -70,6 +71,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 # --------------------------------------------------------------------------------------------
 
 
+def _error(command: str, err: Exception) -> int:
+    """One line ``rubberfriction material COMMAND: error: ...`` on stderr; exit status 2 (bad
+    input, as every ``rubberfriction`` command)."""
+    if isinstance(err, OSError) and err.filename is not None:
+        msg = f"{err.filename}: {err.strerror or err}"  # e.g. "dma.csv: No such file or directory"
+    else:
+        msg = " ".join(str(err).split())
+    print(f"rubberfriction material {command}: error: {msg}", file=sys.stderr)
+    return 2
+
+
 def _kind(name: str) -> str:
     with material_files.resolve_data_path(name).open("rb") as fh:
         return str(tomllib.load(fh).get("kind"))
@@ -82,17 +94,15 @@ def run_show(args: argparse.Namespace) -> int:
             print(material_files.load_road(args.name).summary())
             return 0
         compound = material_files.load_compound(args.name)
-    except ValueError as err:
-        print(f"error: {err}")
-        return 1
+    except (ValueError, OSError) as err:
+        return _error("show", err)
     print(compound.summary())
     print()
     T = None if args.T_C is None else args.T_C + M.ZERO_CELSIUS
     try:
         print("\n".join(moduli_table(compound, T)))
     except ValueError as err:
-        print(f"error: {err}")
-        return 1
+        return _error("show", err)
     if compound.wlf is not None:
         print()
         print("\n".join(wlf_table(compound.wlf)))
@@ -141,8 +151,7 @@ def run_fit(args: argparse.Namespace) -> int:
         fixed = base.E_inf if args.fix_E_inf else None
         fit = P.fit_prony(omega, E1, E2, n_terms=args.terms, E_inf=fixed)
     except (ValueError, OSError) as err:
-        print(f"error: {err}")
-        return 1
+        return _error("fit", err)
     f = omega / (2 * np.pi)
     print(f"{args.dma}: {omega.size} points, {f.min():.3g} .. {f.max():.3g} Hz")
     print(fit.report())

@@ -25,6 +25,7 @@ from importlib import resources
 # MPI_THREAD_FUNNELED): the farm's dispatcher thread on rank 0 needs MPI_THREAD_MULTIPLE.
 from mpi4py import MPI  # isort: skip
 
+from rubberfriction import validation as V
 from rubberfriction.driver.multiscale.scene import (
     SCENES_PACKAGE,
     Scene,
@@ -174,7 +175,20 @@ def _run(args: argparse.Namespace) -> int:
         write_report(result, quiet=args.quiet, theory=False)
     if args.quiet:
         print(result.output / "results.csv")
-    return 0 if all(r.ok for r in result.points) else 1
+    failed = [r for r in result.points if not r.ok]
+    if failed:  # recorded failures (e.g. a run that did not converge), not input errors
+        print(f"rubberfriction: {failed_line(failed, len(result.points))}; see "
+              f"{result.output / 'results.csv'}", file=sys.stderr)
+    return 0 if not failed else 1
+
+
+def failed_line(failed: list, total: int) -> str:
+    """``N of M point(s) failed (first: <point>: <first line of its reason>)``: the one line
+    that ends a campaign with failed points (their details are in the report and the store)."""
+    first = failed[0]
+    reason = (first.reason or "no reason recorded").strip().splitlines()
+    why = reason[0] if reason else "no reason recorded"
+    return f"{len(failed)} of {total} point(s) failed (first: {first.point.id}: {why})"
 
 
 def _run_thermal(scene: Scene, args: argparse.Namespace) -> int:
@@ -214,6 +228,12 @@ def _run_thermal(scene: Scene, args: argparse.Namespace) -> int:
 
 def _study(args: argparse.Namespace) -> int:
     try:
+        V.option("--n", args.n, what="a number of samples", minimum=2, error=SceneError)
+        V.option("--orders", args.orders, what="a number of orders", minimum=1, error=SceneError)
+        V.option("--pressure", args.pressure, what="a pressure", above=0.0, maximum=1000.0,
+                 unit="MPa", error=SceneError)
+        V.option("--velocity", args.velocity, what="a velocity", above=0.0, maximum=1e5,
+                 unit="mm/s", error=SceneError)
         scene = load_scene(args.scene)
         if args.out:
             scene = scene.with_output(args.out)

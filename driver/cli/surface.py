@@ -17,11 +17,107 @@ Subcommands
 from __future__ import annotations
 
 import argparse
+import functools
 import json
+import re
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from rubberfriction import validation as V
+from rubberfriction.validation import InputError
+
+#: Keyword arguments of the surface library that are command-line options here: a library
+#: message's hint ``pass x_col= and h_col=`` reads ``pass --x-col and --h-col`` on the command
+#: line, ``units='auto'`` reads ``--units auto``.
+_KEYWORD_OPTIONS = ("x_col", "h_col", "dx", "dataset", "skiprows", "delimiter", "units", "max_gap",
+                    "long_gaps", "edges", "cutoff", "max_slope", "top_fraction", "samples", "seed")
+_NAMES = "|".join(_KEYWORD_OPTIONS)
+
+
+def option_message(message: str) -> str:
+    """A surface library message with its keyword arguments written as this command's options
+    (``x_col=`` -> ``--x-col``, ``units='auto'`` -> ``--units auto``, ``max_gap = 9.6`` ->
+    ``--max-gap 9.6``)."""
+    def flag(m: re.Match) -> str:
+        return "--" + m.group(1).replace("_", "-")
+
+    message = re.sub(rf"\b({_NAMES})=(['\"])([^'\"]*)\2", lambda m: f"{flag(m)} {m.group(3)}",
+                     message)
+    message = re.sub(rf"\b({_NAMES}) = ", lambda m: f"{flag(m)} ", message)
+    return re.sub(rf"\b({_NAMES})=", flag, message)
+
+
+#: (option, what, bounds) of the numeric options of the surface commands (those a command has).
+_NUMERIC_OPTIONS: tuple[tuple[str, str, str, dict[str, float]], ...] = (
+    ("dx", "--dx", "a sample spacing", {"above": 0.0}),
+    ("skiprows", "--skiprows", "a number of header lines", {"minimum": 0}),
+    ("max_gap", "--max-gap", "a gap length", {"above": 0.0}),
+    ("edges", "--edges", "band edges (wavelengths)", {"above": 0.0}),
+    ("psd_fit", "--psd-fit", "wavelengths", {"above": 0.0}),
+    ("hdc_range", "--hdc-range", "lags", {"above": 0.0}),
+    ("max_slope", "--max-slope", "an rms slope", {"above": 0.0}),
+    ("samples", "--samples", "a number of samples", {"minimum": 1}),
+    ("top_fraction", "--top-fraction", "a fraction of the carrier",
+     {"above": 0.0, "maximum": 1.0}),
+    ("length", "--length", "a profile length", {"above": 0.0}),
+    ("hurst", "--hurst", "a Hurst exponent", {"above": 0.0, "maximum": 1.0}),
+    ("rms", "--rms", "an rms height", {"above": 0.0}),
+    ("rolloff", "--rolloff", "a roll-off wavelength", {"above": 0.0}),
+    ("cutoff", "--cutoff", "a cut-off wavelength", {"above": 0.0}),
+    ("wavelength", "--wavelength", "a wavelength", {"above": 0.0}),
+    ("height", "--height", "a peak-to-valley height", {"above": 0.0}),
+    ("steep_fraction", "--steep-fraction", "a fraction of the period",
+     {"above": 0.0, "below": 1.0}),
+)
+_MM = {"dx", "max_gap", "edges", "psd_fit", "hdc_range", "length", "rms", "rolloff", "cutoff",
+       "wavelength", "height"}
+
+
+def check_options(args: argparse.Namespace) -> None:
+    """Raise an :class:`InputError` naming the first impossible option as typed
+    (``--dx -1: expected a sample spacing > 0 in mm``) before a surface command reads anything."""
+    for name, flag, what, bounds in _NUMERIC_OPTIONS:
+        value = getattr(args, name, None)
+        if isinstance(value, str):  # ``surface default --cutoff slope``: checked by parse_cutoff
+            continue
+        V.option(flag, value, what=what, unit="mm" if name in _MM else "", **bounds)
+    for name, flag, what in (("edges", "--edges", "at least two band edges in mm, descending"),
+                             ("psd_fit", "--psd-fit", "LAMBDA_LONG > LAMBDA_SHORT"),
+                             ("hdc_range", "--hdc-range", "LO < HI")):
+        value = getattr(args, name, None)
+        if value is None:
+            continue
+        descending = name != "hdc_range"
+        steps = np.diff(value)
+        if len(value) < 2 or not (np.all(steps < 0) if descending else np.all(steps > 0)):
+            raise InputError(f"{flag} {' '.join(f'{v:g}' for v in value)}: expected {what}")
+    units = getattr(args, "units", None)
+    if units is not None and units != "auto":
+        from rubberfriction.driver.surfaces.profile import UNIT_TO_MM, unit_factor
+
+        try:
+            unit_factor(units)
+        except InputError:
+            raise InputError(f"--units {units}: expected 'auto' or one of "
+                             f"{', '.join(sorted(set(UNIT_TO_MM)))}") from None
+
+
+def _options_in_errors(command: Callable[[argparse.Namespace], int]
+                       ) -> Callable[[argparse.Namespace], int]:
+    """Run a surface command after checking its options; an input error's message names the
+    options as typed here (the ``rubberfriction`` command prints it as one line)."""
+    @functools.wraps(command)
+    def run(args: argparse.Namespace) -> int:
+        check_options(args)
+        try:
+            return command(args)
+        except InputError as err:
+            raise type(err)(option_message(str(err))) from None
+
+    return run
 
 
 def _jsonable(obj: Any) -> Any:
@@ -192,16 +288,12 @@ def _cmd_split(args: argparse.Namespace) -> int:
 def _cmd_road(args: argparse.Namespace) -> int:
     """``surface default`` / ``surface four-scale``: a shipped road cut by the lowest-scale rule,
     its table, samples and (``--plot``) band PSDs with the cumulative slope."""
-    from rubberfriction.driver.surfaces import DEFAULT_EDGES, SurfaceError, default_road
+    from rubberfriction.driver.surfaces import DEFAULT_EDGES, default_road
     from rubberfriction.driver.surfaces.cutoff import apply_cutoff, parse_cutoff
     from rubberfriction.driver.surfaces.four_scale import FOUR_SCALE_EDGES, four_scale_road
     from rubberfriction.driver.surfaces.plots import plot_road_scales
 
-    try:
-        rule = parse_cutoff(args.cutoff, args.max_slope)
-    except SurfaceError as err:
-        print(f"rubberfriction surface {args.surface_command}: --{err}")
-        return 2
+    rule = parse_cutoff(args.cutoff, args.max_slope)  # a bad one: "--cutoff x: expected ..."
     if args.surface_command == "four-scale":
         road, report = apply_cutoff(four_scale_road, FOUR_SCALE_EDGES, rule)
     else:
@@ -277,7 +369,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         "with --edges")
     a.add_argument("--plot", help="PNG with profile, PSD and HDC")
     a.add_argument("--json", help="write the results as JSON")
-    a.set_defaults(func=_cmd_analyse)
+    a.set_defaults(func=_options_in_errors(_cmd_analyse))
 
     s = sub.add_parser("split", help="band-pass scales and periodic samples")
     s.add_argument("files", nargs="+", help="one or several measurements of the same surface")
@@ -290,7 +382,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="sample centres in the top fraction of the carrier (default 0.2)")
     s.add_argument("--filter", choices=("ideal", "cosine"), default="ideal")
     s.add_argument("--out", required=True, help="output folder")
-    s.set_defaults(func=_cmd_split)
+    s.set_defaults(func=_options_in_errors(_cmd_split))
 
     for name, what in (("default", "the embedded default road (CAPTIF + generated extension)"),
                        ("four-scale", "the synthetic four-scale road (driver.surfaces.four_scale)")):
@@ -306,7 +398,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         d.add_argument("--max-slope", type=float, default=1.3,
                        help="cumulative 2D rms slope of the slope cut-off (default 1.3)")
         d.add_argument("--plot", help="PNG: band PSDs and the cumulative slope")
-        d.set_defaults(func=_cmd_road)
+        d.set_defaults(func=_options_in_errors(_cmd_road))
 
     g = sub.add_parser("generate", help="synthetic profiles to CSV")
     g.add_argument("kind", choices=("self-affine", "two-sine", "sawtooth"))
@@ -322,7 +414,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     g.add_argument("--height", type=float, default=1.0, help="sawtooth peak to valley (mm)")
     g.add_argument("--orientation", choices=("sharp", "smooth"), default="sharp")
     g.add_argument("--steep-fraction", type=float, default=0.1)
-    g.set_defaults(func=_cmd_generate)
+    g.set_defaults(func=_options_in_errors(_cmd_generate))
 
     c = sub.add_parser("compare", help="fig. 6.5: HDC sinusoids vs PSD reconstruction vs filtering")
     c.add_argument("file")
@@ -330,4 +422,4 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     c.add_argument("--edges", nargs="+", type=float, required=True)
     c.add_argument("--seed", type=int, default=0)
     c.add_argument("--plot", help="PNG")
-    c.set_defaults(func=_cmd_compare)
+    c.set_defaults(func=_options_in_errors(_cmd_compare))

@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from rubberfriction import validation as V
 from rubberfriction.driver.multiscale.baseline import (
     DEFAULT_N,
     DEFAULT_PRESSURE,
@@ -73,8 +74,31 @@ def _adhesion(args: argparse.Namespace, law: BellLaw | None) -> BellLaw | None:
     return law
 
 
+def check_options(args: argparse.Namespace) -> None:
+    """Raise a :class:`TheoryInputError` naming the first impossible option as typed
+    (``--pressure -1: expected a pressure > 0 in MPa``)."""
+    e = {"error": TheoryInputError}
+    V.option("--pressure", args.pressure, what="a pressure", above=0.0, unit="MPa", **e)
+    V.option("--velocities", args.velocities, what="sliding speeds", above=0.0, unit="mm/s", **e)
+    V.option("--vmin", args.vmin, what="a speed", above=0.0, unit="mm/s", **e)
+    V.option("--vmax", args.vmax, what="a speed", above=0.0, unit="mm/s", **e)
+    V.option("--n", args.n, what="a number of speeds", minimum=1, **e)
+    V.option("--temperature", args.temperature, what="a temperature", above=0.0, unit="K", **e)
+    V.option("--lambda-max", args.lambda_max, what="a wavelength", above=0.0, unit="mm", **e)
+    V.option("--lambda-min", args.lambda_min, what="a wavelength", above=0.0, unit="mm", **e)
+    V.option("--gamma", args.gamma, what="a factor", minimum=0.0, maximum=1.0, **e)
+    V.option("--nu", args.nu, what="a Poisson ratio", above=-1.0, maximum=0.5, **e)
+    V.option("--alpha", args.alpha, what="an adhesion share", minimum=0.0, maximum=1.0, **e)
+    V.option("--adhesion", args.adhesion, what="TAU0 (MPa), C, V0 (mm/s)", above=0.0, **e)
+    if args.lambda_max is not None and args.lambda_min is not None \
+            and not args.lambda_min < args.lambda_max:
+        raise TheoryInputError(f"--lambda-max {args.lambda_max:g} --lambda-min "
+                               f"{args.lambda_min:g}: expected lambda-min < lambda-max")
+
+
 def request_from_args(args: argparse.Namespace) -> TheoryRequest:
     """The request of the command line: the scene (if given) with the options applied."""
+    check_options(args)
     overrides: dict[str, Any] = {
         "compound": args.compound, "pressure": args.pressure, "velocities": _velocities(args),
         "T0": args.temperature, "lambda_max": args.lambda_max, "lambda_min": args.lambda_min,

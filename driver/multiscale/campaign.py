@@ -169,6 +169,30 @@ def _comm() -> Any:
     return MPI.COMM_WORLD
 
 
+def _on_rank0(make: Callable[[], Any], comm: Any) -> Any:
+    """``make()`` on rank 0 (None elsewhere); its error reaches every rank (an input error as a
+    SceneError with the same message, so the command prints one line on rank 0 and the other
+    ranks stop quietly), like :func:`open_store`."""
+    rank, size = comm.Get_rank(), comm.Get_size()
+    value, err = None, None
+    if rank == 0:
+        try:
+            value = make()
+        except Exception as e:  # noqa: BLE001 -- shared with the other ranks below
+            err = e
+    if size > 1:
+        shared = comm.bcast(None if err is None else (isinstance(err, InputError), str(err)),
+                            root=0)
+        if shared is not None and rank != 0:
+            is_input, message = shared
+            if is_input:
+                raise SceneError(message)
+            raise RuntimeError(f"rank 0 could not prepare the campaign: {message}")
+    if err is not None:
+        raise err
+    return value
+
+
 def open_store(out: Path, comm: Any, fresh: bool = False,
                folder: Path | None = None) -> Store:
     """The campaign store ``<out>/store`` (or ``folder``); rank 0 takes the campaign lock (and
@@ -239,6 +263,11 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
     reports = RunReports()
     runner, timeout = runner_and_timeout(scene, runner, reports)  # fails early, on all ranks
     started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    # compounds and scales before the output folder: bad material data or a surface file that
+    # cannot give the samples is an input error that leaves no (empty) store behind
+    t0 = time.perf_counter()  # the campaign's wall time includes them, as before
+    inputs = _on_rank0(lambda: (load_compounds(scene), build_scales(
+        scene, max(scene.samples.pressure, scene.samples.friction))), comm)
     store = open_store(out, comm, fresh=fresh, folder=store_folder)
     try:
         executor = Executor(store, runner, retry_failed=retry_failed,
@@ -248,11 +277,10 @@ def run_scene(scene: Scene, *, output: str | Path | None = None, quiet: bool = F
         holder: dict[str, Any] = {}
 
         def planner_factory() -> CampaignPlanner:
-            n = max(scene.samples.pressure, scene.samples.friction)
-            holder["scales"] = scales = build_scales(scene, n)
-            return make_planner(scene, scales, SpecBuilder(scene, load_compounds(scene)), laws)
+            assert inputs is not None  # rank 0
+            compounds, holder["scales"] = inputs
+            return make_planner(scene, holder["scales"], SpecBuilder(scene, compounds), laws)
 
-        t0 = time.perf_counter()
         planner, outcomes = run_farm(planner_factory, executor, progress, comm)
         if rank != 0:
             return None

@@ -133,11 +133,13 @@ SCHEMA: dict[str, dict[str, Key]] = {
     "conditions": {
         "compounds": Key("strs", ["tread_default"], "compound names (forms/data) or TOML files "
                          "(relative to the scene file)", nonempty=True),
-        "pressures": Key("floats", [0.3], "global nominal pressures p in MPa", nonempty=True,
-                         above=0.0),
+        "pressures": Key("floats", [0.3], "global nominal pressures p in MPa (at most 1000 MPa: "
+                         "a tyre presses the road with about 0.2-1 MPa, rubber's moduli are a few "
+                         "MPa)", nonempty=True, above=0.0, maximum=1000.0),
         "velocities": Key("floats", [1.0, 10.0, 100.0],
                           "global sliding velocities v in mm/s (full slip: "
-                          "the same v on every scale, thesis 6.3.2)", nonempty=True, above=0.0),
+                          "the same v on every scale, thesis 6.3.2; at most 1e5 mm/s = 100 m/s, "
+                          "beyond any sliding tyre)", nonempty=True, above=0.0, maximum=1e5),
         "T0": Key("opt_float", None, "temperature T0 (unit: T0_unit); omitted: the compound's WLF "
                   "reference temperature"),
         "T0_unit": Key("str", "K", "unit of T0", choices=("K", "degC")),

@@ -27,7 +27,7 @@ import numpy as np
 from scipy.ndimage import median_filter
 
 from rubberfriction.driver.surfaces.errors import DefectError
-from rubberfriction.driver.surfaces.profile import Profile
+from rubberfriction.driver.surfaces.profile import UNIFORM_RTOL, Profile
 
 #: Heights equal to one of these are dropouts (common "no data" codes of profilometers).
 DEFAULT_SENTINELS: tuple[float, ...] = (-9999.0, 9999.0, -99999.0, 99999.0, -999999.0, 999999.0)
@@ -182,6 +182,32 @@ def find_outliers(
     return glob, spike
 
 
+#: A uniform grid of more than this many points per row of the file is not a scan with missing
+#: rows but a wrong position column (or units): its positions span many spacings.
+MAX_GRID_POINTS_PER_ROW = 100
+
+
+def _check_grid(n: float, x: np.ndarray, dx: float) -> None:
+    """Refuse a uniform grid far larger than the scan (it would exhaust memory, or numpy's
+    'array is too big'): the positions are not a line scan's positions.  Refuse positions whose
+    offset is so large that double precision cannot hold the spacing uniform to UNIFORM_RTOL
+    (x ~ 1.7e9 mm in steps of 1e-3 mm): every analysis would fail later with 'spacing is not
+    uniform'."""
+    if n > MAX_GRID_POINTS_PER_ROW * x.size:
+        raise DefectError(
+            f"positions x = {x[0]:.6g} .. {x[-1]:.6g} with a spacing of {dx:.3g} would need a "
+            f"uniform grid of {float(n):.3g} points for {x.size} rows: expected a position column "
+            "of roughly even spacing; check x_col= and units="
+        )
+    largest = float(max(abs(x[0]), abs(x[-1])))
+    if 4.0 * np.spacing(largest) > UNIFORM_RTOL * dx:
+        raise DefectError(
+            f"positions x = {x[0]:.15g} .. {x[-1]:.15g} with a spacing of {dx:.3g}: the offset is "
+            "too large for the spacing in double precision; expected positions from near 0 "
+            "(subtract the first one), or check x_col= and units="
+        )
+
+
 def resample_uniform(
     x: np.ndarray,
     h: np.ndarray,
@@ -226,6 +252,7 @@ def resample_uniform(
         dev = float(np.max(np.abs(x - (a + b * i))))
         if np.all(np.diff(i) > 0) and i[0] == 0 and dev <= snap_tolerance * b:
             n = int(i[-1]) + 1
+            _check_grid(n, x, b)
             hu = np.full(n, np.nan)
             hu[i] = h
             xu = a + b * np.arange(n)
@@ -235,6 +262,7 @@ def resample_uniform(
                 info["note"] = f"{n - x.size} grid positions had no row; they are dropouts"
             return xu, hu, info
     n = int(np.floor((x[-1] - x[0]) / dx0 + 1e-9)) + 1
+    _check_grid(n, x, dx0)
     xu = x[0] + dx0 * np.arange(n)
     hu = np.interp(xu, x, h)
     nan = ~np.isfinite(h)
@@ -311,7 +339,10 @@ def clean_profile(
         report.spacing = {"method": "uniform", "dx": profile.dx, "max_deviation": 0.0,
                           "missing_rows": 0}
     else:
-        x, h, report.spacing = resample_uniform(profile.x, h, dx)
+        try:
+            x, h, report.spacing = resample_uniform(profile.x, h, dx)
+        except DefectError as err:
+            raise DefectError(f"{profile.source or 'profile'}: {err}") from None
         if "note" in report.spacing:
             report.notes.append(report.spacing["note"])
     dxu = float(report.spacing["dx"])

@@ -111,9 +111,12 @@ def _detect_header(lines: list[str], delimiter: str | None, need: int = 3) -> in
 
 
 def _column_index(spec: int | str, names: list[str], what: str) -> int:
+    """The 0-based index of column ``spec`` (an index or a header name) of the ``what`` (x or h)
+    column; a bad one is named as the keyword argument ``x_col`` / ``h_col``."""
     if isinstance(spec, (int, np.integer)):
         if not 0 <= spec < max(len(names), 1) and names:
-            raise ProfileFormatError(f"{what} column {spec} does not exist ({len(names)} columns)")
+            raise ProfileFormatError(f"{what}_col = {spec}: expected a column index from 0 to "
+                                     f"{len(names) - 1} ({len(names)} columns)")
         return int(spec)
     key = spec.strip().lower()
     for i, nm in enumerate(names):
@@ -122,7 +125,8 @@ def _column_index(spec: int | str, names: list[str], what: str) -> int:
     for i, nm in enumerate(names):
         if key in nm.lower():
             return i
-    raise ProfileFormatError(f"{what} column {spec!r} not in header columns {names}")
+    raise ProfileFormatError(f"{what}_col = {spec!r}: expected a column index or one of the "
+                             f"header columns {names}")
 
 
 def _guess_columns(names: list[str], ncol: int, first_rows: np.ndarray) -> tuple[int | None, int]:
@@ -144,7 +148,8 @@ def _guess_columns(names: list[str], ncol: int, first_rows: np.ndarray) -> tuple
         if integer and np.all(np.diff(idx) > 0):
             return 1, 2  # point number, x, h (CAPTIF layout)
     raise ProfileFormatError(
-        f"cannot tell which of the {ncol} columns are x and h; pass x_col= and h_col="
+        f"cannot tell which of the {ncol} columns are x and h; name them in a header line "
+        "(e.g. 'x, h, other') or pass x_col= and h_col="
     )
 
 
@@ -215,14 +220,21 @@ def read_text(
     if data.shape[0] == 0:
         raise ProfileFormatError(f"{path}: no data rows")
     if x_col is None and h_col is None:
-        xi, hi = _guess_columns(names, data.shape[1], data[: min(50, data.shape[0])])
+        try:
+            xi, hi = _guess_columns(names, data.shape[1], data[: min(50, data.shape[0])])
+        except ProfileFormatError as err:
+            raise ProfileFormatError(f"{path}: {err}") from None
     else:
-        hi = _column_index(h_col if h_col is not None else data.shape[1] - 1, names, "h")
-        xi = None if x_col is None else _column_index(x_col, names, "x")
+        try:
+            hi = _column_index(h_col if h_col is not None else data.shape[1] - 1, names, "h")
+            xi = None if x_col is None else _column_index(x_col, names, "x")
+        except ProfileFormatError as err:
+            raise ProfileFormatError(f"{path}: {err}") from None
     for c, what in ((xi, "x"), (hi, "h")):
         if c is not None and not 0 <= c < data.shape[1]:
             raise ProfileFormatError(
-                f"{path}: {what} column {c} does not exist ({data.shape[1]} columns)"
+                f"{path}: {what}_col = {c}: expected a column index from 0 to "
+                f"{data.shape[1] - 1} ({data.shape[1]} columns)"
             )
     hunit = _unit_from_name(names[hi]) if names else None
     xunit = _unit_from_name(names[xi]) if (names and xi is not None) else None
@@ -370,7 +382,10 @@ def load_profile(
     else:
         x, h, info = read_text(path, delimiter=delimiter, skiprows=skiprows, x_col=x_col,
                                h_col=h_col)
-    xu, hu, unit_note = _resolve_units(units, info.get("header_units", (None, None)))
+    try:
+        xu, hu, unit_note = _resolve_units(units, info.get("header_units", (None, None)))
+    except ProfileFormatError as err:
+        raise ProfileFormatError(f"{path}: {err}") from None
     info["units_in_file"] = (xu, hu)
     info["units_note"] = unit_note
     if x is None:

@@ -170,3 +170,35 @@ def table(where: str, value: Any, allowed: Iterable[str], required: Iterable[str
     if missing:
         raise error(f"{where}: missing key(s) {missing}")
     return value
+
+
+def _typed(value: Any) -> str:
+    """A command-line value as the user typed it (``-1`` rather than ``-1.0``)."""
+    if isinstance(value, (list, tuple)):
+        return " ".join(_typed(v) for v in value)
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value)
+
+
+def option(flag: str, value: Any, *, what: str, unit: str = "", minimum: float | None = None,
+           above: float | None = None, maximum: float | None = None, below: float | None = None,
+           error: type[InputError] = InputError) -> Any:
+    """A command-line option's value (a number or a list of numbers) within bounds, else
+    ``error("<flag> <value as typed>: expected <what> > 0 <unit>")``: the option named as the user
+    typed it (``--R -1: expected a radius > 0 mm``).  None (option not given) passes."""
+    if value is None:
+        return None
+    values = list(value) if isinstance(value, (list, tuple)) else [value]
+    tests = ((minimum, ">=", lambda v, b: v >= b), (above, ">", lambda v, b: v > b),
+             (maximum, "<=", lambda v, b: v <= b), (below, "<", lambda v, b: v < b))
+    bounds = [f"{op} {b:g}" for b, op, _ in tests if b is not None]
+    expected = f"{what} {' and '.join(bounds)}".strip() + _unit(unit)
+    for v in values:
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
+            raise error(f"{flag} {_typed(value)}: expected {expected}")
+        if not math.isfinite(float(v)):
+            raise error(f"{flag} {_typed(value)}: expected a finite value, {expected}")
+        if not all(ok(float(v), b) for b, _, ok in tests if b is not None):
+            raise error(f"{flag} {_typed(value)}: expected {expected}")
+    return value
