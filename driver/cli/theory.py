@@ -108,8 +108,12 @@ def request_from_args(args: argparse.Namespace) -> TheoryRequest:
     else:
         req = TheoryRequest(**{k: v for k, v in overrides.items() if v is not None})
     if args.surface:  # a profile file or the default road instead of the scene's surface
-        edges = req.edges if args.surface in ("default", "default_road", "four_scale") else None
-        req = replace(req, surface=args.surface, files=(), sines=(), edges=edges)
+        road = args.surface in ("default", "default_road", "four_scale")
+        edges = req.edges if road else None
+        # the scene's analysis range belongs to its surface: a profile file gets its own
+        # (or the one given with --lambda-max/--lambda-min)
+        lam = {} if road else {"lambda_max": args.lambda_max, "lambda_min": args.lambda_min}
+        req = replace(req, surface=args.surface, files=(), sines=(), edges=edges, **lam)
     return replace(req, adhesion=_adhesion(args, req.adhesion))
 
 
