@@ -120,5 +120,5 @@ def test_version_option_prints_the_package_version(capsys) -> None:
 
     with pytest.raises(SystemExit) as exc:
         main(["--version"])
-    assert exc.value.code == 0 and capsys.readouterr().out.split()[:2] == ["rubberfriction",
-                                                                         __version__]
+    assert exc.value.code == 0
+    assert capsys.readouterr().out.split()[:2] == ["rubberfriction", __version__]

@@ -384,8 +384,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     s.add_argument("--out", required=True, help="output folder")
     s.set_defaults(func=_options_in_errors(_cmd_split))
 
-    for name, what in (("default", "the embedded default road (CAPTIF + generated extension)"),
-                       ("four-scale", "the synthetic four-scale road (driver.surfaces.four_scale)")):
+    roads = (("default", "the embedded default road (CAPTIF + generated extension)"),
+             ("four-scale", "the synthetic four-scale road (driver.surfaces.four_scale)"))
+    for name, what in roads:
         d = sub.add_parser(name, help=f"{what}: its scales under the cut-off rule, samples")
         d.add_argument("--out", required=True, help="output folder")
         d.add_argument("--samples", type=int, default=10)
