@@ -27,6 +27,8 @@ CASES: dict[str, tuple[str, str]] = {
                            "steady road temperature under a sliding block vs Jaeger's moving band source"),
     "pressure-modes": ("rubberfriction.driver.verification.pressure_modes",
                        "spurious pressure modes of Q1P0 and the stabilised Q1P0s in a confined block"),
+    "bem-pressure": ("rubberfriction.driver.verification.bem_pressure",
+                     "frictionless pressure branch on a self-affine profile vs a periodic FFT BEM"),
     "relaxation": ("rubberfriction.driver.verification.relaxation",
                    "bulk stress relaxation and harmonic shear vs the Prony closed form"),
 }
