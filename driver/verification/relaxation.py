@@ -85,6 +85,19 @@ def ramp_hold(hyperelastic: MooneyRivlin, gamma, tau, *, dt: float, t_ramp: floa
     return {"t": np.array(times), "stress": fe, "exact": exact, "max_rel_error": float(err.max())}
 
 
+def _drive(hyperelastic: MooneyRivlin, gamma, tau, scheme: str, omega: float, gamma0: float,
+           per_cycle: int, cycles: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The FE shear cell driven by gamma0 sin(omega t) for ``cycles`` cycles of ``per_cycle``
+    steps: the step end times, the shear stress and the viscous energy of each step."""
+    cell = ShearCell(hyperelastic, gamma, tau, scheme)
+    dt = 2.0 * np.pi / omega / per_cycle
+    t = dt * np.arange(1, per_cycle * cycles + 1)
+    stress, energy = np.empty_like(t), np.empty_like(t)
+    for i, ti in enumerate(t):
+        stress[i], energy[i] = cell.step(gamma0 * np.sin(omega * ti), dt)
+    return t, stress, energy
+
+
 def harmonic_shear(hyperelastic: MooneyRivlin, gamma, tau, *, omega: float, per_cycle: int = 200,
                    cycles: int = 6, gamma0: float = 1e-5, scheme: str = "linear") -> dict:
     """G', G'' and energy per cycle from the FE response to gamma0 sin(omega t)."""
@@ -94,12 +107,8 @@ def harmonic_shear(hyperelastic: MooneyRivlin, gamma, tau, *, omega: float, per_
     wt = omega * tau
     G_storage = G_inf * (1.0 + np.sum(g * wt**2 / (1.0 + wt**2)))
     G_loss = G_inf * np.sum(g * wt / (1.0 + wt**2))
-    cell = ShearCell(hyperelastic, gamma, tau, scheme)
-    dt = 2.0 * np.pi / omega / per_cycle
-    t = dt * np.arange(1, per_cycle * cycles + 1)
-    stress, energy = np.empty_like(t), np.empty_like(t)
-    for i, ti in enumerate(t):
-        stress[i], energy[i] = cell.step(gamma0 * np.sin(omega * ti), dt)
+    t, stress, energy = _drive(hyperelastic, gamma, tau, scheme, omega, gamma0, per_cycle,
+                               cycles)
     A = np.column_stack([np.sin(omega * t), np.cos(omega * t)] + [np.exp(-t / tk) for tk in tau])
     coef = np.linalg.lstsq(A, stress, rcond=None)[0]
     gam = gamma0 * np.sin(omega * t[-per_cycle - 1:])
@@ -164,12 +173,8 @@ def finite_harmonic_shear(hyperelastic: MooneyRivlin, gamma, tau, *, omega: floa
     the viscous energy the history reports (``ViscoelasticHistory.commit_step``) and the loop
     area oint sigma_xz dgamma (the work of the boundary, sigma_xz = P_xz for simple shear),
     per unit volume (the cell is the unit square)."""
-    cell = ShearCell(hyperelastic, gamma, tau, scheme)
-    dt = 2.0 * np.pi / omega / per_cycle
-    t = dt * np.arange(1, per_cycle * cycles + 1)
-    stress, energy = np.empty_like(t), np.empty_like(t)
-    for i, ti in enumerate(t):
-        stress[i], energy[i] = cell.step(gamma0 * np.sin(omega * ti), dt)
+    t, stress, energy = _drive(hyperelastic, gamma, tau, scheme, omega, gamma0, per_cycle,
+                               cycles)
     gam = gamma0 * np.sin(omega * t[-per_cycle - 1:])
     sig = stress[-per_cycle - 1:]
     return {"energy_per_cycle": float(energy[-per_cycle:].sum()),
