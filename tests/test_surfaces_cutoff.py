@@ -212,3 +212,14 @@ def test_a_finer_cut_of_the_four_scale_road_continues_the_same_road() -> None:
         assert s.surface.cutoff_report.cumulative_slope <= m * (1 + 1e-6)
     assert kept[1.0] == pytest.approx(0.0111, rel=0.01) and kept[1.3] == 0.003
     assert 0.0002 < kept[2.0] < 0.003
+
+
+def test_cli_four_scale_road_writes_its_table_samples_and_plot(tmp_path, capsys) -> None:
+    from rubberfriction.driver.cli.main import main
+
+    out = tmp_path / "fs"
+    assert main(["surface", "four-scale", "--out", str(out), "--samples", "1", "--cutoff",
+                 "0.01", "--plot", str(out / "scales.png")]) == 0
+    text = capsys.readouterr().out
+    assert "shortened to 0.04-0.01 mm: the stated cut-off" in text
+    assert len(list(out.glob("*_sample*.csv"))) == 4 and (out / "scales.png").stat().st_size > 1000
