@@ -176,7 +176,8 @@ def moving_heat_source(*, q: float = 1.0, length: float = 2.0, peclet: tuple = (
         profiles[f"{pe:g}"] = {"x": xs.tolist(), "computed": dT.tolist(),
                                "analytical": exact.tolist()}
     params = {k: v for k, v in locals().items()
-              if k in ("q", "length", "peclet", "T0", "road", "elements", "first_layer", "tolerance")}
+              if k in ("q", "length", "peclet", "T0", "road", "elements", "first_layer",
+                       "tolerance")}
     return {"case": "moving-heat-source", "parameters": params, "checks": checks, "notes": notes,
             "profiles": profiles}
 
