@@ -44,7 +44,8 @@ COLUMNS = (("dofs", "dofs", "{:>8d}"), ("iterations", "its", "{:>4d}"),
 
 def run_size(n: int, element: str, compound: str) -> dict:
     """One compression step of an n x n block; CPU times of its parts (see the module doc)."""
-    m = dmesh.create_rectangle(MPI.COMM_SELF, [[0.0, 0.0], [10.0, 10.0]], [n, n], dmesh.CellType.quadrilateral)
+    m = dmesh.create_rectangle(MPI.COMM_SELF, [[0.0, 0.0], [10.0, 10.0]], [n, n],
+                               dmesh.CellType.quadrilateral)
     tags = dmesh.meshtags(m, 1, np.array([], np.int32), np.array([], np.int32))
     t0 = time.perf_counter()
     sp = SolidProblem(m, tags, load_compound(compound), SolidSettings(element=element))

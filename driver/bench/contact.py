@@ -28,35 +28,39 @@ from rubberfriction.driver.fe.newton import NewtonSolver
 from rubberfriction.driver.verification import contact_cases as cc
 
 
-def rough_profile(n: int, length: float, rms: float, seed: int = 1, k_max: int | None = None) -> np.ndarray:
+def rough_profile(n: int, length: float, rms: float, seed: int = 1,
+                  k_max: int | None = None) -> np.ndarray:
     """One period (n points) of a random periodic profile with a decaying spectrum (wave numbers
     1 .. k_max per period, default n/4)."""
     rng = np.random.default_rng(seed)
     k = np.arange(n // 2 + 1)
     spec = np.zeros(k.size, complex)
     band = (k >= 1) & (k < (k_max or n // 4))
-    spec[band] = k[band] ** -1.5 * np.exp(2j * np.pi * rng.random(band.sum())) * rng.standard_normal(band.sum())
+    spec[band] = (k[band] ** -1.5 * np.exp(2j * np.pi * rng.random(band.sum()))
+                  * rng.standard_normal(band.sum()))
     h = np.fft.irfft(spec, n)
     x = np.arange(n) * length / n
     return np.column_stack([x, rms * h / h.std()])
 
 
 def bench_scaling(n: int, repeat: int = 3) -> dict:
-
-
     L = 1.0
     V = rough_profile(4 * n, L, 0.002)
     x = np.linspace(0.0, L, n + 1)
     z = V[:, 1].max() - 0.002  # penetrates the higher asperities
-    slave = SlaveSurface(np.column_stack([x, np.full(n + 1, z)]), np.arange(2 * (n + 1)).reshape(-1, 2),
+    slave = SlaveSurface(np.column_stack([x, np.full(n + 1, z)]),
+                         np.arange(2 * (n + 1)).reshape(-1, 2),
                          np.column_stack([np.arange(n), np.arange(1, n + 1)]))
-    c = Contact(slave, RigidMaster(V, L), friction=0.5, penalty=PenaltySettings(c_N=1e4), search_radius=0.01)
+    c = Contact(slave, RigidMaster(V, L), friction=0.5, penalty=PenaltySettings(c_N=1e4),
+                search_radius=0.01)
     ndof = 2 * (n + 1)
     rows, cols = c.sparsity_pairs()
     order = np.lexsort((cols, rows))
     rows, cols = rows[order], cols[order]
-    indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=ndof))]).astype(PETSc.IntType)
-    A = PETSc.Mat().createAIJ((ndof, ndof), csr=(indptr, cols, np.zeros(cols.size)), comm=PETSc.COMM_SELF)
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=ndof))]).astype(
+        PETSc.IntType)
+    A = PETSc.Mat().createAIJ((ndof, ndof), csr=(indptr, cols, np.zeros(cols.size)),
+                              comm=PETSc.COMM_SELF)
     A.assemble()
     b = PETSc.Vec().createSeq(ndof, comm=PETSc.COMM_SELF)
     u = np.zeros(ndof)
@@ -77,16 +81,18 @@ def bench_scaling(n: int, repeat: int = 3) -> dict:
     return best
 
 
-def bench_newton_share(nx: int, steps: int = 3, friction=0.5, step_fraction: float = 0.5, penalty=None) -> dict:
+def bench_newton_share(nx: int, steps: int = 3, friction=0.5, step_fraction: float = 0.5,
+                       penalty=None) -> dict:
 
     L = 1.0
-    body, sp, spec, top_x, top_z = cc._block_setup(E=6.0, nu=0.4999, length=L, height=L, n_contact=nx,
-                                                   periodic=True, element="Q1P0")
+    body, sp, spec, top_x, top_z = cc._block_setup(E=6.0, nu=0.4999, length=L, height=L,
+                                                   n_contact=nx, periodic=True, element="Q1P0")
     V = rough_profile(8 * nx, L, 0.005, k_max=max(2, nx // 8))  # >= 8 slave elements per wavelength
     V[:, 1] -= V[:, 1].max()
     cmap = ConstraintMap(spec)
-    contact = Contact(SlaveSurface.from_boundary(sp.boundary(1), periodic_seam=True), RigidMaster(V, L),
-                      friction=friction, E_eff=cc.plane_strain_modulus(6.0, 0.4999), penalty=penalty,
+    contact = Contact(SlaveSurface.from_boundary(sp.boundary(1), periodic_seam=True),
+                      RigidMaster(V, L), friction=friction,
+                      E_eff=cc.plane_strain_modulus(6.0, 0.4999), penalty=penalty,
                       comm=body.mesh.comm)
     timer = {"contact": 0.0, "calls": 0}
     inner = contact.hook
@@ -96,7 +102,6 @@ def bench_newton_share(nx: int, steps: int = 3, friction=0.5, step_fraction: flo
         inner(x, A, b)
         timer["contact"] += time.perf_counter() - t0
         timer["calls"] += 1
-
 
     pb = sp.nonlinear_problem(cmap, hooks=[timed_hook], extra_couplings=contact.couplings())
     solver = NewtonSolver(pb, cc.newton_settings(rtol=1e-9, max_iterations=40), force_scale=0.1 * L)
@@ -125,32 +130,39 @@ def bench_newton_share(nx: int, steps: int = 3, friction=0.5, step_fraction: flo
     per_it_assemble = t_asm / calls  # includes the contact hook
     per_it_solve = t_sol / max(its, 1)
     total = per_it_assemble + per_it_solve
-    return {"cells": nx * nx, "dofs": cc.n_full(sp), "contact_segments": nx, "master_segments": V.shape[0],
-            "iterations": its, "contact_ms": 1e3 * per_it_contact,
-            "bulk_assembly_ms": 1e3 * (per_it_assemble - per_it_contact), "solve_ms": 1e3 * per_it_solve,
+    return {"cells": nx * nx, "dofs": cc.n_full(sp), "contact_segments": nx,
+            "master_segments": V.shape[0], "iterations": its, "contact_ms": 1e3 * per_it_contact,
+            "bulk_assembly_ms": 1e3 * (per_it_assemble - per_it_contact),
+            "solve_ms": 1e3 * per_it_solve,
             "contact_share": per_it_contact / total}
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="rubberfriction bench contact", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000, 100000], help="slave segments")
-    ap.add_argument("--blocks", type=int, nargs="+", default=[32, 64], help="block elements per side")
-    ap.add_argument("--hertz", type=int, nargs="+", default=[4, 8, 16, 32], help="elements per Hertz half-width")
+    ap.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000, 100000],
+                    help="slave segments")
+    ap.add_argument("--blocks", type=int, nargs="+", default=[32, 64],
+                    help="block elements per side")
+    ap.add_argument("--hertz", type=int, nargs="+", default=[4, 8, 16, 32],
+                    help="elements per Hertz half-width")
     args = ap.parse_args(argv)
 
-    print("1. contact evaluation + PETSc assembly vs contact segments (mortar, friction, periodic rough master)")
-    print(f"{'slave':>8} {'master':>8} {'pairs':>8} {'active':>7} {'search ms':>10} {'integr. ms':>11} "
-          f"{'PETSc ms':>9} {'total ms':>9} {'us/segment':>11}")
+    print("1. contact evaluation + PETSc assembly vs contact segments "
+          "(mortar, friction, periodic rough master)")
+    print(f"{'slave':>8} {'master':>8} {'pairs':>8} {'active':>7} {'search ms':>10} "
+          f"{'integr. ms':>11} {'PETSc ms':>9} {'total ms':>9} {'us/segment':>11}")
     for n in args.sizes:
         r = bench_scaling(n)
-        print(f"{r['slave']:>8} {r['master']:>8} {r['pairs']:>8} {r['active']:>7} {1e3 * r['search']:>10.2f} "
-              f"{1e3 * r['integration']:>11.2f} {1e3 * r['assembly']:>9.2f} {1e3 * r['total']:>9.2f} "
+        print(f"{r['slave']:>8} {r['master']:>8} {r['pairs']:>8} {r['active']:>7} "
+              f"{1e3 * r['search']:>10.2f} {1e3 * r['integration']:>11.2f} "
+              f"{1e3 * r['assembly']:>9.2f} {1e3 * r['total']:>9.2f} "
               f"{1e6 * r['total'] / r['slave']:>11.2f}")
 
-    print("\n2. share of a Newton iteration in the contact hook (Q1P0 block, periodic, sliding with friction)")
-    print(f"{'cells':>7} {'dofs':>7} {'contact seg':>11} {'its':>4} {'contact ms':>11} {'bulk asm ms':>12} "
-          f"{'LU ms':>8} {'contact share':>14}")
+    print("\n2. share of a Newton iteration in the contact hook "
+          "(Q1P0 block, periodic, sliding with friction)")
+    print(f"{'cells':>7} {'dofs':>7} {'contact seg':>11} {'its':>4} {'contact ms':>11} "
+          f"{'bulk asm ms':>12} {'LU ms':>8} {'contact share':>14}")
     for nx in args.blocks:
         r = bench_newton_share(nx)
         print(f"{r['cells']:>7} {r['dofs']:>7} {r['contact_segments']:>11} {r['iterations']:>4} "
@@ -160,10 +172,11 @@ def main(argv: list[str] | None = None) -> int:
     print("\n3. Hertz (R = 10 mm, E = 6 MPa, nu = 0.3, a = 0.02 R): error vs wall time")
 
     res = cc.hertz(nu=0.3, elements_per_a=tuple(args.hertz))
-    print(f"{'el./a':>6} {'dofs':>7} {'Newton its':>10} {'wall s':>7} {'err a':>9} {'err p0':>9} {'L2 err p':>9}")
+    print(f"{'el./a':>6} {'dofs':>7} {'Newton its':>10} {'wall s':>7} {'err a':>9} {'err p0':>9} "
+          f"{'L2 err p':>9}")
     for r in res["runs"]:
-        print(f"{r['elements_per_a']:>6.1f} {r['dofs']:>7} {r['newton_iterations']:>10} {r['wall_time']:>7.2f} "
-              f"{r['err_a']:>9.2e} {r['err_p0']:>9.2e} {r['err_l2']:>9.2e}")
+        print(f"{r['elements_per_a']:>6.1f} {r['dofs']:>7} {r['newton_iterations']:>10} "
+              f"{r['wall_time']:>7.2f} {r['err_a']:>9.2e} {r['err_p0']:>9.2e} {r['err_l2']:>9.2e}")
     return 0
 
 

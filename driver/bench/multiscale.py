@@ -215,8 +215,8 @@ def main(argv: list[str] | None = None) -> int:
     env.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
     rows: list[dict] = []
     if not args.skip_default:
-        rows += campaign(f"scene {Path(args.scene).stem}", args.scene, out / "scene", args.ranks, env,
-                         which)
+        rows += campaign(f"scene {Path(args.scene).stem}", args.scene, out / "scene", args.ranks,
+                         env, which)
     if not args.skip_point:
         scene = out / "point.toml"
         scene.write_text(point_scene(args.point_samples, args.point_velocity))

@@ -77,8 +77,10 @@ from rubberfriction.forms.material_files import load_compound
 
 def accuracy(quick: bool) -> None:
     comp = load_compound("tread_default")
-    print("speed-accuracy: viscoelastic full-contact sinusoid (lambda 1 mm, h0 2 um, p 0.1 MPa, v 10 mm/s)")
-    print(f"{'el/lambda':>9} {'step/h':>7} {'mu_force':>11} {'err':>8} {'mu_energy':>11} {'err':>8} {'wall [s]':>9}")
+    print("speed-accuracy: viscoelastic full-contact sinusoid "
+          "(lambda 1 mm, h0 2 um, p 0.1 MPa, v 10 mm/s)")
+    print(f"{'el/lambda':>9} {'step/h':>7} {'mu_force':>11} {'err':>8} {'mu_energy':>11} "
+          f"{'err':>8} {'wall [s]':>9}")
     meshes = (8, 16) if quick else (8, 16, 32)
     steps = (1.0, 0.5) if quick else (1.0, 0.5, 0.25)
     for m in meshes:
@@ -88,7 +90,8 @@ def accuracy(quick: bool) -> None:
             wall = time.perf_counter() - t0
             ex = o["mu_exact"]
             print(f"{m:>9} {f:>7.2f} {o['mu_force']:>11.4e} {abs(o['mu_force'] / ex - 1):>8.2%} "
-                  f"{o['mu_energy']:>11.4e} {abs(o['mu_energy'] / ex - 1):>8.2%} {wall:>9.2f}", flush=True)
+                  f"{o['mu_energy']:>11.4e} {abs(o['mu_energy'] / ex - 1):>8.2%} {wall:>9.2f}",
+                  flush=True)
     print(f"closed form mu = {ex:.4e}")
 
 
@@ -128,16 +131,18 @@ def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str
     print(f"scale {scale} of the {road} road", end="; ")
     print(f"stability sweep on a rough sample: period {sample.period:.4g} mm, rms height "
           f"{sample.rms_height:.3g} mm, rms slope {sample.rms_slope:.3g}, {x.size} segments; "
-          f"penalty alpha {penalty_alpha:g}, element {element}, wall limit {wall_limit:g} s per run")
-    print(f"{'v [m/s]':>8} {'p [MPa]':>8} {'status':>7} {'fallback':>8} {'cutbacks':>8} {'newton':>7} "
-          f"{'wall [s]':>9} {'mu':>9} {'stab.':>7}  reason")
+          f"penalty alpha {penalty_alpha:g}, element {element}, "
+          f"wall limit {wall_limit:g} s per run")
+    print(f"{'v [m/s]':>8} {'p [MPa]':>8} {'status':>7} {'fallback':>8} {'cutbacks':>8} "
+          f"{'newton':>7} {'wall [s]':>9} {'mu':>9} {'stab.':>7}  reason")
     vs, ps = STABILITY_GRIDS["quick" if quick else grid]
     rows = []
     for v in vs:
         for p in ps:
-            spec = SlidingSpec(surface_x=x, surface_h=h, period=sample.period, pressure=p, velocity=v * 1e3,
-                               compound=comp, elements_per_wavelength=8, slide_distance=sample.period,
-                               penalty_alpha=penalty_alpha, element=element)
+            spec = SlidingSpec(surface_x=x, surface_h=h, period=sample.period, pressure=p,
+                               velocity=v * 1e3, compound=comp, elements_per_wavelength=8,
+                               slide_distance=sample.period, penalty_alpha=penalty_alpha,
+                               element=element)
             t0 = time.perf_counter()
             r = run_sliding(spec, wall_limit=wall_limit)
             st, wall = r.stats, time.perf_counter() - t0
@@ -360,7 +365,8 @@ def cpu_split(stats: dict) -> dict[str, float]:
 def iterations(pressure: float, velocity: float, slide_fraction: float, compare_jit: bool,
                element: str = "Q1P0") -> dict:
     """Per-iteration CPU split of one lowest-scale run (module docstring, part 3)."""
-    spec = dataclasses.replace(lowest_scale_spec(pressure, velocity, slide_fraction), element=element)
+    spec = dataclasses.replace(lowest_scale_spec(pressure, velocity, slide_fraction),
+                               element=element)
     print(f"lowest-scale run: micro2 sample 1 of the default scene, period {spec.period:g} mm, "
           f"h_contact {spec.h_contact:g} mm, p {pressure:g} MPa, v {velocity:g} mm/s, slide "
           f"{spec.slide_distance:g} mm, element {element}")
@@ -435,8 +441,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--json", metavar="FILE",
                     help="write the stability rows (or the iteration split) as JSON")
     ap.add_argument("--pressure", type=_number(0.0, strict=True), default=10.0,
-                    help="iterations: mean pressure of the micro2 run [MPa] (10; the default scene's "
-                         "micro2 runs see 6-31)")
+                    help="iterations: mean pressure of the micro2 run [MPa] "
+                         "(10; the default scene's micro2 runs see 6-31)")
     ap.add_argument("--velocity", type=_number(0.0, strict=True), default=100.0,
                     help="iterations: sliding velocity [mm/s] (100)")
     ap.add_argument("--slide-fraction", type=_number(0.0, strict=True), default=0.1,

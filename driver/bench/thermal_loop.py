@@ -54,7 +54,8 @@ N_PARTITIONS = (1, 2, 4, 8)
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--part", choices=("partitions", "divisions", "all"), default="all")
-    p.add_argument("--store", default=None, help="store folder for the divisions study's lower-scale runs")
+    p.add_argument("--store", default=None,
+                   help="store folder for the divisions study's lower-scale runs")
 
 
 def _partitions() -> bool:
@@ -62,14 +63,16 @@ def _partitions() -> bool:
     T0 = 293.15
     L, amp = 0.3, 0.01
     x = np.linspace(0.0, L, 97)[:-1]
-    base = SlidingSpec(surface_x=x, surface_h=amp * np.cos(2 * np.pi * x / L), period=L, pressure=1.5,
-                       velocity=500.0, compound=comp, temperature=T0, h_contact=L / 16, slide_distance=2 * L,
-                       step_length=L / 32)
+    base = SlidingSpec(surface_x=x, surface_h=amp * np.cos(2 * np.pi * x / L), period=L,
+                       pressure=1.5, velocity=500.0, compound=comp, temperature=T0,
+                       h_contact=L / 16, slide_distance=2 * L, step_length=L / 32)
     z = block_levels(L, 0.005, 1.1)
-    print("thermal loop partition study (thesis 8.4.2): micro cell l = h = 0.3 mm, sine amplitude 0.01 mm, "
-          "p 1.5 MPa, v 0.5 m/s, frictionless, tread_default; T(z) = T0 + A exp(-z/d) on macro levels "
+    print("thermal loop partition study (thesis 8.4.2): micro cell l = h = 0.3 mm, "
+          "sine amplitude 0.01 mm, p 1.5 MPa, v 0.5 m/s, frictionless, tread_default; "
+          "T(z) = T0 + A exp(-z/d) on macro levels "
           f"(first 0.005 mm, grading 1.1, {np.count_nonzero(z <= 0.09) - 1} rows above 0.09 mm)")
-    print(f"{'gradient':>10} {'A K':>5} {'d mm':>5} {'n_p':>4} {'T_1 K':>7} {'mu':>9} {'vs finest':>9} {'wall s':>7}")
+    print(f"{'gradient':>10} {'A K':>5} {'d mm':>5} {'n_p':>4} {'T_1 K':>7} {'mu':>9} "
+          f"{'vs finest':>9} {'wall s':>7}")
     ok = True
     for name, (A, d) in GRADIENTS.items():
         prof = TemperatureProfile(z, T0 + A * np.exp(-z / d), np.zeros_like(z), 1)
@@ -80,12 +83,13 @@ def _partitions() -> bool:
             spec = replace(base, temperature_layers=parts.layers, temperature=parts.background)
             t = time.perf_counter()
             res = run_sliding(spec)
-            rows.append((n_p, parts.layers[0][1], res.mu_force if res.ok else np.nan, time.perf_counter() - t))
+            rows.append((n_p, parts.layers[0][1], res.mu_force if res.ok else np.nan,
+                         time.perf_counter() - t))
             ok &= res.ok
         ref = rows[-1][2]
         for n_p, T1, mu, wall in rows:
-            print(f"{name:>10} {A:>5g} {d:>5g} {n_p:>4d} {T1 - T0:>+7.2f} {mu:>9.5f} {100 * (mu / ref - 1):>+8.2f}% "
-                  f"{wall:>7.1f}", flush=True)
+            print(f"{name:>10} {A:>5g} {d:>5g} {n_p:>4d} {T1 - T0:>+7.2f} {mu:>9.5f} "
+                  f"{100 * (mu / ref - 1):>+8.2f}% {wall:>7.1f}", flush=True)
     return ok
 
 
@@ -100,12 +104,14 @@ def _divisions(store_dir: str | None) -> bool:
     T0 = scene.conditions.T0
     v, p = 1000.0, scene.conditions.pressures[0]
     spec = flat_road_spec(comp, pressure=p, velocity=v, friction=0.0, block_length=t.block_length,
-                          block_height=t.block_height, slide_distance=t.slide_distance, h_contact=t.h_contact, T0=T0)
-    thermal = ThermalSettings(road=load_road(t.road).thermal, T0=T0, kappa=t.kappa, h_c=t.h_c, road_depth=t.road_depth,
-                              road_ahead=t.road_ahead, road_behind=t.road_behind, first_layer=t.first_layer,
+                          block_height=t.block_height, slide_distance=t.slide_distance,
+                          h_contact=t.h_contact, T0=T0)
+    thermal = ThermalSettings(road=load_road(t.road).thermal, T0=T0, kappa=t.kappa, h_c=t.h_c,
+                              road_depth=t.road_depth, road_ahead=t.road_ahead,
+                              road_behind=t.road_behind, first_layer=t.first_layer,
                               grading=t.grading)
-    print(f"thermal loop division study (thesis 8.4.3): scene thermal_loop at v = {v:g} mm/s, p = {p:g} MPa, "
-          f"slide {t.slide_distance} mm, mu_const {t.mu_const}; stores in {folder}")
+    print(f"thermal loop division study (thesis 8.4.3): scene thermal_loop at v = {v:g} mm/s, "
+          f"p = {p:g} MPa, slide {t.slide_distance} mm, mu_const {t.mu_const}; stores in {folder}")
 
     def cascade_runner(name: str, warm: bool = False) -> CascadeRunner:
         executor = Executor(Store(folder / name), runner)
@@ -140,7 +146,8 @@ def _divisions(store_dir: str | None) -> bool:
         for iv in res.intervals:
             for stage, runs in iv.cascade.runs.items():
                 name = scales.sets[int(stage.split(":")[1])].name
-                share[name] = share.get(name, 0.0) + sum(o.wall_time for _, o in runs if not o.reused)
+                share[name] = share.get(name, 0.0) + sum(o.wall_time for _, o in runs
+                                                         if not o.reused)
         total = sum(share.values()) or 1.0
         per = np.mean([iv.wall for iv in res.intervals]) if res.intervals else np.nan
         T_s = res.intervals[-1].profile.mean[0] - T0 if res.intervals else np.nan

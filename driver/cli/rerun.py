@@ -49,7 +49,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="contact elements N times shorter (sliding steps follow them)")
     p.add_argument("--set", action="append", default=[], metavar="FIELD=VALUE",
                    help="override a scalar input of the run (SlidingSpec field), e.g. "
-                        "steady_state=false, penalty_alpha=100, tangential_penalty=0.01; repeatable")
+                        "steady_state=false, penalty_alpha=100, tangential_penalty=0.01; "
+                        "repeatable")
     p.add_argument("--volumetric", choices=VOLUMETRIC_FORMS,
                    help="volumetric energy of the rubber (the compound's hyperelastic.volumetric; "
                         "forms/hyperelastic.py)")
@@ -73,12 +74,14 @@ def _rerun(args: argparse.Namespace) -> int:
     from rubberfriction.driver.runtime.store import Store
     from rubberfriction.driver.sliding.outputs import DissipationByDepth, write_run_outputs
     from rubberfriction.driver.sliding.progress import StepReporter
-    from rubberfriction.driver.sliding.run import SlidingRun, block_mesh, run_sliding, sliding_contact
+    from rubberfriction.driver.sliding.run import (SlidingRun, block_mesh, run_sliding,
+                                                   sliding_contact)
     from rubberfriction.driver.sliding.spec import refined
 
     root = _store_root(Path(args.folder))
     if not (root / "runs").is_dir():
-        print(f"rerun: {args.folder}: no campaign store here (expected {root}/runs)", file=sys.stderr)
+        print(f"rerun: {args.folder}: no campaign store here (expected {root}/runs)",
+              file=sys.stderr)
         return 2
     if args.refine < 1:
         print(f"rerun: --refine {args.refine}: expected a whole number >= 1", file=sys.stderr)
@@ -93,10 +96,11 @@ def _rerun(args: argparse.Namespace) -> int:
         print(f"rerun: {err}", file=sys.stderr)
         return 2
     lab = stored.label
-    print(f"run {key[:12]}: {lab.get('point', '?')} {lab.get('branch', '')} {lab.get('scale_name', '')} "
-          f"sample {lab.get('sample', '?')}; p = {spec.pressure:.4g} MPa, v = {spec.velocity:g} mm/s, "
-          f"friction {spec.friction if spec.friction is not None else 'none'}, contact {spec.contact}, "
-          f"h_contact {spec.h_contact:.4g} mm")
+    print(f"run {key[:12]}: {lab.get('point', '?')} {lab.get('branch', '')} "
+          f"{lab.get('scale_name', '')} sample {lab.get('sample', '?')}; "
+          f"p = {spec.pressure:.4g} MPa, v = {spec.velocity:g} mm/s, "
+          f"friction {spec.friction if spec.friction is not None else 'none'}, "
+          f"contact {spec.contact}, h_contact {spec.h_contact:.4g} mm")
     print(f"  stored: {stored.status}, mu_force {stored.values.get('mu_force', math.nan):.6g}, "
           f"{stored.provenance.get('wall_time', math.nan):.1f} s"
           + (f" ({stored.reason.splitlines()[0]})" if stored.reason else ""))
@@ -128,17 +132,21 @@ def _rerun(args: argparse.Namespace) -> int:
     wall = time.perf_counter() - t0
     progress.done()
     st = result.stats
-    print(f"  rerun:  {result.status}, mu_force {result.mu_force:.6g}, mu_energy {result.mu_energy:.6g}, "
+    print(f"  rerun:  {result.status}, mu_force {result.mu_force:.6g}, "
+          f"mu_energy {result.mu_energy:.6g}, "
           f"window drift {result.window_drift:.3g} (contact fraction "
-          f"{result.contact_fraction:.4g}, drift {result.contact_drift:.3g}), attempt {st.get('attempt', '?')}, "
-          f"{st.get('steps', 0):.0f} steps, {st.get('newton_iterations', 0):.0f} Newton iterations, "
+          f"{result.contact_fraction:.4g}, drift {result.contact_drift:.3g}), "
+          f"attempt {st.get('attempt', '?')}, "
+          f"{st.get('steps', 0):.0f} steps, {st.get('newton_iterations', 0):.0f} "
+          f"Newton iterations, "
           f"{st.get('cutbacks', 0):.0f} cut-backs, {st.get('stabilised_steps', 0):.0f} stabilised "
           f"(share {result.stabilisation_share:.3g}), {wall:.1f} s"
           + (f" ({result.reason.splitlines()[0]})" if result.reason else ""))
     if st.get("attempts"):
         print(f"  failed attempts: {st['attempts']}")
     if math.isfinite(result.road_intrusion):
-        print(f"  road intrusion: {result.road_intrusion:.3g} contact elements deep (>= 1: the road's "
+        print(f"  road intrusion: {result.road_intrusion:.3g} contact elements deep "
+              "(>= 1: the road's "
               "features are narrower than the contact elements)"
               + (f"; trust region refused {st['rejected_steps']:.0f} trial steps"
                  if st.get("rejected_steps") else ""))
@@ -152,7 +160,8 @@ def _rerun(args: argparse.Namespace) -> int:
         print("  written: " + ", ".join(str(p) for p in written.values()))
     if args.json:
         doc = {"key": key, "label": lab, "stored": {"status": stored.status, **stored.values},
-               "rerun": {"status": result.status, "reason": result.reason, "mu_force": result.mu_force,
+               "rerun": {"status": result.status, "reason": result.reason,
+                         "mu_force": result.mu_force,
                          "mu_energy": result.mu_energy, "window_drift": result.window_drift,
                          "contact_fraction": result.contact_fraction,
                          "contact_drift": result.contact_drift,
@@ -189,7 +198,8 @@ def _overrides(spec, items: list[str]):
         elif isinstance(old, str):
             changes[name] = text
         else:
-            raise ValueError(f"--set {name}: only scalar fields can be set (it is a {type(old).__name__})")
+            raise ValueError(f"--set {name}: only scalar fields can be set "
+                             f"(it is a {type(old).__name__})")
     return dataclasses.replace(spec, **changes)
 
 

@@ -209,13 +209,16 @@ def _run_thermal(scene: Scene, args: argparse.Namespace) -> int:
         return 0 if all(r.ok for r in results) else 1
     if args.check:
         if _rank() == 0:
-            n = len(scene.conditions.compounds) * len(scene.conditions.pressures) * len(scene.conditions.velocities)
-            mode = {"coupled": f"coupled loop ({t.divisions if not t.points else len(t.points)} homogenisation "
-                               f"points, {t.partitions} partitions)",
-                    "hot-layer": f"hot layer ({len(t.hot_layer_rises)} surface temperatures)"}.get(t.mode, "given friction")
-            print(f"thermal scene {scene.name!r} from {scene.source}: {n} macro runs, {mode}, block "
-                  f"{t.block_length} x {t.block_height} mm, slide {t.slide_distance} mm, kappa {t.kappa}, "
-                  f"h_c {t.h_c:g}\n  output: {scene.output}")
+            n = (len(scene.conditions.compounds) * len(scene.conditions.pressures)
+                 * len(scene.conditions.velocities))
+            mode = {"coupled": "coupled loop "
+                               f"({t.divisions if not t.points else len(t.points)} "
+                               f"homogenisation points, {t.partitions} partitions)",
+                    "hot-layer": f"hot layer ({len(t.hot_layer_rises)} "
+                                 "surface temperatures)"}.get(t.mode, "given friction")
+            print(f"thermal scene {scene.name!r} from {scene.source}: {n} macro runs, {mode}, "
+                  f"block {t.block_length} x {t.block_height} mm, slide {t.slide_distance} mm, "
+                  f"kappa {t.kappa}, h_c {t.h_c:g}\n  output: {scene.output}")
         return 0
     try:
         rows = run_thermal_scene(scene, quiet=args.quiet)  # every rank: runs dealt out over ranks

@@ -205,7 +205,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--surface", help="profile file, 'default' (embedded default road) or "
                                      "'four_scale' (the four-scale road)")
     p.add_argument("--compound", help=f"compound name or TOML file (default {DEFAULT_COMPOUND})")
-    p.add_argument("--pressure", type=float, help=f"nominal pressure, MPa (default {DEFAULT_PRESSURE:g})")
+    p.add_argument("--pressure", type=float,
+                   help=f"nominal pressure, MPa (default {DEFAULT_PRESSURE:g})")
     p.add_argument("--velocities", type=float, nargs="+", metavar="V", help="sliding speeds, mm/s")
     p.add_argument("--vmin", type=float,
                    help=f"log-spaced speeds from (mm/s, default {DEFAULT_VRANGE[0]:g})")

@@ -1,4 +1,5 @@
-"""``rubberfriction verify CASE [options] [--json FILE]``: analytical benchmarks as a product feature.
+"""``rubberfriction verify CASE [options] [--json FILE]``: analytical benchmarks as a product
+feature.
 
 Each case module (registered in ``rubberfriction.driver.verification.CASES``) provides
 ``add_arguments(parser)`` for the user's parameters and ``run(args) -> dict`` returning
@@ -136,7 +137,8 @@ def print_result(result: dict, out=None) -> None:
     print(f"verification case: {result.get('case')}", file=out)
     for k, v in result.get("parameters", {}).items():
         print(f"  {k} = {v}", file=out)
-    print(f"  {'quantity':<28} {'computed':>14} {'analytical':>14} {'rel. error':>11} {'tol':>8}", file=out)
+    print(f"  {'quantity':<28} {'computed':>14} {'analytical':>14} {'rel. error':>11} {'tol':>8}",
+          file=out)
     for c in result.get("checks", []):
         tol = c.get("tolerance")
         mark = "" if c.get("passed", True) else "  <-- outside tolerance"

@@ -28,10 +28,10 @@ planner to the end:
 *Executing* a task (:class:`Executor`) happens on the rank that got it: look the key up in the
 store (a finished run is reused, not recomputed), otherwise run it on ``MPI.COMM_SELF`` (its own
 communicator: a single-scale run never spans ranks), store it atomically from that rank and
-return the small :class:`~rubberfriction.driver.runtime.store.Outcome`.  Storing on the worker means a
-finished run is on disk the moment it finishes, whatever happens to the other ranks; the store's
-one-file-per-run layout makes concurrent writers safe.  A run that raises is caught and recorded
-as a failure (``failure="error"``, with the traceback); it never stops the campaign.
+return the small :class:`~rubberfriction.driver.runtime.store.Outcome`.  Storing on the worker
+means a finished run is on disk the moment it finishes, whatever happens to the other ranks; the
+store's one-file-per-run layout makes concurrent writers safe.  A run that raises is caught and
+recorded as a failure (``failure="error"``, with the traceback); it never stops the campaign.
 
 Progress inside runs: a runner may report where its run is (:class:`RunReports`: the sliding
 runner's per-step dict); the farm routes the reports to the progress object on rank 0 --
@@ -229,7 +229,8 @@ class Executor:
     def _reusable(self, task: Task) -> Outcome | None:
         """The stored outcome of the task's key if it counts as a result of its inputs: a
         success, or a physics failure without ``retry_failed``.  A run that raised or that the
-        wall clock stopped is recomputed (:func:`~rubberfriction.driver.runtime.store.reusable_failure`)."""
+        wall clock stopped is recomputed
+        (:func:`~rubberfriction.driver.runtime.store.reusable_failure`)."""
         out = self.store.outcome(task.key)
         if out is None or not reusable_failure(out.failure, self.retry_failed):
             return None
@@ -266,7 +267,6 @@ class Executor:
             wall = float(stats["wall_time"])
         return self.store.put(task.key, task.payload, result, wall_time=wall, label=task.label,
                               failure=failure, settings=self.settings)
-
 
     def _watchdog(self, task: Task) -> threading.Timer:
         """Last resort against a run that hangs (e.g. inside compiled code, where no exception can

@@ -226,8 +226,6 @@ class FieldWriter:
     @staticmethod
     def _stress_expression(sp):
         """fem.Expression of (-tr(sigma)/3, von Mises) at the bulk quadrature points."""
-
-
         u, _ = sp.split()
         F = deformation_gradient(u)
         J = ufl.det(F)

@@ -139,9 +139,10 @@ class Attempt(NamedTuple):
     @property
     def label(self) -> str:
         """e.g. "mortar", "nts x0.25 step", "mortar x2 mesh", "mortar c_T x0.1"."""
-        return self.formulation + (f" x{self.step_factor:g} step" if self.step_factor != 1.0 else "") + (
-            f" x{self.refine} mesh" if self.refine != 1 else "") + (
-            f" c_T x{self.tangent:g}" if self.tangent != 1.0 else "")
+        return (self.formulation
+                + (f" x{self.step_factor:g} step" if self.step_factor != 1.0 else "")
+                + (f" x{self.refine} mesh" if self.refine != 1 else "")
+                + (f" c_T x{self.tangent:g}" if self.tangent != 1.0 else ""))
 
 
 @dataclass
@@ -181,7 +182,8 @@ class SlidingRun:
         if not (np.isfinite(spec.edge_radius) and spec.edge_radius >= 0.0):
             raise ValueError(f"edge_radius = {spec.edge_radius!r} mm: expected >= 0")
         if spec.edge_radius > 0.0 and spec.period > 0:
-            raise ValueError("edge_radius: a periodic cell has no edges; round only a finite block (period = 0)")
+            raise ValueError("edge_radius: a periodic cell has no edges; round only a finite block "
+                             "(period = 0)")
         if not (np.isfinite(spec.stabilisation) and spec.stabilisation >= 0.0):
             raise ValueError(f"stabilisation = {spec.stabilisation!r}: expected beta >= 0 (0: off)")
         if spec.window_quantity not in WINDOW_QUANTITIES:
@@ -262,7 +264,8 @@ class SlidingRun:
         if s.temperature_layers:  # partitions over the height (thesis 8.3.3)
             background = s.temperature if s.temperature is not None else s.compound.wlf.T_ref
             lower, upper = self.sp.cell_bounds(axis=1) - z0  # depth spans of the cells
-            self.sp.set_temperature(cell_temperatures(s.temperature_layers, background, lower, upper))
+            self.sp.set_temperature(cell_temperatures(s.temperature_layers, background, lower,
+                                                      upper))
         elif s.temperature is not None and getattr(s.compound, "wlf", None) is not None:
             self.sp.set_temperature(s.temperature)  # (without WLF data the relaxation has no T)
         nfull = self.sp.W.dofmap.index_map.size_local * self.sp.W.dofmap.index_map_bs
@@ -327,9 +330,9 @@ class SlidingRun:
         it is kept only where it lowers the start residual (see :meth:`_start_iterate`).
         The sub-step length halves on failure and doubles (up to dt) after EASY_STREAK sub-steps
         in a row that converged in at most EASY_ITERATIONS iterations; the step fails when it
-        would fall below dt / 2**max_cutbacks. ``adaptive``: the sub-step length is also remembered from step to
-        step (sliding phase), so a step after a hard one does not first repeat its failed
-        attempts.
+        would fall below dt / 2**max_cutbacks. ``adaptive``: the sub-step length is also
+        remembered from step to step (sliding phase), so a step after a hard one does not first
+        repeat its failed attempts.
         """
         cutbacks, t_cur = 0, t
         h = min(dt, self._h_next) if adaptive else dt
@@ -620,9 +623,10 @@ class SlidingRun:
         first = [Attempt(base)]
         if has_friction(self.base_spec):
             soft = Attempt(base, tangent=SOFT_TANGENT)
-            # a finite block (macro scale) tries the soft stick first: its first sliding step puts the
-            # nodes far outside the stick cone (measured: the 20 x 7 mm m2 block of thesis 8.5.2, mu 1.0,
-            # 0.5 m/s, 2 mm: the spec's c_T fails after ~105 s, the soft one slides in 8 s)
+            # a finite block (macro scale) tries the soft stick first: its first sliding step puts
+            # the nodes far outside the stick cone (measured: the 20 x 7 mm m2 block of thesis
+            # 8.5.2, mu 1.0, 0.5 m/s, 2 mm: the spec's c_T fails after ~105 s, the soft one slides
+            # in 8 s)
             first = [soft, Attempt(base)] if self.base_spec.period == 0 else [Attempt(base), soft]
         if base == "mortar":
             first.append(Attempt("nts"))
@@ -648,7 +652,8 @@ class SlidingRun:
             self._deadline = wall0 + self.wall_limit
         try:
             for i, att in enumerate(self.attempts()):
-                formulation, step_factor, refine, label = att.formulation, att.step_factor, att.refine, att.label
+                formulation, step_factor, refine, label = (att.formulation, att.step_factor,
+                                                           att.refine, att.label)
                 left = self._deadline - time.perf_counter()
                 if refine > 1 and full is not None and full * refine**2 > left:
                     failures.append(f"{label}: skipped (needs about {full * refine**2:.0f} s, "
@@ -914,7 +919,8 @@ class SlidingRun:
         (with PETSc's assembly calls), linear solves (numeric LU + triangular solves), history
         update (eq. 3.76), and the whole attempt (set-up and Python included)."""
         asm = self.problem.cpu
-        return {"cpu_bulk": asm["bulk"], "cpu_contact": asm["hooks"], "cpu_condense": asm["condense"],
+        return {"cpu_bulk": asm["bulk"], "cpu_contact": asm["hooks"],
+                "cpu_condense": asm["condense"],
                 "cpu_linear": sum(n.cpu_linear for n in self._solvers()),
                 "cpu_history": self.sp.cpu_history,
                 "cpu_attempt": time.process_time() - self._cpu_start}
@@ -935,7 +941,8 @@ class SlidingRun:
                      # extrapolated starts the guard rejected (solved again from the others)
                      "extrapolation_rejected": self.guard_rejections,
                      "extrapolation_unseen": self.extrapolation_unseen,
-                     "steps": len(rows), "h_contact": self.hc, "dofs": float(self.sp.w.x.array.size),
+                     "steps": len(rows), "h_contact": self.hc,
+                     "dofs": float(self.sp.w.x.array.size),
                      "stabilised_steps": self.stabilised_steps,
                      "lu_fallbacks": sum(n.lu_fallbacks for n in self._solvers()),
                      # trial steps the trust region refused (newton = "trust-region" or "hybrid")
@@ -948,7 +955,8 @@ class SlidingRun:
             return res
         Fz = series["Fz"]
         with np.errstate(divide="ignore", invalid="ignore"):
-            series["mu_force"] = -series["Fx"] / Fz  # friction force on the block opposes +x sliding
+            # friction force on the block opposes +x sliding
+            series["mu_force"] = -series["Fx"] / Fz
         win = series["s"] > lo + 1e-9 * max(hi, 1.0)
         if status == "ok" and np.count_nonzero(win) >= 2:
             ds = step_lengths(series["s"])[win]

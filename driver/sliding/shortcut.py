@@ -1,8 +1,9 @@
 """Model only what a run requires: the linear viscoelastic closed form for full contact.
 
 A frictionless periodic cell whose surface has small slopes and stays in full contact is a
-linear problem: every harmonic of the surface, h(x) = sum_k Re[2 c_k exp(i q_k x)], q_k = 2 pi k / L,
-loads the half-plane independently at its own frequency omega_k = q_k v (steady sliding at v),
+linear problem: every harmonic of the surface, h(x) = sum_k Re[2 c_k exp(i q_k x)],
+q_k = 2 pi k / L, loads the half-plane independently at its own frequency omega_k = q_k v (steady
+sliding at v),
 with the pressure perturbation p_k = E*_eff(omega_k) q_k 2 c_k / 2 (the single-sinusoid closed
 form of ``driver.sliding.sinusoid``, superposed).  The homogenised coefficient of friction
 (eq. 6.2) and the mean contact pressure (eq. 6.11) are then

@@ -35,7 +35,8 @@ def shear_modulus(compound: Compound, omega: float, temperature: float | None = 
     return complex(hyp.mu * (1.0 + np.sum(g * 1j * omega * tau / (1.0 + 1j * omega * tau))))
 
 
-def effective_modulus(compound: Compound, omega: float, temperature: float | None = None) -> complex:
+def effective_modulus(compound: Compound, omega: float,
+                      temperature: float | None = None) -> complex:
     """E*_eff(omega) = 4 G*(3K + G*)/(3K + 4G*) of the FE material model (elastic volume)."""
     G = shear_modulus(compound, omega, temperature)
     K = compound.hyperelastic.K
@@ -49,7 +50,8 @@ def closed_form_mu(compound: Compound, wavelength: float, amplitude: float, pres
     return float((k * amplitude) ** 2 * E.imag / (4.0 * pressure))
 
 
-def full_contact_pressure(compound: Compound, wavelength: float, amplitude: float, velocity: float) -> float:
+def full_contact_pressure(compound: Compound, wavelength: float, amplitude: float,
+                          velocity: float) -> float:
     """Smallest mean pressure that keeps full contact: |E*_eff| k h0 / 2 (Westergaard p*)."""
     k = 2.0 * np.pi / wavelength
     return float(abs(effective_modulus(compound, k * velocity)) * k * amplitude / 2.0)

@@ -75,13 +75,15 @@ class SlidingSpec:
     block_height: float = 0.0  # 0: = block_length (thesis 6.2.2)
     edge_radius: float = 0.0  # rounded leading (+x, front when sliding) edge of a finite block, mm
     temperature: float | None = None  # K; None: the WLF reference temperature
-    # stepwise constant temperature over the block height (thesis 8.3.3, driver.sliding.temperature):
-    # (thickness mm, T K) layers from the contact face upwards, `temperature` above the last
+    # stepwise constant temperature over the block height (thesis 8.3.3,
+    # driver.sliding.temperature): (thickness mm, T K) layers from the contact face upwards,
+    # `temperature` above the last
     temperature_layers: tuple[tuple[float, float], ...] = ()
     friction: object = None  # None (frictionless), a float mu, or a friction law object
     element: str = "Q1P0"
     contact: str = "mortar"  # "nts" or "surface" (periodic samples; driver.fe.contact.Contact)
-    contact_frame: str = "slave"  # "master": every node's frame is the road's normal (Contact(frame=))
+    # "master": every node's frame is the road's normal (Contact(frame=))
+    contact_frame: str = "slave"
     h_contact: float = 0.0  # contact-face element size; 0: from the surface (see mesh_size)
     elements_per_wavelength: int = 16
     grading: float = 1.15  # growth ratio of element height away from the contact face
@@ -188,7 +190,8 @@ def default_h_contact(spec: SlidingSpec) -> float:
     slope = np.sign(np.diff(h) / np.diff(x))
     slope = slope[slope != 0]
     turns = slope[1:] != slope[:-1]
-    changes = np.count_nonzero(turns) + (spec.period > 0 and slope.size > 0 and slope[0] != slope[-1])
+    changes = np.count_nonzero(turns) + (spec.period > 0 and slope.size > 0
+                                         and slope[0] != slope[-1])
     lam = 2.0 * L / max(changes, 1)
     lam = max(lam, 4.0 * dx)
     return lam / spec.elements_per_wavelength
@@ -237,7 +240,8 @@ MESH_REFINEMENT = 2
 #: the stick zone stays resolved (measured: the 20 x 7 mm m3 block of thesis 8.5.1 at mu 0.9 and
 #: 0.3 MPa stagnates at its first sliding step with 0.1 and slides with 0.01).  Steady sliding
 #: friction does not depend on c_T (full slip: t_T = mu p); the stick phase gets a tangential
-#: contact compliance of h / (0.01 alpha E) per unit length, ~1 % of a macro block's shear compliance.
+#: contact compliance of h / (0.01 alpha E) per unit length, ~1 % of a macro block's shear
+#: compliance.
 SOFT_TANGENT = 0.1
 
 #: cut-backs of a sliding or compression step before a failing sub-step is retried with the
@@ -263,7 +267,8 @@ def has_friction(spec: SlidingSpec) -> bool:
 
 def softened(spec: SlidingSpec, factor: float) -> SlidingSpec:
     """The same run with c_T `factor` times the spec's (the frictional fallback)."""
-    return spec if factor == 1.0 else replace(spec, tangential_penalty=spec.tangential_penalty * factor)
+    return spec if factor == 1.0 else replace(spec,
+                                              tangential_penalty=spec.tangential_penalty * factor)
 
 
 def refined(spec: SlidingSpec, factor: int) -> SlidingSpec:
@@ -272,12 +277,14 @@ def refined(spec: SlidingSpec, factor: int) -> SlidingSpec:
     if factor == 1:
         return spec
     hc = spec.h_contact or default_h_contact(spec)
-    return replace(spec, h_contact=hc / factor, elements_per_wavelength=spec.elements_per_wavelength * factor,
+    return replace(spec, h_contact=hc / factor,
+                   elements_per_wavelength=spec.elements_per_wavelength * factor,
                    step_length=spec.step_length / factor)
 
 
-#: automatic normal penalty c_N = alpha |E*_eff(omega)| / h_contact (ContactInterface::set_auto_penalty):
-#: the contact compliance h/(alpha E) is then ~1/alpha of the rubber's compliance at the element scale
+#: automatic normal penalty c_N = alpha |E*_eff(omega)| / h_contact
+#: (ContactInterface::set_auto_penalty): the contact compliance h/(alpha E) is then ~1/alpha of
+#: the rubber's compliance at the element scale
 PENALTY_ALPHA = 100.0
 
 

@@ -76,7 +76,8 @@ def layer_temperatures(layers: Layers, background: float, depth: np.ndarray) -> 
 MIN_ROW_FRACTION = 0.25
 
 
-def cell_temperatures(layers: Layers, background: float, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+def cell_temperatures(layers: Layers, background: float, lower: np.ndarray,
+                      upper: np.ndarray) -> np.ndarray:
     """Temperature of cells spanning depths [lower, upper] below the contact face (mm): a cell
     inside one layer (or below them) gets that temperature exactly; a cell a layer bound crosses
     gets the mean over its span, weighted by thickness (the background below the last layer)."""

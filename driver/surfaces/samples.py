@@ -305,4 +305,3 @@ def refine_periodic(h: np.ndarray, factor: int) -> np.ndarray:
     if n % 2 == 0:
         spec[-1] *= 0.5  # the Nyquist term is shared by +-n/2 once it is no longer the last bin
     return np.fft.irfft(spec, n * int(factor)) * factor
-

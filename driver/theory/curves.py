@@ -254,4 +254,3 @@ def add_to_axes(curves: Sequence[TheoryCurve], ax_mu: Any, ax_area: Any | None =
         ax_area.grid(True, which="both", alpha=0.3)
         if ax_area.lines:
             ax_area.legend(fontsize=7)
-

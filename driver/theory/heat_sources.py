@@ -38,12 +38,13 @@ def two_body_rise(q: float, t, e1: float, e2: float):
     return 2.0 * q * np.sqrt(np.asarray(t, float) / math.pi) / (e1 + e2)
 
 
-def moving_band_rise(x, *, q: float, length: float, velocity: float, k: float, chi: float) -> np.ndarray:
+def moving_band_rise(x, *, q: float, length: float, velocity: float, k: float,
+                     chi: float) -> np.ndarray:
     """Steady surface temperature rise at x (in the source frame, band on [0, length], moving
     towards +x) of a band source q moving at `velocity` over a half-space (see module doc)."""
     if velocity <= 0.0:
-        raise ValueError(f"moving band source: velocity = {velocity!r}, expected > 0 (the 2D static "
-                         "line source has no steady state)")
+        raise ValueError(f"moving band source: velocity = {velocity!r}, expected > 0 "
+                         "(the 2D static line source has no steady state)")
     s = velocity / (2.0 * chi)
 
     def side(u: float, x0: float, sign: float) -> float:
@@ -52,19 +53,23 @@ def moving_band_rise(x, *, q: float, length: float, velocity: float, k: float, c
             return 0.0
         xi = sign * u * u
         r = u * u
-        # exp(-s xi) K0(s r), written with the scaled K0e = exp(s r) K0 to stay finite behind the source
+        # exp(-s xi) K0(s r), written with the scaled K0e = exp(s r) K0 to stay finite behind the
+        # source
         return 2.0 * u * math.exp(-s * (xi + r)) * special.k0e(s * r)
 
     out = []
     for x0 in np.atleast_1d(np.asarray(x, float)):
         val = 0.0
-        lo, hi = min(x0, length), max(x0, 0.0)  # band parts behind (x' > x0) and ahead of x0 (x' < x0)
+        # band parts behind (x' > x0) and ahead of x0 (x' < x0)
+        lo, hi = min(x0, length), max(x0, 0.0)
         if x0 > 0.0:  # sources at x' in [0, min(x0, l)]: xi = x0 - x' > 0
             a, b = math.sqrt(max(x0 - lo, 0.0)), math.sqrt(x0)
-            val += integrate.quad(side, a, b, args=(x0, 1.0), limit=200, epsabs=0.0, epsrel=1e-11)[0]
+            val += integrate.quad(side, a, b, args=(x0, 1.0), limit=200, epsabs=0.0,
+                                  epsrel=1e-11)[0]
         if x0 < length:  # sources at x' in [max(x0, 0), l]: xi = x0 - x' < 0
             a, b = math.sqrt(max(hi - x0, 0.0)), math.sqrt(length - x0)
-            val += integrate.quad(side, a, b, args=(x0, -1.0), limit=200, epsabs=0.0, epsrel=1e-11)[0]
+            val += integrate.quad(side, a, b, args=(x0, -1.0), limit=200, epsabs=0.0,
+                                  epsrel=1e-11)[0]
         out.append(q / (math.pi * k) * val)
     return np.asarray(out)
 

@@ -6,27 +6,35 @@ with keyword parameters that the tests call directly.
 """
 
 CASES: dict[str, tuple[str, str]] = {
-    "hertz": ("rubberfriction.driver.verification.contact_cases", "plane-strain cylinder on a rigid flat (Hertz)"),
+    "hertz": ("rubberfriction.driver.verification.contact_cases",
+              "plane-strain cylinder on a rigid flat (Hertz)"),
     "westergaard": ("rubberfriction.driver.verification.contact_cases",
                     "elastic block on a rigid periodic sinusoid (Westergaard)"),
-    "patch": ("rubberfriction.driver.verification.contact_cases", "contact patch test on non-matching meshes"),
+    "patch": ("rubberfriction.driver.verification.contact_cases",
+              "contact patch test on non-matching meshes"),
     "sliding-block": ("rubberfriction.driver.verification.contact_cases",
                       "Coulomb sliding block, Fx/Fz = mu (constant mu and a mu(p, v) law)"),
     "thermal-bars": ("rubberfriction.driver.verification.contact_cases",
-                     "thermal contact: two bars through a conductance, frictional heat split kappa"),
+                     "thermal contact: two bars through a conductance, "
+                     "frictional heat split kappa"),
     "periodic-sliding": ("rubberfriction.driver.verification.contact_cases",
                          "elastic layer sliding over 3 periods of a wrapped periodic sinusoid"),
     "viscoelastic-sinusoid": ("rubberfriction.driver.verification.viscoelastic_sinusoid",
                               "viscoelastic block sliding over a sinusoid in full contact"),
-    "sawtooth": ("rubberfriction.driver.verification.sawtooth", "sawtooth anisotropy, sharp vs smooth"),
+    "sawtooth": ("rubberfriction.driver.verification.sawtooth",
+                 "sawtooth anisotropy, sharp vs smooth"),
     "flash-flux": ("rubberfriction.driver.verification.heat_cases",
-                   "uniform frictional power into a resting block: surface temperature vs 2 q sqrt(t / (pi k rho c))"),
+                   "uniform frictional power into a resting block: "
+                   "surface temperature vs 2 q sqrt(t / (pi k rho c))"),
     "two-body-conduction": ("rubberfriction.driver.verification.heat_cases",
-                            "two conducting half-spaces heated at the interface: temperature and heat split by effusivity"),
+                            "two conducting half-spaces heated at the interface: "
+                            "temperature and heat split by effusivity"),
     "moving-heat-source": ("rubberfriction.driver.verification.heat_cases",
-                           "steady road temperature under a sliding block vs Jaeger's moving band source"),
+                           "steady road temperature under a sliding block "
+                           "vs Jaeger's moving band source"),
     "pressure-modes": ("rubberfriction.driver.verification.pressure_modes",
-                       "spurious pressure modes of Q1P0 and the stabilised Q1P0s in a confined block"),
+                       "spurious pressure modes of Q1P0 and the stabilised Q1P0s "
+                       "in a confined block"),
     "bem-pressure": ("rubberfriction.driver.verification.bem_pressure",
                      "frictionless pressure branch on a self-affine profile vs a periodic FFT BEM"),
     "relaxation": ("rubberfriction.driver.verification.relaxation",
@@ -39,7 +47,8 @@ class SolverFailure(RuntimeError):
     ``verify`` command prints its message as one line and exits with status 1 (no traceback)."""
 
 
-def check(quantity: str, computed: float, analytical: float, tolerance: float | None = None) -> dict:
+def check(quantity: str, computed: float, analytical: float,
+          tolerance: float | None = None) -> dict:
     """One computed-vs-analytical line of a verification result."""
     rel = abs(computed - analytical) / abs(analytical) if analytical != 0 else abs(computed)
     out = {"quantity": quantity, "computed": float(computed), "analytical": float(analytical),
@@ -67,13 +76,17 @@ def add_keyword_arguments(parser, fn) -> None:
         if isinstance(default, bool) or default is inspect.Parameter.empty or name == "law":
             continue
         if isinstance(default, tuple):
-            parser.add_argument(flag, dest=name, type=type(default[0]), nargs="+", default=list(default),
+            parser.add_argument(flag, dest=name, type=type(default[0]), nargs="+",
+                                default=list(default),
                                 help=f"(default: {' '.join(map(str, default))})")
         elif default is None:  # an `int | None` parameter takes whole numbers, any other floats
-            kind = int if str(prm.annotation).replace(" ", "") in ("int|None", "Optional[int]") else float
-            parser.add_argument(flag, dest=name, type=kind, default=None, help="(default: automatic)")
+            kind = (int if str(prm.annotation).replace(" ", "") in ("int|None", "Optional[int]")
+                    else float)
+            parser.add_argument(flag, dest=name, type=kind, default=None,
+                                help="(default: automatic)")
         else:
-            parser.add_argument(flag, dest=name, type=type(default), default=default, help=f"(default: {default})")
+            parser.add_argument(flag, dest=name, type=type(default), default=default,
+                                help=f"(default: {default})")
 
 
 def call_with_arguments(fn, args) -> dict:

@@ -5,8 +5,8 @@ Each case is a plain function with keyword parameters returning a dict
     {"case", "parameters", "checks": [check(quantity, computed, analytical, tol)], "notes", ...}
 
 that the tests call with fixed parameters and the CLI with the user's.  Bulk: the project's
-finite-strain Mooney-Rivlin solid (``driver.fe.solid.SolidProblem``, Q1P0) in the small-strain regime
-of the closed forms; contact: ``driver.fe.contact`` (C++ mortar or node-to-segment); Newton:
+finite-strain Mooney-Rivlin solid (``driver.fe.solid.SolidProblem``, Q1P0) in the small-strain
+regime of the closed forms; contact: ``driver.fe.contact`` (C++ mortar or node-to-segment); Newton:
 ``driver.fe.newton`` with the contact as a hook.
 
 * ``patch``: two stacked blocks with non-matching contact meshes, uniform pressure on top: the
@@ -75,8 +75,8 @@ def elastic_compound(E: float, nu: float):
 
     G = E / (2.0 * (1.0 + nu))
     K = E / (3.0 * (1.0 - 2.0 * nu))
-    return Compound(name=f"elastic E={E:g} nu={nu:g}", hyperelastic=MooneyRivlin.neo_hooke(G, K), prony=None,
-                    wlf=None, thermal=None)
+    return Compound(name=f"elastic E={E:g} nu={nu:g}", hyperelastic=MooneyRivlin.neo_hooke(G, K),
+                    prony=None, wlf=None, thermal=None)
 
 
 def plane_strain_modulus(E: float, nu: float) -> float:
@@ -98,7 +98,8 @@ def merged_mesh(bodies, rules, levels=(), info=None):
         pts.append(p)
         cells.append(c + off)
         off += p.shape[0]
-    return build_body_mesh(MPI.COMM_SELF, np.vstack(pts), np.vstack(cells), rules, levels, info or {})
+    return build_body_mesh(MPI.COMM_SELF, np.vstack(pts), np.vstack(cells), rules, levels,
+                           info or {})
 
 
 def n_full(sp) -> int:
@@ -116,10 +117,12 @@ def newton_settings(**kw) -> NewtonSettings:
     return s
 
 
-def make_newton(sp, cmap, contact: Contact, *, fext=None, force_scale=1.0, rtol=1e-10, max_iterations=30):
+def make_newton(sp, cmap, contact: Contact, *, fext=None, force_scale=1.0, rtol=1e-10,
+                max_iterations=30):
     pb = sp.nonlinear_problem(cmap, hooks=[contact.hook], extra_couplings=contact.couplings(),
                               external_force=fext)
-    solver = NewtonSolver(pb, newton_settings(rtol=rtol, atol=1e-14 * force_scale, max_iterations=max_iterations),
+    solver = NewtonSolver(pb, newton_settings(rtol=rtol, atol=1e-14 * force_scale,
+                                              max_iterations=max_iterations),
                           force_scale=force_scale)
     return pb, solver
 
@@ -141,7 +144,8 @@ def cauchy_zz(sp) -> np.ndarray:
     return evaluate_at_points(sigma[1, 1], sp.mesh, sp.rule, cells).ravel(), cells
 
 
-def approach_to_force(solve_at, target: float, delta0: float, rel_tol: float = 2e-3, max_solves: int = 40):
+def approach_to_force(solve_at, target: float, delta0: float, rel_tol: float = 2e-3,
+                      max_solves: int = 40):
     """Find the prescribed approach delta with contact force solve_at(delta) = target.
 
     Grows delta (x2 at most per step, secant when possible) until the force is bracketed, then a
@@ -183,8 +187,8 @@ def two_blocks(length, h_upper, h_lower, n_upper, n_lower, *, ny_upper=None, ny_
     lower [0, l] x [-h_lower, 0].  Facet tags: upper 1 contact (bottom), 2 top, 3 left, 4 right;
     lower 5 contact (top), 6 bottom, 7 left, 8 right.  Cell tags: 1 lower, 2 upper."""
 
-    up, lo = patch_test_pair(length, h_upper, h_lower, n_upper=n_upper, n_lower=n_lower, ny_upper=ny_upper,
-                             ny_lower=ny_lower, gap=gap)
+    up, lo = patch_test_pair(length, h_upper, h_lower, n_upper=n_upper, n_lower=n_lower,
+                             ny_upper=ny_upper, ny_lower=ny_lower, gap=gap)
     tol = 1e-9 * max(length, h_upper, h_lower)
     rules = [
         (1, lambda p: np.abs(p[:, 1] - gap) <= tol),
@@ -217,7 +221,8 @@ def patch(*, E: float = 10.0, nu: float = 0.3, pressure: float = 0.1, length: fl
     gap = 0.01 * length
     body = two_blocks(length, 0.5 * length, 0.5 * length, n_upper, n_lower, gap=gap)
     tol = 1e-9 * length
-    sp = SolidProblem(body.mesh, body.facet_tags, elastic_compound(E, nu), SolidSettings(element=element))
+    sp = SolidProblem(body.mesh, body.facet_tags, elastic_compound(E, nu),
+                      SolidSettings(element=element))
     q = fem.Constant(body.mesh, 0.0)
     sp.add_traction(2, ufl.as_vector([0.0, -q]))
     X, d = sp.node_X, sp.displacement_dofs()
@@ -227,7 +232,8 @@ def patch(*, E: float = 10.0, nu: float = 0.3, pressure: float = 0.1, length: fl
     cmap = ConstraintMap(spec)
     Es = plane_strain_modulus(E, nu)
     pen = PenaltySettings(c_N=c_N) if c_N else PenaltySettings()
-    contact = Contact(SlaveSurface.from_boundary(sp.boundary(1)), DeformableMaster.from_boundary(sp.boundary(5)),
+    contact = Contact(SlaveSurface.from_boundary(sp.boundary(1)),
+                      DeformableMaster.from_boundary(sp.boundary(5)),
                       method=method, E_eff=Es, penalty=pen, comm=body.mesh.comm)
     cN = contact.report()["penalty"]["c_N"]
     upper_nodes = X[:, 1] > 0.5 * gap
@@ -242,22 +248,26 @@ def patch(*, E: float = 10.0, nu: float = 0.3, pressure: float = 0.1, length: fl
     current_length = x_slave.max() - x_slave.min()
     p_exact = pressure * length / current_length  # dead load over the current contact length
     szz, cells = cauchy_zz(sp)
-    mid_z = np.repeat(sp.mesh.geometry.x[sp.mesh.geometry.dofmap.array.reshape(-1, 4)][:, :, 1].mean(axis=1),
-                      szz.size // cells.size)
+    mid_z = np.repeat(
+        sp.mesh.geometry.x[sp.mesh.geometry.dofmap.array.reshape(-1, 4)][:, :, 1].mean(axis=1),
+        szz.size // cells.size)
     s_up, s_lo = szz[mid_z > 0.5 * gap], szz[mid_z < 0.5 * gap]
     checks = [
         check("slave nodes in contact", float(act.sum()), float(act.size), 0.0),
         check("contact pressure min", float(p.min()), p_exact, tolerance),
         check("contact pressure max", float(p.max()), p_exact, tolerance),
         check("total contact force F_z", st["Fz"], pressure * length, tolerance),
-        check("sigma_zz upper (max dev.)", float(s_up[np.argmax(np.abs(s_up + p_exact))]), -p_exact, tolerance),
-        check("sigma_zz lower (max dev.)", float(s_lo[np.argmax(np.abs(s_lo + p_exact))]), -p_exact, tolerance),
+        check("sigma_zz upper (max dev.)", float(s_up[np.argmax(np.abs(s_up + p_exact))]),
+              -p_exact, tolerance),
+        check("sigma_zz lower (max dev.)", float(s_lo[np.argmax(np.abs(s_lo + p_exact))]),
+              -p_exact, tolerance),
     ]
     notes = [f"{method}: pressure spread (max-min)/p = {(p.max() - p.min()) / p_exact:.3e}, "
              f"sigma_zz spread in the lower block {(s_lo.max() - s_lo.min()) / p_exact:.3e}",
              contact.report_text()]
-    return _result("patch", {"E": E, "nu": nu, "pressure": pressure, "length": length, "n_upper": n_upper,
-                             "n_lower": n_lower, "method": method, "c_N": cN}, checks, notes,
+    return _result("patch", {"E": E, "nu": nu, "pressure": pressure, "length": length,
+                             "n_upper": n_upper, "n_lower": n_lower, "method": method, "c_N": cN},
+                   checks, notes,
                    pressure_spread=float((p.max() - p.min()) / p_exact),
                    stress_spread_lower=float((s_lo.max() - s_lo.min()) / p_exact),
                    stress_spread_upper=float((s_up.max() - s_up.min()) / p_exact))
@@ -304,7 +314,8 @@ def _hertz_one(R, E, nu, P, h, method, element, c_N, alpha, grading):
     a_t, _ = hertz_solution(P, R, Es)
     t0 = time.perf_counter()
     body = hertz_cylinder(R, h_contact=h, contact_width=min(1.6 * a_t, 0.5 * R), grading=grading)
-    sp = SolidProblem(body.mesh, body.facet_tags, elastic_compound(E, nu), SolidSettings(element=element))
+    sp = SolidProblem(body.mesh, body.facet_tags, elastic_compound(E, nu),
+                      SolidSettings(element=element))
     X, d = sp.node_X, sp.displacement_dofs()
     top = np.abs(X[:, 1] - R) <= 1e-9 * R
     spec = ConstraintSpec(n_full(sp))
@@ -315,8 +326,8 @@ def _hertz_one(R, E, nu, P, h, method, element, c_N, alpha, grading):
     cmap = ConstraintMap(spec)
     pen = PenaltySettings(c_N=c_N) if c_N else PenaltySettings(alpha=alpha)
     contact = Contact(SlaveSurface.from_boundary(sp.boundary(1)),
-                      RigidMaster(np.array([[-2.0 * R, 0.0], [2.0 * R, 0.0]])), method=method, E_eff=Es,
-                      penalty=pen, comm=body.mesh.comm)
+                      RigidMaster(np.array([[-2.0 * R, 0.0], [2.0 * R, 0.0]])), method=method,
+                      E_eff=Es, penalty=pen, comm=body.mesh.comm)
     pb, solver = make_newton(sp, cmap, contact, force_scale=P, rtol=1e-10)
     # displacement control of the rigid top until the contact carries P within 0.5 %
     iterations = 0
@@ -350,13 +361,15 @@ def _hertz_one(R, E, nu, P, h, method, element, c_N, alpha, grading):
     err_l2 = float(np.sqrt(np.sum(wo * (po - pbar) ** 2) / np.sum(wo * pbar ** 2)))
     return {"h_contact": h, "elements_per_a": a_ex / h, "P": Fz, "a": a_fit, "a_exact": a_ex,
             "p0": p0_node, "p0_fit": p0_fit, "p0_exact": p0_ex, "err_a": abs(a_fit - a_ex) / a_ex,
-            "err_p0": abs(p0_node - p0_ex) / p0_ex, "err_l2": err_l2, "contact_length": st["contact_length"],
-            "newton_iterations": iterations, "wall_time": wall, "dofs": n_full(sp),
+            "err_p0": abs(p0_node - p0_ex) / p0_ex, "err_l2": err_l2,
+            "contact_length": st["contact_length"], "newton_iterations": iterations,
+            "wall_time": wall, "dofs": n_full(sp),
             "c_N": contact.report()["penalty"]["c_N"], "active_nodes": int(act.sum())}
 
 
-def hertz(*, R: float = 10.0, E: float = 6.0, nu: float = 0.3, P: float | None = None, a_over_R: float = 0.02,
-          elements_per_a: tuple = (4, 8, 16, 32), method: str = "mortar", element: str = "Q1P0",
+def hertz(*, R: float = 10.0, E: float = 6.0, nu: float = 0.3, P: float | None = None,
+          a_over_R: float = 0.02, elements_per_a: tuple = (4, 8, 16, 32), method: str = "mortar",
+          element: str = "Q1P0",
           c_N: float | None = None, alpha: float | None = None, grading: float = 1.2,
           tolerance: float = 0.02) -> dict:
     """Plane-strain cylinder of radius R on a rigid flat (frictionless), load P per unit depth
@@ -378,14 +391,17 @@ def hertz(*, R: float = 10.0, E: float = 6.0, nu: float = 0.3, P: float | None =
               check("peak pressure p0", fine["p0"], fine["p0_exact"], tolerance),
               check("L2 pressure error", fine["err_l2"], 0.0, None)]
     notes = [f"n/a = {r['elements_per_a']:.1f}: a err {r['err_a']:.3e}, p0 err {r['err_p0']:.3e}, "
-             f"L2 pressure err {r['err_l2']:.3e}, {r['newton_iterations']} Newton its, {r['wall_time']:.1f} s, "
-             f"{r['dofs']} dofs" for r in runs]
-    notes.append("the error is not monotone level to level: the pressure edge falls anywhere between two "
-                 "nodes and the unstructured bulk mesh adds ~0.5 % nodal noise; compare coarsest and finest")
+             f"L2 pressure err {r['err_l2']:.3e}, {r['newton_iterations']} Newton its, "
+             f"{r['wall_time']:.1f} s, {r['dofs']} dofs" for r in runs]
+    notes.append("the error is not monotone level to level: the pressure edge falls anywhere "
+                 "between two nodes and the unstructured bulk mesh adds ~0.5 % nodal noise; "
+                 "compare coarsest and finest")
     if len(runs) > 1:
-        checks.append(check("L2 error finest/coarsest", fine["err_l2"] / coarse["err_l2"], 0.0, None))
-    return _result("hertz", {"R": R, "E": E, "nu": nu, "P": P, "E_star": Es, "method": method, "element": element,
-                             "elements_per_a": list(elements_per_a), "c_N": fine["c_N"]}, checks, notes, runs=runs)
+        checks.append(check("L2 error finest/coarsest", fine["err_l2"] / coarse["err_l2"], 0.0,
+                            None))
+    return _result("hertz", {"R": R, "E": E, "nu": nu, "P": P, "E_star": Es, "method": method,
+                             "element": element, "elements_per_a": list(elements_per_a),
+                             "c_N": fine["c_N"]}, checks, notes, runs=runs)
 
 
 # ----------------------------------------------------------------------------- Westergaard
@@ -395,15 +411,17 @@ def westergaard_solution(p_mean: float, E_star: float, amplitude: float, wavelen
     """Rigid sinusoid h cos(2 pi x/lambda) on an elastic half-plane (Johnson 13.2)."""
     p_star = math.pi * E_star * amplitude / wavelength
     if not 0.0 < p_mean < p_star:
-        raise ValueError(f"p_mean must lie in (0, p* = {p_star:g}) for partial contact, got {p_mean:g}")
+        raise ValueError(f"p_mean must lie in (0, p* = {p_star:g}) for partial contact, "
+                         f"got {p_mean:g}")
     s = math.sqrt(p_mean / p_star)
     a = wavelength / math.pi * math.asin(s)
     return {"p_star": p_star, "a": a, "p_peak": 2.0 * p_mean / s}
 
 
-def westergaard(*, E: float = 6.0, nu: float = 0.4999, wavelength: float = 1.0, amplitude: float = 0.005,
-                p_ratio: float = 0.4, n_contact: int = 64, master_points: int = 256, depth: float = 2.0,
-                method: str = "mortar", element: str = "Q1P0", c_N: float | None = None,
+def westergaard(*, E: float = 6.0, nu: float = 0.4999, wavelength: float = 1.0,
+                amplitude: float = 0.005, p_ratio: float = 0.4, n_contact: int = 64,
+                master_points: int = 256, depth: float = 2.0, method: str = "mortar",
+                element: str = "Q1P0", c_N: float | None = None,
                 tolerance: float = 0.02) -> dict:
     """Elastic layer (one wavelength wide, periodic left/right sides, thickness depth x lambda,
     top held rigidly) pressed onto the periodic rigid sinusoid z = h cos(2 pi x/lambda) - h.
@@ -420,7 +438,8 @@ def westergaard(*, E: float = 6.0, nu: float = 0.4999, wavelength: float = 1.0, 
     ex = westergaard_solution(p_mean, Es, h, lam)
     t0 = time.perf_counter()
     body = rubber_block(lam, depth * lam, nx_contact=n_contact, grading=1.15)
-    sp = SolidProblem(body.mesh, body.facet_tags, elastic_compound(E, nu), SolidSettings(element=element))
+    sp = SolidProblem(body.mesh, body.facet_tags, elastic_compound(E, nu),
+                      SolidSettings(element=element))
     X, d = sp.node_X, sp.displacement_dofs()
     tol = 1e-9 * lam
     top = np.abs(X[:, 1] - depth * lam) <= tol
@@ -436,10 +455,12 @@ def westergaard(*, E: float = 6.0, nu: float = 0.4999, wavelength: float = 1.0, 
     spec.fix(top_z, 0.0)
     cmap = ConstraintMap(spec)
     xm = np.arange(master_points) * lam / master_points
-    master = RigidMaster(np.column_stack([xm, h * np.cos(2.0 * np.pi * (xm - 0.5 * lam) / lam) - h]), period=lam)
+    master = RigidMaster(
+        np.column_stack([xm, h * np.cos(2.0 * np.pi * (xm - 0.5 * lam) / lam) - h]), period=lam)
     pen = PenaltySettings(c_N=c_N) if c_N else PenaltySettings()
-    contact = Contact(SlaveSurface.from_boundary(sp.boundary(1), periodic_seam=True), master, method=method,
-                      E_eff=Es, penalty=pen, search_radius=4.0 * h, comm=body.mesh.comm)
+    contact = Contact(SlaveSurface.from_boundary(sp.boundary(1), periodic_seam=True), master,
+                      method=method, E_eff=Es, penalty=pen, search_radius=4.0 * h,
+                      comm=body.mesh.comm)
     F = p_mean * lam
     pb, solver = make_newton(sp, cmap, contact, force_scale=F, rtol=1e-10, max_iterations=60)
     iterations = 0
@@ -466,11 +487,14 @@ def westergaard(*, E: float = 6.0, nu: float = 0.4999, wavelength: float = 1.0, 
               check("p_mean = p* sin^2(pi a/lam)", p_star * s2, pm, tolerance),
               check("peak pressure", p_peak, ex["p_peak"], tolerance),
               check("contact length / 2", 0.5 * st["contact_length"], ex["a"], None)]
-    notes = [f"p* = {p_star:.6g} MPa, p_mean = {pm:.6g} MPa ({pm / p_star:.3f} p*), {iterations} Newton "
-             f"iterations, {wall:.1f} s, {n_full(sp)} dofs", contact.report_text()]
-    return _result("westergaard", {"E": E, "nu": nu, "E_star": Es, "wavelength": lam, "amplitude": h,
-                                   "p_ratio": p_ratio, "n_contact": n_contact, "master_points": master_points,
-                                   "depth": depth, "method": method, "element": element}, checks, notes,
+    notes = [f"p* = {p_star:.6g} MPa, p_mean = {pm:.6g} MPa ({pm / p_star:.3f} p*), "
+             f"{iterations} Newton iterations, {wall:.1f} s, {n_full(sp)} dofs",
+             contact.report_text()]
+    return _result("westergaard", {"E": E, "nu": nu, "E_star": Es, "wavelength": lam,
+                                   "amplitude": h,
+                                   "p_ratio": p_ratio, "n_contact": n_contact,
+                                   "master_points": master_points, "depth": depth, "method": method,
+                                   "element": element}, checks, notes,
                    wall_time=wall)
 
 
@@ -522,7 +546,8 @@ def _block_setup(*, E, nu, length, height, n_contact, periodic, element, edge_ra
                             leading_edge_radius=edge_radius, leading_edge="right")
     else:
         body = rubber_block(length, height, nx_contact=n_contact, grading=1.2)
-    sp = SolidProblem(body.mesh, body.facet_tags, elastic_compound(E, nu), SolidSettings(element=element))
+    sp = SolidProblem(body.mesh, body.facet_tags, elastic_compound(E, nu),
+                      SolidSettings(element=element))
     X, d = sp.node_X, sp.displacement_dofs()
     tol = 1e-9 * length
     top = np.abs(X[:, 1] - height) <= tol
@@ -540,9 +565,10 @@ def _block_setup(*, E, nu, length, height, n_contact, periodic, element, edge_ra
     return body, sp, spec, top_x, top_z
 
 
-def sliding_block(*, E: float = 6.0, nu: float = 0.45, pressure: float = 0.2, velocity: float = 10.0,
-                  mu: float = 0.6, law=None, length: float = 1.0, height: float = 0.5, n_contact: int = 16,
-                  edge_radius: float = 0.2, steps: int | None = None,
+def sliding_block(*, E: float = 6.0, nu: float = 0.45, pressure: float = 0.2,
+                  velocity: float = 10.0, mu: float = 0.6, law=None, length: float = 1.0,
+                  height: float = 0.5, n_contact: int = 16, edge_radius: float = 0.2,
+                  steps: int | None = None,
                   step_length: float | None = None,
                   method: str = "mortar", element: str = "Q1P0", tolerance: float = 0.005,
                   frame: str = "slave") -> dict:
@@ -593,14 +619,16 @@ def sliding_block(*, E: float = 6.0, nu: float = 0.45, pressure: float = 0.2, ve
     if law is None:
         pg = np.linspace(0.0, 1.0, 6)
         vg = np.logspace(-2, 4, 9)
-        law = fl.fit_mu_pv(pg, vg, 0.9 - 0.25 * pg[:, None] + 0.15 * np.tanh(np.log10(vg) - 1.0)[None, :])
+        law = fl.fit_mu_pv(pg, vg,
+                           0.9 - 0.25 * pg[:, None] + 0.15 * np.tanh(np.log10(vg) - 1.0)[None, :])
     ds = step_length or length / (2.0 * n_contact)
     dt = ds / velocity
     runs, n_steps = {}, {}
     for kind in ("finite", "periodic"):
-        body, sp, spec, top_x, top_z = _block_setup(E=E, nu=nu, length=length, height=height, n_contact=n_contact,
-                                                    periodic=kind == "periodic", element=element,
-                                                    edge_radius=edge_radius if kind == "finite" else 0.0)
+        body, sp, spec, top_x, top_z = _block_setup(
+            E=E, nu=nu, length=length, height=height, n_contact=n_contact,
+            periodic=kind == "periodic", element=element,
+            edge_radius=edge_radius if kind == "finite" else 0.0)
         cmap = ConstraintMap(spec)
         slave = SlaveSurface.from_boundary(sp.boundary(1), periodic_seam=kind == "periodic")
         friction = mu if kind == "finite" else law
@@ -653,8 +681,10 @@ def sliding_block(*, E: float = 6.0, nu: float = 0.45, pressure: float = 0.2, ve
         probe = history[-1] if kind == "finite" else history[min(1, len(history) - 1)]
         orders = convergence_orders(probe, floor)
         runs[kind] = {"state": st, "residuals": history, "probe": probe, "orders": orders,
-                      "order": orders[-1] if orders else float("nan"), "report": contact.report_text(),
-                      "leading_end": leading_end(contact, sp.w.x.array) if kind == "finite" else None}
+                      "order": orders[-1] if orders else float("nan"),
+                      "report": contact.report_text(),
+                      "leading_end": (leading_end(contact, sp.w.x.array) if kind == "finite"
+                                      else None)}
     fin, per = runs["finite"]["state"], runs["periodic"]["state"]
     p_per = per["Fz"] / length
     mu_pv = float(law(p_per, velocity))
@@ -670,19 +700,24 @@ def sliding_block(*, E: float = 6.0, nu: float = 0.45, pressure: float = 0.2, ve
         check("Newton order, layer mu(p,v)", runs["periodic"]["order"], 2.0, None),
     ]
     end = runs["finite"]["leading_end"]
-    notes = [(f"finite block, leading end node (frame: the master's normal): p = {end['pressure_ratio']:.3g} x the "
-              f"mean, end segment tilted {end['tilt_deg']:.3g} deg, {100 * end['length_ratio']:.3g} % of its length"
+    notes = [(f"finite block, leading end node (frame: the master's normal): "
+              f"p = {end['pressure_ratio']:.3g} x the mean, end segment tilted "
+              f"{end['tilt_deg']:.3g} deg, {100 * end['length_ratio']:.3g} % of its length"
               if end["pressure_ratio"] > 0 else "finite block, leading end node out of contact"),
              f"periodic layer: p = {p_per:.6g} MPa, v = {velocity:g} mm/s, mu(p, v) = {mu_pv:.6g}",
-             f"finite block, last sliding step: residuals {['%.1e' % r for r in runs['finite']['probe']]}",
-             f"layer, second sliding step: residuals {['%.1e' % r for r in runs['periodic']['probe']]}",
+             "finite block, last sliding step: residuals "
+             f"{['%.1e' % r for r in runs['finite']['probe']]}",
+             "layer, second sliding step: residuals "
+             f"{['%.1e' % r for r in runs['periodic']['probe']]}",
              "Newton order = log(r_k+1/r_k)/log(r_k/r_k-1) of the last iterations above round-off",
              runs["periodic"]["report"]]
-    return _result("sliding-block", {"E": E, "nu": nu, "pressure": pressure, "velocity": velocity, "mu": mu,
-                                     "length": length, "height": height, "n_contact": n_contact,
-                                     "edge_radius": edge_radius, "steps": steps or n_steps,
-                                     "method": method, "element": element, "frame": frame}, checks, notes,
-                   newton={k: {"residuals": v["residuals"], "orders": v["orders"], "order": v["order"]}
+    return _result("sliding-block", {"E": E, "nu": nu, "pressure": pressure, "velocity": velocity,
+                                     "mu": mu, "length": length, "height": height,
+                                     "n_contact": n_contact, "edge_radius": edge_radius,
+                                     "steps": steps or n_steps, "method": method,
+                                     "element": element, "frame": frame}, checks, notes,
+                   newton={k: {"residuals": v["residuals"], "orders": v["orders"],
+                               "order": v["order"]}
                            for k, v in runs.items()})
 
 
@@ -719,11 +754,12 @@ def mixed_surface(mesh, facet_tags, tag, Xu, du, XT, dT):
     return Xu[uniq], du[uniq], inv.reshape(-1, 2), dT[np.array([tmap[i] for i in uniq])]
 
 
-def thermal_bars(*, L1: float = 0.5, L2: float = 1.0, k1: float = 0.25, k2: float = 50.0, width: float = 1.0,
-                 h0: float = 2.0, h1: float = 0.5, beta: float = 1.0, T_top: float = 400.0,
-                 T_bottom: float = 300.0, n_upper: int = 5, n_lower: int = 7, penetration: float = 1e-4,
-                 c_N: float = 1e3, mu: float = 0.5, kappa: float = 0.3, slide: float = 0.01, dt: float = 1e-3,
-                 method: str = "mortar", tolerance: float = 1e-8) -> dict:
+def thermal_bars(*, L1: float = 0.5, L2: float = 1.0, k1: float = 0.25, k2: float = 50.0,
+                 width: float = 1.0, h0: float = 2.0, h1: float = 0.5, beta: float = 1.0,
+                 T_top: float = 400.0, T_bottom: float = 300.0, n_upper: int = 5, n_lower: int = 7,
+                 penetration: float = 1e-4, c_N: float = 1e3, mu: float = 0.5, kappa: float = 0.3,
+                 slide: float = 0.01, dt: float = 1e-3, method: str = "mortar",
+                 tolerance: float = 1e-8) -> dict:
     """Two bars in contact along z (upper [0, w] x [gap, gap + L1], conductivity k1; lower
     [0, w] x [-L2, 0], k2; non-matching interface meshes), steady heat conduction, displacements
     prescribed (the upper bar penetrates by `penetration`: p = c_N x penetration).
@@ -776,15 +812,18 @@ def thermal_bars(*, L1: float = 0.5, L2: float = 1.0, k1: float = 0.25, k2: floa
         cmap = ConstraintMap(spec)
         thermal = ThermalSettings(h0=h0 if phase == "conduction" else 0.0,
                                   h1=h1 if phase == "conduction" else 0.0, beta=beta, kappa=kappa)
-        contact = Contact(SlaveSurface(su[0], su[1], su[2], su[3]), DeformableMaster(sm[0], sm[1], sm[2], sm[3]),
-                          method=method, friction=mu if phase == "friction" else None,
+        contact = Contact(SlaveSurface(su[0], su[1], su[2], su[3]),
+                          DeformableMaster(sm[0], sm[1], sm[2], sm[3]), method=method,
+                          friction=mu if phase == "friction" else None,
                           penalty=PenaltySettings(c_N=c_N), thermal=thermal, comm=mesh.comm)
         contact.set_time_step(dt)
         w.x.array[:] = 0.0
         w.x.array[dT] = T_bottom
-        pb = ConstrainedNonlinearProblem(R, J, w, cmap, hooks=[contact.hook], extra_couplings=contact.couplings())
+        pb = ConstrainedNonlinearProblem(R, J, w, cmap, hooks=[contact.hook],
+                                         extra_couplings=contact.couplings())
         scale = k1 * abs(T_top - T_bottom) / L1 * width + 1.0
-        solve_or_raise(NewtonSolver(pb, newton_settings(rtol=1e-14, atol=1e-14 * scale), force_scale=scale),
+        solve_or_raise(NewtonSolver(pb, newton_settings(rtol=1e-14, atol=1e-14 * scale),
+                                    force_scale=scale),
                        f"thermal bars ({phase})")
         # R = F_int - F_ext: at a fixed-temperature dof the residual is the heat entering there
         heat_top = float(pb.reaction(top).sum())
@@ -803,26 +842,31 @@ def thermal_bars(*, L1: float = 0.5, L2: float = 1.0, k1: float = 0.25, k2: floa
     checks = [
         check("conduction: heat in at top", con["heat_top"], q * width, tolerance),
         check("conduction: heat out at bottom", -con["heat_bottom"], q * width, tolerance),
-        check("conduction: interface jump", con["T_interface_upper"] - con["T_interface_lower"], q / hc, tolerance),
+        check("conduction: interface jump", con["T_interface_upper"] - con["T_interface_lower"],
+              q / hc, tolerance),
         check("friction: total heat W", -(fr["heat_top"] + fr["heat_bottom"]), Wf, 1e-6),
         check("friction: slave share", -fr["heat_top"], kappa * Wf, 1e-6),
         check("friction: master share", -fr["heat_bottom"], (1.0 - kappa) * Wf, 1e-6),
         check("friction: W from contact state", fr["state"]["friction_power"], Wf, 1e-6),
     ]
-    notes = [f"h_c(p) = {hc:.6g} at p = {p:.6g} MPa; q = {q:.6g} mW/mm^2; W = mu p v A = {Wf:.6g} mW/mm",
-             f"interface temperature spread on the slave (conduction): {con['T_spread_upper']:.3e} K"]
-    return _result("thermal-bars", {"L1": L1, "L2": L2, "k1": k1, "k2": k2, "width": width, "h0": h0, "h1": h1,
-                                    "beta": beta, "T_top": T_top, "T_bottom": T_bottom, "n_upper": n_upper,
-                                    "n_lower": n_lower, "c_N": c_N, "mu": mu, "kappa": kappa, "slide": slide,
+    notes = [f"h_c(p) = {hc:.6g} at p = {p:.6g} MPa; q = {q:.6g} mW/mm^2; "
+             f"W = mu p v A = {Wf:.6g} mW/mm",
+             "interface temperature spread on the slave (conduction): "
+             f"{con['T_spread_upper']:.3e} K"]
+    return _result("thermal-bars", {"L1": L1, "L2": L2, "k1": k1, "k2": k2, "width": width,
+                                    "h0": h0, "h1": h1, "beta": beta, "T_top": T_top,
+                                    "T_bottom": T_bottom, "n_upper": n_upper, "n_lower": n_lower,
+                                    "c_N": c_N, "mu": mu, "kappa": kappa, "slide": slide,
                                     "dt": dt, "method": method}, checks, notes)
 
 
 # ------------------------------------------------------------------- periodic wrap-around
 
 
-def periodic_sliding(*, E: float = 6.0, nu: float = 0.45, wavelength: float = 1.0, amplitude: float = 0.01,
-                     p_ratio: float = 0.5, mu: float = 0.3, velocity: float = 10.0, n_contact: int = 32,
-                     steps_per_period: int = 32, periods: int = 3, method: str = "mortar",
+def periodic_sliding(*, E: float = 6.0, nu: float = 0.45, wavelength: float = 1.0,
+                     amplitude: float = 0.01, p_ratio: float = 0.5, mu: float = 0.3,
+                     velocity: float = 10.0, n_contact: int = 32, steps_per_period: int = 32,
+                     periods: int = 3, method: str = "mortar",
                      element: str = "Q1P0", tolerance: float = 1e-6) -> dict:
     """An elastic layer (one wavelength wide, periodic sides, top held) pressed onto the periodic
     rigid sinusoid (mean pressure p_ratio p*, partial contact) and slid with friction over
@@ -832,13 +876,15 @@ def periodic_sliding(*, E: float = 6.0, nu: float = 0.45, wavelength: float = 1.
     Es = plane_strain_modulus(E, nu)
     lam, h = wavelength, amplitude
     p_star = math.pi * Es * h / lam
-    body, sp, spec, top_x, top_z = _block_setup(E=E, nu=nu, length=lam, height=lam, n_contact=n_contact,
-                                                periodic=True, element=element)
+    body, sp, spec, top_x, top_z = _block_setup(E=E, nu=nu, length=lam, height=lam,
+                                                n_contact=n_contact, periodic=True, element=element)
     cmap = ConstraintMap(spec)
     xm = np.arange(8 * n_contact) * lam / (8 * n_contact)
-    master = RigidMaster(np.column_stack([xm, h * np.cos(2.0 * np.pi * (xm - 0.5 * lam) / lam) - h]), period=lam)
-    contact = Contact(SlaveSurface.from_boundary(sp.boundary(1), periodic_seam=True), master, method=method,
-                      friction=mu, E_eff=Es, search_radius=4.0 * h, comm=body.mesh.comm)
+    master = RigidMaster(
+        np.column_stack([xm, h * np.cos(2.0 * np.pi * (xm - 0.5 * lam) / lam) - h]), period=lam)
+    contact = Contact(SlaveSurface.from_boundary(sp.boundary(1), periodic_seam=True), master,
+                      method=method, friction=mu, E_eff=Es, search_radius=4.0 * h,
+                      comm=body.mesh.comm)
     F = p_ratio * p_star * lam
     pb, solver = make_newton(sp, cmap, contact, force_scale=F, rtol=1e-12, max_iterations=60)
     dt = lam / steps_per_period / velocity
@@ -866,11 +912,13 @@ def periodic_sliding(*, E: float = 6.0, nu: float = 0.45, wavelength: float = 1.
               check("mean F_z, last two periods", last[1], prev[1], tolerance),
               check("mean dissipation, last two periods", last[2], prev[2], tolerance),
               check("mean F_x, run-in vs last", arr[0][0], last[0], None)]
-    notes = [f"{periods} periods x {steps_per_period} steps, {iterations} Newton iterations, {wall:.1f} s; "
-             f"mean -F_x/F_z = {-last[0] / last[1]:.6g}", contact.report_text()]
-    return _result("periodic-sliding", {"E": E, "nu": nu, "wavelength": lam, "amplitude": h, "p_ratio": p_ratio,
-                                        "mu": mu, "velocity": velocity, "n_contact": n_contact,
-                                        "steps_per_period": steps_per_period, "periods": periods, "method": method},
+    notes = [f"{periods} periods x {steps_per_period} steps, {iterations} Newton iterations, "
+             f"{wall:.1f} s; mean -F_x/F_z = {-last[0] / last[1]:.6g}", contact.report_text()]
+    return _result("periodic-sliding", {"E": E, "nu": nu, "wavelength": lam, "amplitude": h,
+                                        "p_ratio": p_ratio, "mu": mu, "velocity": velocity,
+                                        "n_contact": n_contact,
+                                        "steps_per_period": steps_per_period,
+                                        "periods": periods, "method": method},
                    checks, notes, period_means=arr.tolist())
 
 
@@ -878,8 +926,9 @@ def periodic_sliding(*, E: float = 6.0, nu: float = 0.45, wavelength: float = 1.
 
 #: CLI name -> case function (the registry in ``driver/verification/__init__.py`` points all of
 #: them to this module; ``run`` dispatches on ``args.case``).
-CASE_FUNCTIONS = {"patch": patch, "hertz": hertz, "westergaard": westergaard, "sliding-block": sliding_block,
-                  "thermal-bars": thermal_bars, "periodic-sliding": periodic_sliding}
+CASE_FUNCTIONS = {"patch": patch, "hertz": hertz, "westergaard": westergaard,
+                  "sliding-block": sliding_block, "thermal-bars": thermal_bars,
+                  "periodic-sliding": periodic_sliding}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -85,8 +85,8 @@ def pressure_modes(*, n: tuple = (8, 16), G: float = 1.0, K: float = 1e8, beta: 
     second, fine = sorted(set(n))[-2:]
     checks = [
         check(f"Q1P0s lambda_1 K (n={fine})", stab[fine][0] * K, 1.0, 1e-3),
-        check(f"Q1P0s lambda_2({fine})/lambda_2({second})", min(1.0, stab[fine][1] / stab[second][1]), 1.0,
-              tolerance),
+        check(f"Q1P0s lambda_2({fine})/lambda_2({second})",
+              min(1.0, stab[fine][1] / stab[second][1]), 1.0, tolerance),
         check(f"Q1P0s lambda_2 K >= 1000 (n={fine})", min(1.0, stab[fine][1] * K / 1e3), 1.0, 0.0),
     ]
     notes = [f"{e} n={k}: lambda G = " + ", ".join(f"{v * G:.4g}" for v in spectra[e][k])
@@ -100,13 +100,17 @@ def pressure_modes(*, n: tuple = (8, 16), G: float = 1.0, K: float = 1e8, beta: 
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--n", type=int, nargs="+", default=[8, 16], help="cells per side (default: 8 16)")
+    parser.add_argument("--n", type=int, nargs="+", default=[8, 16],
+                        help="cells per side (default: 8 16)")
     parser.add_argument("--G", type=float, default=1.0, help="shear modulus, MPa (default: 1)")
     parser.add_argument("--K", type=float, default=1e8, help="bulk modulus, MPa (default: 1e8)")
-    parser.add_argument("--beta", type=float, default=BETA, help=f"Q1P0s stabilisation (default: {BETA})")
+    parser.add_argument("--beta", type=float, default=BETA,
+                        help=f"Q1P0s stabilisation (default: {BETA})")
     parser.add_argument("--tolerance", type=float, default=0.25,
-                        help="allowed decay of lambda_2 between the two finest meshes (default: 0.25)")
+                        help="allowed decay of lambda_2 between the two finest meshes "
+                             "(default: 0.25)")
 
 
 def run(args: argparse.Namespace) -> dict:
-    return pressure_modes(n=tuple(args.n), G=args.G, K=args.K, beta=args.beta, tolerance=args.tolerance)
+    return pressure_modes(n=tuple(args.n), G=args.G, K=args.K, beta=args.beta,
+                          tolerance=args.tolerance)

@@ -38,8 +38,8 @@ class ShearCell:
         m = dmesh.create_unit_square(MPI.COMM_SELF, 1, 1, dmesh.CellType.quadrilateral)
         tags = dmesh.meshtags(m, 1, np.array([], np.int32), np.array([], np.int32))
         mat = Compound(name="shear-cell", hyperelastic=hyperelastic,
-                       prony=PronySeries(np.asarray(gamma, float), np.asarray(tau, float)), wlf=None,
-                       thermal=None)
+                       prony=PronySeries(np.asarray(gamma, float), np.asarray(tau, float)),
+                       wlf=None, thermal=None)
         self.sp = SolidProblem(m, tags, mat, SolidSettings(viscous_scheme=scheme))
         spec = ConstraintSpec(self.sp.W.dofmap.index_map.size_local)
         d = self.sp.displacement_dofs()
@@ -79,7 +79,8 @@ def ramp_hold(hyperelastic: MooneyRivlin, gamma, tau, *, dt: float, t_ramp: floa
         if t >= t_ramp - 1e-12:
             times.append(t)
             fe.append(s)
-            exact.append(gamma0 * G_inf * (1.0 + np.sum(g * tau * np.exp(-t / tau) * np.expm1(t_ramp / tau)) / t_ramp))
+            exact.append(gamma0 * G_inf * (1.0 + np.sum(g * tau * np.exp(-t / tau)
+                                                        * np.expm1(t_ramp / tau)) / t_ramp))
     fe, exact = np.array(fe), np.array(exact)
     err = np.abs(fe - exact) / np.abs(exact)
     return {"t": np.array(times), "stress": fe, "exact": exact, "max_rel_error": float(err.max())}
@@ -191,7 +192,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tau", type=float, nargs="+", default=[0.01, 0.1], help="Prony tau_k [s]")
     p.add_argument("--dt-factor", type=float, default=0.1, help="dt = factor * tau_min")
     p.add_argument("--scheme", default="linear", choices=["linear", "midpoint"],
-                   help="history update: exact for linear-in-time Sbar (default) or the midpoint rule (3.76)")
+                   help="history update: exact for linear-in-time Sbar (default) "
+                        "or the midpoint rule (3.76)")
     p.add_argument("--finite-amplitude", type=float, default=0.5,
                    help="simple-shear amplitude of the finite-strain energy check at omega = "
                         "1/tau_min: dissipation and loop area per cycle against the closed form "
@@ -214,7 +216,8 @@ def run(args: argparse.Namespace) -> dict:
         h = harmonic_shear(hyp, args.gamma, args.tau, omega=w, scheme=args.scheme)
         checks += [check(f"G' at omega={w:g}", h["G_storage"], h["G_storage_exact"], 0.01),
                    check(f"G'' at omega={w:g}", h["G_loss"], h["G_loss_exact"], 0.01),
-                   check(f"energy/cycle omega={w:g}", h["energy_per_cycle"], h["energy_exact"], 0.01)]
+                   check(f"energy/cycle omega={w:g}", h["energy_per_cycle"], h["energy_exact"],
+                         0.01)]
     amp = getattr(args, "finite_amplitude", 0.5)
     if amp > 0.0:  # the energy balance at finite strain: dissipation = loop area = closed form
         w = 1.0 / tmin
@@ -226,6 +229,6 @@ def run(args: argparse.Namespace) -> dict:
                    check(f"loop area/cycle, gamma0={amp:g}", f["loop_area"], f["energy_exact"],
                          0.01)]
     return {"case": "relaxation", "parameters": {"C10": args.C10, "C01": args.C01, "D1": args.D1,
-                                                "gamma": args.gamma, "tau": args.tau, "dt": dt,
-                                                "scheme": args.scheme},
+                                                 "gamma": args.gamma, "tau": args.tau, "dt": dt,
+                                                 "scheme": args.scheme},
             "checks": checks, "notes": ["shear moduli; E = 3 G for an incompressible material"]}
