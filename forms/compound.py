@@ -1,4 +1,5 @@
-"""Material value objects of the rubber compounds and the road (thesis ch. 3.3.1, 3.3.3, app. A and C).
+"""Material value objects of the rubber compounds and the road (thesis ch. 3.3.1, 3.3.3, app. A
+and C).
 
 Plain, validated, immutable value objects; the finite-element forms consume them.  Units are the
 project's: mm, s, t, N, MPa, mJ, K (so densities in t/mm^3, specific heats in mJ/(t K), thermal

@@ -17,7 +17,8 @@ def heat_residual(theta, theta_n, dtheta, *, rho: float, c: float, k: float, dt,
                   flux_out=None, ds=None, dx=None):
     """Residual form of eq. (3.89) with implicit Euler (5.25); linear in theta."""
     dx = dx or ufl.dx
-    F = rho * c * (theta - theta_n) / dt * dtheta * dx + k * ufl.inner(ufl.grad(theta), ufl.grad(dtheta)) * dx
+    F = (rho * c * (theta - theta_n) / dt * dtheta * dx
+         + k * ufl.inner(ufl.grad(theta), ufl.grad(dtheta)) * dx)
     if source is not None:
         F -= source * dtheta * dx
     if flux_out is not None:

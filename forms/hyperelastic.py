@@ -65,13 +65,14 @@ def dev(T, C) -> ufl.core.expr.Expr:
 def fictitious_stress(F, mat: MooneyRivlinLike) -> ufl.core.expr.Expr:
     """Sbar = 2 dPsi_iso/dCbar for Psi_iso = C10 (I1bar - 3) + C01 (I2bar - 3).
 
-    With I1bar = tr Cbar and I2bar = 1/2 (I1bar^2 - tr Cbar^2):  Sbar = 2 [(C10 + C01 I1bar) 1 - C01 Cbar].
+    With I1bar = tr Cbar and I2bar = 1/2 (I1bar^2 - tr Cbar^2):
+    Sbar = 2 [(C10 + C01 I1bar) 1 - C01 Cbar].
     """
     C = F.T * F
     J = ufl.det(F)
     Cbar = J ** (-2.0 / 3.0) * C
-    I = ufl.Identity(3)
-    return 2.0 * ((mat.C10 + mat.C01 * ufl.tr(Cbar)) * I - mat.C01 * Cbar)
+    eye = ufl.Identity(3)
+    return 2.0 * ((mat.C10 + mat.C01 * ufl.tr(Cbar)) * eye - mat.C01 * Cbar)
 
 
 def isochoric_stress(F, Sbar) -> ufl.core.expr.Expr:

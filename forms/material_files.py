@@ -75,7 +75,8 @@ def check_units(path: Path, doc: dict, thermal: bool) -> str:
         raise ValueError(f"{path}: missing [units] table; every material file must state its units "
                          f"({', '.join(f'{k} = {v[0]!r}' for k, v in BASE_UNITS.items())})")
     expected = dict(BASE_UNITS, **(THERMAL_UNITS if thermal else {}))
-    units = V.table(f"{path} [units]", doc["units"], set(BASE_UNITS) | set(THERMAL_UNITS), set(expected))
+    units = V.table(f"{path} [units]", doc["units"], set(BASE_UNITS) | set(THERMAL_UNITS),
+                    set(expected))
     for key, accepted in expected.items():
         value = str(units[key]).replace(" ", "")
         if value not in accepted:
@@ -131,8 +132,8 @@ def load_compound(name_or_path: str | Path, _seen: tuple[Path, ...] = ()) -> Com
     wlf, wlf_note = _load_wlf(path, doc.get("wlf"), T_unit, _seen + (path,))
     prony, note = _load_prony(path, doc.get("prony"), T_unit, hyper, wlf, _seen + (path,))
     thermal = _load_thermal(path, doc["thermal"]) if "thermal" in doc else None
-    return Compound(name=V.text(f"{str(path)}.name", doc["name"], empty_ok=False), hyperelastic=hyper,
-                    prony=prony, wlf=wlf, thermal=thermal,
+    return Compound(name=V.text(f"{str(path)}.name", doc["name"], empty_ok=False),
+                    hyperelastic=hyper, prony=prony, wlf=wlf, thermal=thermal,
                     description=V.text(f"{str(path)}.description", doc.get("description", "")),
                     source=V.text(f"{str(path)}.source", doc["source"]) + note + wlf_note)
 
@@ -202,7 +203,8 @@ def _load_prony(path: Path, table: Any, T_unit: str, hyper: MooneyRivlin, wlf: W
 def _fit_prony_from_file(path: Path, t: dict, T_unit: str, hyper: MooneyRivlin,
                          wlf: WLF | None) -> tuple[PronySeries, str]:
     where = f"{path} [prony]"
-    V.table(where, t, {"fit_from", "n_terms", "columns", "freq_unit", "T", "E_inf", "note"}, {"fit_from", "freq_unit", "T"})
+    V.table(where, t, {"fit_from", "n_terms", "columns", "freq_unit", "T", "E_inf", "note"},
+            {"fit_from", "freq_unit", "T"})
     csv = Path(V.text(f"{where}.fit_from", t["fit_from"], empty_ok=False)).expanduser()
     csv = csv if csv.is_absolute() else path.parent / csv
     columns = tuple(t.get("columns", ("f", "E_stor", "E_loss")))

@@ -104,7 +104,8 @@ def spectrum_generator(
     gen = doc.get("prony", {}).get("generator")
     if gen is None:
         raise ValueError(f"{path}: no [prony.generator] table")
-    gen = V.table(f"{path} [prony.generator]", dict(gen), GENERATOR_KEYS, GENERATOR_KEYS - {"points_per_decade"})
+    gen = V.table(f"{path} [prony.generator]", dict(gen), GENERATOR_KEYS,
+                  GENERATOR_KEYS - {"points_per_decade"})
     if gen.pop("model") != "havriliak_negami":
         raise ValueError(f"{path} [prony.generator].model: expected 'havriliak_negami'")
     T_unit = check_units(path, doc, "thermal" in doc)

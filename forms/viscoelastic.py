@@ -35,8 +35,9 @@ zero x-y and z-y shears, so every H^k and Hstar is stored by its 4 independent c
 beta depend on dt and the temperature only: they are computed once per (dt, temperature) and
 reused by the steps of equal length that make up most of a run.
 
-Temperature enters through the WLF shift of every tau_k, eqs. (3.33), (3.37): tau_k(T) = a_T(T) tau_k,
-with T given per cell (a field from the thermal loop or one value per height partition).
+Temperature enters through the WLF shift of every tau_k, eqs. (3.33), (3.37):
+tau_k(T) = a_T(T) tau_k, with T given per cell (a field from the thermal loop or one value per
+height partition).
 
 Dissipation.  At small strain the dashpot of element k dissipates D_k = |s_k|^2 / (2 eta_k)
 with branch stress s_k = gamma_k H^k_0 and viscosity eta_k = G_k tau_k (G_k = gamma_k G_0); in
@@ -132,10 +133,11 @@ class ViscoelasticHistory:
     carry the 4 components of ``kinematics.PLANE_SYM_COMPONENTS``.
     """
 
-    def __init__(self, mesh, rule: QuadratureRule, gamma, tau, scale: float, G_ref: float, shift=None,
-                 scheme: str = "linear"):
+    def __init__(self, mesh, rule: QuadratureRule, gamma, tau, scale: float, G_ref: float,
+                 shift=None, scheme: str = "linear"):
         if scheme not in ("linear", "midpoint"):
-            raise ValueError(f"viscoelastic scheme: got {scheme!r}, expected 'linear' or 'midpoint'")
+            raise ValueError(f"viscoelastic scheme: got {scheme!r}, expected 'linear' or "
+                             "'midpoint'")
         self.scheme = scheme
         self.mesh = mesh
         self.rule = rule
@@ -144,7 +146,8 @@ class ViscoelasticHistory:
         self.G_ref = float(G_ref)
         self.shift = shift
         cell = mesh.ufl_cell()
-        qe = ufl.VectorElement("Quadrature", cell, degree=rule.degree, dim=NCOMP, quad_scheme="default")
+        qe = ufl.VectorElement("Quadrature", cell, degree=rule.degree, dim=NCOMP,
+                               quad_scheme="default")
         self.Q = fem.FunctionSpace(mesh, qe)
         self.DG0 = fem.FunctionSpace(mesh, ("DG", 0))
         self.Hstar = fem.Function(self.Q, name="Hstar")
@@ -155,7 +158,8 @@ class ViscoelasticHistory:
         self.npts = rule.points.shape[0]
         # dofs of (cell, point) in Hstar and of each cell in beta; None where they are the array
         # positions themselves (dolfinx numbers them so in serial): then no index is needed
-        self._qdofs = _unless_identity(self.Q.dofmap.list.array.reshape(-1, self.npts)[: self.num_cells])
+        self._qdofs = _unless_identity(
+            self.Q.dofmap.list.array.reshape(-1, self.npts)[: self.num_cells])
         self._cdofs = _unless_identity(self.DG0.dofmap.list.array[: self.num_cells])
         nq = self.num_cells * self.npts
         self.H = np.zeros((self.g.size, nq, NCOMP))  # per-term history
@@ -318,7 +322,8 @@ class ViscoelasticHistory:
         docstring; ``rate`` is the exact mean rate of the last step)."""
         H2 = np.einsum("kqi,kqi,i->kq", self.H, self.H, np.asarray(PLANE_SYM_WEIGHTS))  # |H^k|^2
         rate = self.g[:, None] / (2.0 * self.G_ref * self._tau_cell)  # (terms, cells)
-        return np.einsum("kc,kcp->cp", rate, H2.reshape(self.g.size, self.num_cells, self.npts)).ravel()
+        return np.einsum("kc,kcp->cp", rate,
+                         H2.reshape(self.g.size, self.num_cells, self.npts)).ravel()
 
     # --- helpers -----------------------------------------------------------------------------
     def _by_cell(self, a: np.ndarray) -> np.ndarray:

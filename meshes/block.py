@@ -109,35 +109,35 @@ def rubber_block(length: float, height: float, *, nx_contact: int | None = None,
     num_contact_facets, contact_size_min/max (facet lengths on tag 1, arc included),
     min_scaled_jacobian, and corner_band_thickness and arc_elements when r > 0.
     """
-    l = require_positive("length", length)
+    L = require_positive("length", length)
     h = require_positive("height", height)
     g = require_ratio("grading", grading)
-    r = _check_radius(leading_edge_radius, l, h)
-    n = contact_divisions(l, nx_contact, h_contact)
-    dx = l / n if h_contact is None or r == 0.0 else float(h_contact)
+    r = _check_radius(leading_edge_radius, L, h)
+    n = contact_divisions(L, nx_contact, h_contact)
+    dx = L / n if h_contact is None or r == 0.0 else float(h_contact)
     first = dx if first_layer is None else require_positive("first_layer", first_layer)
     levels = _check_levels(partitions, h, r)
     if leading_edge not in ("right", "left"):
         raise ValueError(f"leading_edge must be 'right' or 'left', got {leading_edge!r}")
 
-    info = {"body": "rubber_block", "length": l, "height": h, "grading": g,
+    info = {"body": "rubber_block", "length": L, "height": h, "grading": g,
             "partitions": list(levels), "leading_edge_radius": r, "leading_edge": leading_edge,
             "facet_tags": {"contact": CONTACT, "top": OPPOSITE, "left": LEFT, "right": RIGHT},
-            "area_exact": l * h - (1.0 - math.pi / 4.0) * r * r, "periodic": r == 0.0}
+            "area_exact": L * h - (1.0 - math.pi / 4.0) * r * r, "periodic": r == 0.0}
     if r == 0.0:
         zs, _ = graded_nodes(h, first, g, levels)
-        points, cells = tensor_grid(np.linspace(0.0, l, n + 1), zs)
-        info["h_contact"] = l / n
+        points, cells = tensor_grid(np.linspace(0.0, L, n + 1), zs)
+        info["h_contact"] = L / n
     else:
-        points, cells, zs, extra = _rounded_grid(l, h, r, dx, first, g, levels)
+        points, cells, zs, extra = _rounded_grid(L, h, r, dx, first, g, levels)
         info.update(extra)
     if leading_edge == "left":
-        points, cells = mirror_x(points, cells, l)
+        points, cells = mirror_x(points, cells, L)
     info.update(first_layer=float(zs[1] - zs[0]), z_nodes=zs.tolist(), **growth_range(zs),
                 layers=[[a, b] for a, b in zip([0.0, *levels], [*levels, h])])
-    rules = rectangle_rules(0.0, l, 0.0, h, contact="bottom")
+    rules = rectangle_rules(0.0, L, 0.0, h, contact="bottom")
     if r > 0.0:
-        rules.append((CONTACT, _arc_predicate(l, r, leading_edge)))
+        rules.append((CONTACT, _arc_predicate(L, r, leading_edge)))
     return build_body_mesh(comm, points, cells, rules, levels, info)
 
 
@@ -185,7 +185,7 @@ def _arc_predicate(length: float, radius: float, side: str):
     return on_arc
 
 
-def _rounded_grid(l: float, h: float, r: float, dx: float, first: float, g: float,
+def _rounded_grid(L: float, h: float, r: float, dx: float, first: float, g: float,
                   levels: list[float]):
     """Multi-block structured grid of the block with its bottom-right corner rounded.
 
@@ -223,7 +223,7 @@ def _rounded_grid(l: float, h: float, r: float, dx: float, first: float, g: floa
                             exact_first=False)
     zs = np.concatenate([lower[:k_t], mid, r + upper[1:]])
     zs[-1] = h
-    xa = l - r
+    xa = L - r
     n1 = max(1, math.ceil(xa / dx * (1.0 - 1e-12)))
     xs_core = np.concatenate([np.linspace(0.0, xa, n1 + 1),
                               xa + (r - t) * np.arange(1, n_h + 1) / n_h])
@@ -238,14 +238,14 @@ def _rounded_grid(l: float, h: float, r: float, dx: float, first: float, g: floa
     inner = np.concatenate([
         np.column_stack([xs_core[:n1 + 1], np.zeros(n1 + 1)]),
         np.column_stack([xa + r * np.sin(theta), r - r * np.cos(theta)])])
-    inner[-1] = (l, r)
+    inner[-1] = (L, r)
     outer_idx = np.concatenate([cidx[0, :n1 + n_h + 1], cidx[1:n_h + 1, -1]])
     outer = points[outer_idx]
     ncol = len(inner)
     eta = zs[:k_t] / t
     band = inner[None, :, :] + eta[:, None, None] * (outer - inner)[None, :, :]
     band[:, :n1 + 1, 1] = zs[:k_t, None]               # flat part: exact graded rows
-    band[:, -1, 0] = l - zs[:k_t]                        # arc end: exact layers at z = r
+    band[:, -1, 0] = L - zs[:k_t]                        # arc end: exact layers at z = r
     band[:, -1, 1] = r
     bidx = np.vstack([count + np.arange(k_t * ncol).reshape(k_t, ncol), outer_idx[None, :]])
     pts.append(band.reshape(-1, 2))
@@ -257,7 +257,7 @@ def _rounded_grid(l: float, h: float, r: float, dx: float, first: float, g: floa
     ridx = np.empty((k_t + 1, len(rows)), dtype=np.int64)
     ridx[:, 0] = bidx[:, -1]
     ridx[k_t, 1:] = cidx[n_h + 1:, -1]
-    new = np.column_stack([np.repeat(l - zs[:k_t], len(rows) - 1), np.tile(rows[1:], k_t)])
+    new = np.column_stack([np.repeat(L - zs[:k_t], len(rows) - 1), np.tile(rows[1:], k_t)])
     ridx[:k_t, 1:] = count + np.arange(k_t * (len(rows) - 1)).reshape(k_t, len(rows) - 1)
     pts.append(new)
     right_cells = quads_from_index_grid(ridx)

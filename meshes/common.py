@@ -2,8 +2,8 @@
 structured quadrilateral grids and the conversion of point/cell arrays into a checked
 DOLFINx mesh with cell and facet tags.
 
-Conventions (README "Conventions", CONTRIBUTING.md): units mm; plane strain in the x-z plane stored as
-(x, y) with x the sliding direction and z up. Every body carries facet tags
+Conventions (README "Conventions", CONTRIBUTING.md): units mm; plane strain in the x-z plane
+stored as (x, y) with x the sliding direction and z up. Every body carries facet tags
 
     1 = contact face, 2 = the face opposite to it, 3 = left (x = x_min), 4 = right (x = x_max)
 
@@ -136,8 +136,8 @@ def orient_and_reorder_gmsh_quads(points: np.ndarray, quads_ccw: np.ndarray) -> 
     return q[:, _AROUND_TO_DOLFINX]
 
 
-def mirror_x(points: np.ndarray, cells: np.ndarray, length: float) -> tuple[np.ndarray,
-                                                                           np.ndarray]:
+def mirror_x(points: np.ndarray, cells: np.ndarray,
+             length: float) -> tuple[np.ndarray, np.ndarray]:
     """Mirror x -> length - x, keeping det J > 0 by swapping the reference xi direction."""
     p = points.copy()
     p[:, 0] = length - p[:, 0]

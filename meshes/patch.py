@@ -37,7 +37,7 @@ def patch_test_pair(length: float = 1.0, height_upper: float = 0.5, height_lower
     (bottom and top z), h_contact, facet_tags, area_exact, num_cells, num_vertices,
     num_contact_facets, contact_size_min/max, min_scaled_jacobian.
     """
-    l = require_positive("length", length)
+    L = require_positive("length", length)
     hu = require_positive("height_upper", height_upper)
     hl = require_positive("height_lower", height_lower)
     nu = require_count("n_upper", n_upper)
@@ -45,10 +45,10 @@ def patch_test_pair(length: float = 1.0, height_upper: float = 0.5, height_lower
     g = float(gap)
     if not math.isfinite(g) or g <= -hl:
         raise ValueError(f"gap must be a finite number > -height_lower={hl}, got {gap!r}")
-    mu = _rows("ny_upper", ny_upper, hu, l / nu)
-    ml = _rows("ny_lower", ny_lower, hl, l / nl)
-    upper = _body("patch_upper", l, g, g + hu, nu, mu, "bottom", comm)
-    lower = _body("patch_lower", l, -hl, 0.0, nl, ml, "top", comm)
+    mu = _rows("ny_upper", ny_upper, hu, L / nu)
+    ml = _rows("ny_lower", ny_lower, hl, L / nl)
+    upper = _body("patch_upper", L, g, g + hu, nu, mu, "bottom", comm)
+    lower = _body("patch_lower", L, -hl, 0.0, nl, ml, "top", comm)
     return upper, lower
 
 
@@ -58,14 +58,14 @@ def _rows(name: str, value: int | None, height: float, dx: float) -> int:
     return require_count(name, value)
 
 
-def _body(kind: str, l: float, z0: float, z1: float, nx: int, ny: int, contact: str,
+def _body(kind: str, L: float, z0: float, z1: float, nx: int, ny: int, contact: str,
           comm: MPI.Comm) -> BodyMesh:
     zs = np.linspace(z0, z1, ny + 1)
     zs[0], zs[-1] = z0, z1
-    points, cells = tensor_grid(np.linspace(0.0, l, nx + 1), zs)
+    points, cells = tensor_grid(np.linspace(0.0, L, nx + 1), zs)
     opposite = "top" if contact == "bottom" else "bottom"
-    info = {"body": kind, "length": l, "height": z1 - z0, "nx": nx, "ny": ny, "z0": z0, "z1": z1,
-            "h_contact": l / nx, "area_exact": l * (z1 - z0),
+    info = {"body": kind, "length": L, "height": z1 - z0, "nx": nx, "ny": ny, "z0": z0, "z1": z1,
+            "h_contact": L / nx, "area_exact": L * (z1 - z0),
             "facet_tags": {"contact": CONTACT, opposite: OPPOSITE, "left": LEFT, "right": RIGHT}}
-    return build_body_mesh(comm, points, cells, rectangle_rules(0.0, l, z0, z1, contact=contact),
+    return build_body_mesh(comm, points, cells, rectangle_rules(0.0, L, z0, z1, contact=contact),
                            (), info)

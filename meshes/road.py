@@ -2,10 +2,11 @@
 
 The road is the rectangle [0, l] x [-d, 0] under the contact plane z = 0. Only thermal
 macro runs need it (model only what a scene requires: a rigid road is a polyline). Thesis
-8.4.1: both bodies are "refined equally in z-direction", the reference mesh has its first node at z = 0.01 mm, so
-the element heights grow geometrically downward from `first_layer` (default 0.01 mm) with
-ratio at most `grading` (:mod:`rubberfriction.meshes.grading`); along x the elements are equal
-(h_surface; the road is the master body and may be coarser in x than the rubber).
+8.4.1: both bodies are "refined equally in z-direction", the reference mesh has its first node
+at z = 0.01 mm, so the element heights grow geometrically downward from `first_layer` (default
+0.01 mm) with ratio at most `grading` (:mod:`rubberfriction.meshes.grading`); along x the
+elements are equal (h_surface; the road is the master body and may be coarser in x than the
+rubber).
 
 Facet tags: 1 top (z = 0, the contact face), 2 bottom (z = -d), 3 left, 4 right. Left and
 right faces carry identical z-nodes. One cell tag, 1.
@@ -38,18 +39,18 @@ def road_body(length: float, depth: float, *, h_surface: float | None = None,
     growth_min/max, z_nodes (0 down to -depth), facet_tags, area_exact, num_cells,
     num_vertices, num_contact_facets, contact_size_min/max, min_scaled_jacobian, periodic.
     """
-    l = require_positive("length", length)
+    L = require_positive("length", length)
     d = require_positive("depth", depth)
     g = require_ratio("grading", grading)
-    n = contact_divisions(l, nx_surface, h_surface, names=("nx_surface", "h_surface"))
+    n = contact_divisions(L, nx_surface, h_surface, names=("nx_surface", "h_surface"))
     first = require_positive("first_layer", first_layer)
     down, _ = graded_nodes(d, first, g, name="depth")
     zs = -down[::-1]
     zs[-1] = 0.0
-    points, cells = tensor_grid(np.linspace(0.0, l, n + 1), zs)
-    info = {"body": "road_body", "length": l, "depth": d, "h_surface": l / n,
+    points, cells = tensor_grid(np.linspace(0.0, L, n + 1), zs)
+    info = {"body": "road_body", "length": L, "depth": d, "h_surface": L / n,
             "first_layer": float(down[1]), "grading": g, **growth_range(down),
-            "z_nodes": (-down).tolist(), "area_exact": l * d, "periodic": True,
+            "z_nodes": (-down).tolist(), "area_exact": L * d, "periodic": True,
             "facet_tags": {"contact": CONTACT, "bottom": OPPOSITE, "left": LEFT, "right": RIGHT}}
-    rules = rectangle_rules(0.0, l, -d, 0.0, contact="top")
+    rules = rectangle_rules(0.0, L, -d, 0.0, contact="top")
     return build_body_mesh(comm, points, cells, rules, (), info)

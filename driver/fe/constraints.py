@@ -7,11 +7,12 @@ prescribed:
 * periodic cells, eq. (6.5): x_r - x_l = X_r - X_l, i.e. u_r = u_l for each matched node pair;
 * the top edge of a block moves as one (thesis 6.2.2): all its vertical dofs share one unknown.
 
-Dofs tied together form groups (connected components), each group is one reduced unknown, and a group that
-contains a prescribed dof is prescribed as a whole.  P (n_full x n_red) has one 1 per row of a free
-dof.  The Newton solver works on P^T A P and P^T b; contact and bulk contributions are assembled in
-the full space and condensed here, which is why our C++ contact blocks need no special treatment
-for periodicity or ties (dolfinx_mpc 0.5 condenses UFL forms only, not our C++ contact blocks).
+Dofs tied together form groups (connected components), each group is one reduced unknown, and a
+group that contains a prescribed dof is prescribed as a whole.  P (n_full x n_red) has one 1 per
+row of a free dof.  The Newton solver works on P^T A P and P^T b; contact and bulk contributions
+are assembled in the full space and condensed here, which is why our C++ contact blocks need no
+special treatment for periodicity or ties (dolfinx_mpc 0.5 condenses UFL forms only, not our C++
+contact blocks).
 """
 
 from __future__ import annotations
@@ -58,7 +59,8 @@ class ConstraintMap:
         for d, v in spec.fixed.items():
             r = int(roots[d])
             if r in fixed_roots and abs(fixed_roots[r] - v) > 1e-14 * max(1.0, abs(v)):
-                raise ValueError(f"constraints: dof {d} prescribed {v} but tied to a dof prescribed {fixed_roots[r]}")
+                raise ValueError(f"constraints: dof {d} prescribed {v} but tied to a dof "
+                                 f"prescribed {fixed_roots[r]}")
             fixed_roots[r] = v
         self.fixed_roots = fixed_roots
         is_fixed = np.array([r in fixed_roots for r in roots]) if fixed_roots else np.zeros(n, bool)
@@ -112,7 +114,8 @@ def _aij_from_coo(m: int, n: int, rows, cols, vals) -> PETSc.Mat:
     counts = np.zeros(m, dtype=PETSc.IntType)
     counts[rows] = 1
     indptr = np.concatenate([[0], np.cumsum(counts)]).astype(PETSc.IntType)
-    A = PETSc.Mat().createAIJ((m, n), csr=(indptr, np.asarray(cols, PETSc.IntType), np.asarray(vals, float)),
+    A = PETSc.Mat().createAIJ((m, n), csr=(indptr, np.asarray(cols, PETSc.IntType),
+                                           np.asarray(vals, float)),
                               comm=PETSc.COMM_SELF)
     A.assemble()
     return A

@@ -107,9 +107,11 @@ class SlaveSurface:
     periodic_seam: bool = False
 
     @classmethod
-    def from_boundary(cls, boundary, temperature_dofs=None, periodic_seam: bool = False) -> "SlaveSurface":
+    def from_boundary(cls, boundary, temperature_dofs=None,
+                      periodic_seam: bool = False) -> "SlaveSurface":
         """From ``SolidProblem.boundary(tag)`` (``BoundaryNodes``: X, dofs, segments)."""
-        return cls(np.asarray(boundary.X, float), np.asarray(boundary.dofs), np.asarray(boundary.segments),
+        return cls(np.asarray(boundary.X, float), np.asarray(boundary.dofs),
+                   np.asarray(boundary.segments),
                    None if temperature_dofs is None else np.asarray(temperature_dofs),
                    periodic_seam=periodic_seam)
 
@@ -136,16 +138,17 @@ class DeformableMaster:
 
     @classmethod
     def from_boundary(cls, boundary, temperature_dofs=None) -> "DeformableMaster":
-        return cls(np.asarray(boundary.X, float), np.asarray(boundary.dofs), np.asarray(boundary.segments),
+        return cls(np.asarray(boundary.X, float), np.asarray(boundary.dofs),
+                   np.asarray(boundary.segments),
                    None if temperature_dofs is None else np.asarray(temperature_dofs))
 
 
 def _check_serial(comm) -> None:
     if comm is not None and comm.size > 1:
         raise ValueError(
-            f"contact: the communicator has {comm.size} ranks; the contact module runs serially on its "
-            "own communicator (farm runs over ranks with MPI.COMM_SELF per run). Distributed meshes "
-            "are not supported.")
+            f"contact: the communicator has {comm.size} ranks; the contact module runs serially on "
+            "its own communicator (farm runs over ranks with MPI.COMM_SELF per run). Distributed "
+            "meshes are not supported.")
 
 
 class Contact:
@@ -183,13 +186,16 @@ class Contact:
                  allow_new_nonzeros: bool = False, frame: str = "slave", comm=None):
         _check_serial(comm)
         if method not in METHODS:
-            raise ValueError(f"method: got {method!r}, expected one of {sorted(set(METHODS.values()))}")
+            raise ValueError(f"method: got {method!r}, expected one of "
+                             f"{sorted(set(METHODS.values()))}")
         self.method = METHODS[method]
         self.slave = slave
         self.master = master
         self._c = _contact.ContactInterface(
-            np.asarray(slave.X, float), np.asarray(slave.dofs, np.int64), np.asarray(slave.segments, np.int64),
-            None if slave.temperature_dofs is None else np.asarray(slave.temperature_dofs, np.int64),
+            np.asarray(slave.X, float), np.asarray(slave.dofs, np.int64),
+            np.asarray(slave.segments, np.int64),
+            None if slave.temperature_dofs is None
+            else np.asarray(slave.temperature_dofs, np.int64),
             None if slave.interior_points is None else np.asarray(slave.interior_points, float),
             self.method)  # the binding takes the short names
         self._c.set_periodic_seam(bool(slave.periodic_seam))
@@ -201,18 +207,23 @@ class Contact:
             self._c.set_rigid_master(np.asarray(master.vertices, float), float(master.period))
         elif isinstance(master, DeformableMaster):
             self._c.set_deformable_master(
-                np.asarray(master.X, float), np.asarray(master.dofs, np.int64), np.asarray(master.segments, np.int64),
-                None if master.temperature_dofs is None else np.asarray(master.temperature_dofs, np.int64),
-                None if master.interior_points is None else np.asarray(master.interior_points, float))
+                np.asarray(master.X, float), np.asarray(master.dofs, np.int64),
+                np.asarray(master.segments, np.int64),
+                None if master.temperature_dofs is None
+                else np.asarray(master.temperature_dofs, np.int64),
+                None if master.interior_points is None
+                else np.asarray(master.interior_points, float))
         else:
-            raise TypeError(f"master: expected RigidMaster or DeformableMaster, got {type(master)!r}")
+            raise TypeError("master: expected RigidMaster or DeformableMaster, got "
+                            f"{type(master)!r}")
         self.penalty = penalty or PenaltySettings()
         self._set_penalty(self.penalty, E_eff)
         self.friction = friction
         self._c.set_friction(as_cpp_law(friction))
         self.thermal = thermal
         if thermal is not None:
-            Tm = math.nan if thermal.master_temperature is None else float(thermal.master_temperature)
+            Tm = (math.nan if thermal.master_temperature is None
+                  else float(thermal.master_temperature))
             self._c.set_thermal(thermal.h0, thermal.h1, thermal.beta, thermal.kappa, Tm)
         if search_radius is not None:
             self._c.set_search_radius(float(search_radius))
@@ -231,8 +242,9 @@ class Contact:
             self._c.set_penalty(float(pen.c_N), float(cT))
             return
         if E_eff is None:
-            raise ValueError("E_eff: the automatic penalty c_N = alpha E_eff / h_min needs the plane-strain "
-                             "modulus of the slave body (or give PenaltySettings(c_N=...))")
+            raise ValueError("E_eff: the automatic penalty c_N = alpha E_eff / h_min needs the "
+                             "plane-strain modulus of the slave body (or give "
+                             "PenaltySettings(c_N=...))")
         self._c.set_auto_penalty(float(E_eff), float(pen.alpha), float(pen.tangential_fraction))
 
     # --- per step ------------------------------------------------------------------------------
@@ -242,7 +254,8 @@ class Contact:
 
     def set_rigid_master(self, master: RigidMaster) -> None:
         """New geometry of the rigid master from the next evaluation on (same interface, slip
-        history kept): a road surface that deforms between steps (``driver.thermal.road_deflection``)."""
+        history kept): a road surface that deforms between steps
+        (``driver.thermal.road_deflection``)."""
         if not isinstance(self.master, RigidMaster) or not isinstance(master, RigidMaster):
             raise TypeError("set_rigid_master: the interface and the new master must both be rigid")
         self.master = master
@@ -273,7 +286,8 @@ class Contact:
                 "temperature": self.temperature if temperature is None else float(temperature)}
 
     # --- per Newton iteration ------------------------------------------------------------------
-    def assemble(self, u: np.ndarray, A=None, b=None, *, offset=None, dt=None, temperature=None) -> dict:
+    def assemble(self, u: np.ndarray, A=None, b=None, *, offset=None, dt=None,
+                 temperature=None) -> dict:
         """Search, project and ADD the contact residual into b and tangent into A at u.
 
         u: full local solution array (float64) indexed by the dof indices.  A, b: petsc4py Mat/Vec
@@ -297,7 +311,8 @@ class Contact:
 
     def local_system(self, u: np.ndarray, *, offset=None, dt=None, temperature=None):
         """(res_rows, res_vals, J_rows, J_cols, J_vals) COO triplets (sum duplicates)."""
-        return self._c.local_system(np.ascontiguousarray(u, dtype=float), **self._kw(offset, dt, temperature))
+        return self._c.local_system(np.ascontiguousarray(u, dtype=float),
+                                    **self._kw(offset, dt, temperature))
 
     def commit(self, u: np.ndarray | None = None) -> None:
         """Accept the step: re-evaluate at u if given, then store the history (elastic tangential
@@ -310,7 +325,8 @@ class Contact:
                       elastic_gap: np.ndarray | None = None) -> None:
         """Take u and offset as the last converged state; the tangential history (committed
         elastic gaps per slave node, :meth:`elastic_gap`) is ``elastic_gap``, or none."""
-        self._c.reset_history(np.ascontiguousarray(u, dtype=float), (float(offset[0]), float(offset[1])))
+        self._c.reset_history(np.ascontiguousarray(u, dtype=float),
+                              (float(offset[0]), float(offset[1])))
         if elastic_gap is not None:
             self._c.set_elastic_gap(np.asarray(elastic_gap, dtype=float))
 
@@ -326,7 +342,8 @@ class Contact:
         Per slave node (arrays): status (0 open, 1 stick, 2 slip), active, paired, gap (NaN where
         no master within the search radius), pressure, tangential_traction, slip_increment,
         tangential_increment, slip_velocity, mu, weight (A_A), heat_flux_slave/master, normal,
-        friction_power_density (|t_T| dgamma/dt, mW/mm^2; times weight: the node's frictional power).
+        friction_power_density (|t_T| dgamma/dt, mW/mm^2; times weight: the node's frictional
+        power).
         Scalars: contact_length (sum of A_A over active nodes, the contact area per unit depth),
         force_x/Fx, force_z/Fz (on the slave), mean_pressure (weighted over active nodes),
         dissipation (frictional, this step, mJ/mm), friction_power, heat_slave/master (mW/mm),
@@ -337,7 +354,8 @@ class Contact:
         s["active"] = active
         s["Fx"], s["Fz"] = s["force_x"], s["force_z"]
         w = s["weight"][active]
-        s["mean_pressure"] = float(np.sum(w * s["pressure"][active]) / w.sum()) if w.size and w.sum() > 0 else 0.0
+        s["mean_pressure"] = (float(np.sum(w * s["pressure"][active]) / w.sum())
+                              if w.size and w.sum() > 0 else 0.0)
         return s
 
     def couplings(self, margin: float | None = None, u: np.ndarray | None = None) -> list:
@@ -350,12 +368,14 @@ class Contact:
 
     def coupling_blocks(self, margin: float | None = None, u: np.ndarray | None = None) -> list:
         """The same couplings as a list of dense (rows, cols) blocks (one or two per slave node)."""
-        return [(r, c) for r, c in self._c.sparsity_blocks(None if u is None else np.asarray(u, float),
-                                                         -1.0 if margin is None else float(margin))]
+        return [(r, c) for r, c in self._c.sparsity_blocks(
+            None if u is None else np.asarray(u, float),
+            -1.0 if margin is None else float(margin))]
 
     def sparsity_pairs(self, margin: float | None = None, u: np.ndarray | None = None):
         """(rows, cols) arrays (PETSc.IntType) of every entry the contact may write."""
-        r, c = self._c.sparsity_pairs(None if u is None else np.asarray(u, float), -1.0 if margin is None else float(margin))
+        r, c = self._c.sparsity_pairs(None if u is None else np.asarray(u, float),
+                                      -1.0 if margin is None else float(margin))
         return r.astype(PETSc.IntType), c.astype(PETSc.IntType)
 
     def report(self) -> dict:
@@ -366,18 +386,22 @@ class Contact:
         r = self.report()
         p = r["penalty"]
         if p["automatic"]:
-            pen = (f"c_N = alpha E_eff / h_min = {p['alpha']:g} x {p['E_eff']:.6g} MPa / {p['h_min']:.6g} mm "
-                   f"= {p['c_N']:.6g} MPa/mm (automatic), c_T = {p['tangential_fraction']:g} c_N = {p['c_T']:.6g} MPa/mm")
+            pen = (f"c_N = alpha E_eff / h_min = {p['alpha']:g} x {p['E_eff']:.6g} MPa / "
+                   f"{p['h_min']:.6g} mm = {p['c_N']:.6g} MPa/mm (automatic), c_T = "
+                   f"{p['tangential_fraction']:g} c_N = {p['c_T']:.6g} MPa/mm")
         else:
             pen = f"c_N = {p['c_N']:.6g} MPa/mm, c_T = {p['c_T']:.6g} MPa/mm (user)"
         m = r["master"]
-        master = (f"rigid polyline, {m['segments']} segments" + (f", periodic L = {m['period']:g} mm" if m["period"] > 0 else "")
+        master = (f"rigid polyline, {m['segments']} segments"
+                  + (f", periodic L = {m['period']:g} mm" if m["period"] > 0 else "")
                   if m["type"] == "rigid" else f"deformable surface, {m['segments']} segments")
-        lines = [f"contact: {r['method']}, slave {r['slave']['segments']} segments, master {master}",
+        lines = [f"contact: {r['method']}, slave {r['slave']['segments']} segments, "
+                 f"master {master}",
                  f"  penalty: {pen}",
                  f"  friction: {r['friction'] or 'none'}",
                  f"  thermal: {r['thermal'] or 'none'}",
-                 f"  search radius {r['search_radius']:.6g} mm, {r['gauss_points']} Gauss points per segment"]
+                 f"  search radius {r['search_radius']:.6g} mm, {r['gauss_points']} Gauss points "
+                 "per segment"]
         return "\n".join(lines)
 
     @property

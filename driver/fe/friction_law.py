@@ -61,8 +61,9 @@ class SplineLaw:
             raise ValueError("SplineLaw: transforms needs one entry per axis")
         shape = tuple(len(k) - d - 1 for k, d in zip(self.knots, self.degrees))
         if self.coefficients.size != int(np.prod(shape)):
-            raise ValueError(f"SplineLaw: coefficients have {self.coefficients.size} entries, expected "
-                             f"{int(np.prod(shape))} = prod(len(knots) - degree - 1) = {shape}")
+            raise ValueError(f"SplineLaw: coefficients have {self.coefficients.size} entries, "
+                             f"expected {int(np.prod(shape))} = prod(len(knots) - degree - 1) = "
+                             f"{shape}")
         self.coefficients = self.coefficients.reshape(shape)
         self._cpp = _contact.SplineFriction([k.tolist() for k in self.knots], self.degrees,
                                             self.coefficients.ravel(), list(self.transforms),
@@ -83,7 +84,8 @@ class SplineLaw:
 
     def evaluate(self, p, v, T=293.15) -> np.ndarray:
         """Array [..., 4]: mu, dmu/dp, dmu/dv, dmu/dT."""
-        p, v, T = np.broadcast_arrays(np.asarray(p, float), np.asarray(v, float), np.asarray(T, float))
+        p, v, T = np.broadcast_arrays(np.asarray(p, float), np.asarray(v, float),
+                                      np.asarray(T, float))
         out = self._cpp.evaluate_many(p.ravel(), v.ravel(), T.ravel())
         return out.reshape(p.shape + (4,))
 
@@ -96,8 +98,8 @@ class SplineLaw:
 
     @classmethod
     def from_dict(cls, d: dict) -> "SplineLaw":
-        return cls(d["knots"], d["degrees"], np.reshape(d["coefficients"], d["shape"]), d["transforms"],
-                   d.get("log_floor", 1e-12), d.get("mu_min", 0.0))
+        return cls(d["knots"], d["degrees"], np.reshape(d["coefficients"], d["shape"]),
+                   d["transforms"], d.get("log_floor", 1e-12), d.get("mu_min", 0.0))
 
 
 def _axis(values, transform: str, name: str, floor: float) -> np.ndarray:
@@ -129,7 +131,8 @@ def fit_mu_pv(p, v, mu, *, v_axis: str = "log10", p_axis: str = "linear", degree
     sp, sv = _axis(p, p_axis, "p", 1e-12), _axis(v, v_axis, "v", 1e-12)
     if mu.ndim == 2:
         if mu.shape != (p.size, v.size):
-            raise ValueError(f"mu: gridded data must have shape (len(p), len(v)) = {(p.size, v.size)}, got {mu.shape}")
+            raise ValueError("mu: gridded data must have shape (len(p), len(v)) = "
+                             f"{(p.size, v.size)}, got {mu.shape}")
         kx, ky = min(degree, p.size - 1), min(degree, v.size - 1)
         if kx < 1 or ky < 1:
             raise ValueError("need at least 2 values of p and of v")
@@ -145,17 +148,20 @@ def fit_mu_pv(p, v, mu, *, v_axis: str = "log10", p_axis: str = "linear", degree
                      [p_axis, v_axis], mu_min=mu_min)
 
 
-def fit_mu_pvT(p, v, T, mu, *, v_axis: str = "log10", degree: int = 3, mu_min: float = 0.0) -> SplineLaw:
+def fit_mu_pvT(p, v, T, mu, *, v_axis: str = "log10", degree: int = 3,
+               mu_min: float = 0.0) -> SplineLaw:
     """Interpolating tensor-product spline mu(p, v, T) through gridded data mu (n_p, n_v, n_T).
 
     The coefficients come from 1D interpolation along each axis in turn (the tensor-product
     interpolation problem is separable on a grid).
     """
-    axes = [_axis(p, "linear", "p", 1e-12), _axis(v, v_axis, "v", 1e-12), _axis(T, "linear", "T", 1e-12)]
+    axes = [_axis(p, "linear", "p", 1e-12), _axis(v, v_axis, "v", 1e-12),
+            _axis(T, "linear", "T", 1e-12)]
     mu = np.asarray(mu, float)
     shape = tuple(a.size for a in axes)
     if mu.shape != shape:
-        raise ValueError(f"mu: gridded data must have shape (len(p), len(v), len(T)) = {shape}, got {mu.shape}")
+        raise ValueError(f"mu: gridded data must have shape (len(p), len(v), len(T)) = {shape}, "
+                         f"got {mu.shape}")
     if not np.all(np.isfinite(mu)):
         raise ValueError("mu: values must be finite")
     knots, degrees, c = [], [], mu.copy()
@@ -182,4 +188,5 @@ def as_cpp_law(law):
         return law.cpp
     if isinstance(law, _contact.FrictionLaw):
         return law
-    raise TypeError(f"friction: expected None, a number, a SplineLaw or a _contact.FrictionLaw, got {type(law)!r}")
+    raise TypeError("friction: expected None, a number, a SplineLaw or a _contact.FrictionLaw, "
+                    f"got {type(law)!r}")

@@ -71,7 +71,8 @@ class NewtonSettings:
     max_iterations: int = 25
     rtol: float = 1e-9  # on the reduced residual norm, relative to the reference force
     atol: float = 1e-10  # absolute floor on the reduced residual norm (N/mm)
-    line_search: bool = True  # backtrack when a full step blows the residual up (inversion, overshoot)
+    # backtrack when a full step blows the residual up (inversion, overshoot)
+    line_search: bool = True
     max_backtracks: int = 5
     backtrack_growth: float = 10.0  # ... i.e. grows it by more than this factor (active-set changes
     # in penalty contact make moderate growth normal; halving those steps only slows Newton down)
@@ -157,7 +158,8 @@ class ConstrainedNonlinearProblem:
         self.du = self.P.createVecLeft()
 
     def set_constraints(self, constraints: ConstraintMap) -> None:
-        """Use new constraints (e.g. a prescribed dof becomes free); the reduced system is rebuilt."""
+        """Use new constraints (e.g. a prescribed dof becomes free); the reduced system is
+        rebuilt."""
         self.constraints = constraints
         self.P = constraints.P
         self.Ar: PETSc.Mat | None = None
@@ -252,7 +254,8 @@ class NewtonSolver:
     """Plain Newton iteration with LU on the reduced system; reports instead of raising."""
 
     def __init__(self, problem: NonlinearProblem, settings: NewtonSettings | None = None,
-                 force_scale: float = 1.0, on_iteration: Callable[[int, float], None] | None = None):
+                 force_scale: float = 1.0,
+                 on_iteration: Callable[[int, float], None] | None = None):
         self.problem = problem
         self.settings = settings or NewtonSettings()
         self.force_scale = float(force_scale)
@@ -408,11 +411,13 @@ class NewtonSolver:
                 res.reason = f"diverged: residual {r:.3e} after {it} iterations"
                 return
             w = s.stagnation
-            if 0 < w < len(res.residuals) and min(res.residuals[-w:]) > 0.5 * min(res.residuals[:-w]):
+            if (0 < w < len(res.residuals)
+                    and min(res.residuals[-w:]) > 0.5 * min(res.residuals[:-w])):
                 res.time_assemble += time.perf_counter() - t0
                 res.reason = (f"stagnated: residual {r:.3e} not halved in {w} iterations "
                               f"(best {min(res.residuals):.3e})")
                 return
             pb.assemble(need_vector=False)  # the residual at this iterate is assembled
             res.time_assemble += time.perf_counter() - t0
-        res.reason = f"no convergence in {s.max_iterations} iterations (residual {res.residuals[-1]:.3e})"
+        res.reason = (f"no convergence in {s.max_iterations} iterations (residual "
+                      f"{res.residuals[-1]:.3e})")

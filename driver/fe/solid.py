@@ -65,7 +65,8 @@ MIXED = ("Q1P0", "Q1P0s")
 class SolidSettings:
     element: str = "Q1P0"
     quadrature_degree: int = 2
-    viscous_scheme: str = "linear"  # history update: "linear" (exact for ramps) or "midpoint" (3.76)
+    # history update: "linear" (exact for ramps) or "midpoint" (3.76)
+    viscous_scheme: str = "linear"
     stabilisation: float = 0.01  # beta of Q1P0s
     stabilisation_modulus: float = 0.0  # G_s of Q1P0s in MPa; 0: the long-term shear modulus
 
@@ -73,12 +74,14 @@ class SolidSettings:
         if self.element not in ELEMENTS:
             raise ValueError(f"element: got {self.element!r}, expected one of {ELEMENTS}")
         if self.viscous_scheme not in ("linear", "midpoint"):
-            raise ValueError(f"viscous_scheme: got {self.viscous_scheme!r}, expected 'linear' or 'midpoint'")
+            raise ValueError(f"viscous_scheme: got {self.viscous_scheme!r}, expected 'linear' or "
+                             "'midpoint'")
         if self.quadrature_degree < 1:
             raise ValueError(f"quadrature_degree must be >= 1, got {self.quadrature_degree}")
         if not (self.stabilisation > 0.0 and self.stabilisation_modulus >= 0.0):
-            raise ValueError(f"stabilisation = {self.stabilisation!r} (> 0), stabilisation_modulus = "
-                             f"{self.stabilisation_modulus!r} MPa (>= 0; 0: long-term G)")
+            raise ValueError(f"stabilisation = {self.stabilisation!r} (> 0), "
+                             f"stabilisation_modulus = {self.stabilisation_modulus!r} MPa (>= 0; "
+                             "0: long-term G)")
 
     @property
     def mixed(self) -> bool:
@@ -110,21 +113,24 @@ class SolidProblem:
     def __init__(self, mesh, facet_tags, material, settings: SolidSettings | None = None,
                  cell_tags=None, viscous: bool | None = None):
         if mesh.comm.size > 1:
-            raise ValueError("SolidProblem runs on one rank per run (farm runs over ranks instead); "
-                             f"got a mesh on a communicator of size {mesh.comm.size}")
+            raise ValueError("SolidProblem runs on one rank per run (farm runs over ranks "
+                             f"instead); got a mesh on a communicator of size {mesh.comm.size}")
         self.mesh, self.facet_tags, self.cell_tags = mesh, facet_tags, cell_tags
         self.settings = settings or SolidSettings()
         self.material = material
         hyp = material.hyperelastic
         self.hyperelastic = hyp
         prony = getattr(material, "prony", None)
-        self.viscous = (prony is not None) if viscous is None else bool(viscous and prony is not None)
+        self.viscous = ((prony is not None) if viscous is None
+                        else bool(viscous and prony is not None))
         cell = mesh.ufl_cell()
         Ve = ufl.VectorElement("Lagrange", cell, 1)
         if self.settings.mixed:
             if hyp.form != "split":
-                raise ValueError(f"the mixed {self.settings.element} element needs the split Mooney-Rivlin form (3.58)")
-            self.W = fem.FunctionSpace(mesh, ufl.MixedElement([Ve, ufl.FiniteElement("DG", cell, 0)]))
+                raise ValueError(f"the mixed {self.settings.element} element needs the split "
+                                 "Mooney-Rivlin form (3.58)")
+            self.W = fem.FunctionSpace(mesh,
+                                       ufl.MixedElement([Ve, ufl.FiniteElement("DG", cell, 0)]))
             self.V, umap = self.W.sub(0).collapse()
             self.umap = np.asarray(umap, dtype=np.int32)
         else:
@@ -188,7 +194,8 @@ class SolidProblem:
         own = [] if self.pressure_jump is None else [self.pressure_jump]
         return ConstrainedNonlinearProblem(
             self.residual, self.jacobian(), self.w, constraints, hooks=own + list(hooks),
-            extra_couplings=[h.couplings for h in own] + list(extra_couplings), external_force=external_force)
+            extra_couplings=[h.couplings for h in own] + list(extra_couplings),
+            external_force=external_force)
 
     def pressure_relaxation(self) -> Callable[[np.ndarray], None] | None:
         """For a trust-region solve (``driver.fe.trust_region``): a function that sets the cell
@@ -231,7 +238,8 @@ class SolidProblem:
         return self._pressure_jump
 
     def add_traction(self, tag: int, traction) -> None:
-        """Dead-load traction (force per reference length, N/mm^2 per unit depth) on facets `tag`."""
+        """Dead-load traction (force per reference length, N/mm^2 per unit depth) on facets
+        `tag`."""
         v, _ = self.test_functions()
         self.residual = self.residual - ufl.inner(traction, v) * self.ds(tag)
 
@@ -325,7 +333,8 @@ class SolidProblem:
         f2v = mesh.topology.connectivity(tdim - 1, 0)
         f2c = mesh.topology.connectivity(tdim - 1, tdim)
         verts = np.array([f2v.links(f) for f in facets])
-        gnodes = _cpp.mesh.entities_to_geometry(getattr(mesh, "_mesh", mesh), 0, verts.ravel().astype(np.int32), False).ravel()
+        gnodes = _cpp.mesh.entities_to_geometry(getattr(mesh, "_mesh", mesh), 0,
+                                                verts.ravel().astype(np.int32), False).ravel()
         vx = mesh.geometry.x[gnodes, :2]
         dist, node = cKDTree(self.node_X).query(vx)
         if dist.max() > 1e-10 * max(1.0, np.abs(self.node_X).max()):
@@ -399,4 +408,5 @@ class PressureJump:
         if b is not None:
             b.array[:] += self.L @ x
         if A is not None:
-            A.setValuesCSR(self._indptr, self._indices, self.L.data, addv=PETSc.InsertMode.ADD_VALUES)
+            A.setValuesCSR(self._indptr, self._indices, self.L.data,
+                           addv=PETSc.InsertMode.ADD_VALUES)

@@ -186,6 +186,7 @@ class TrustRegionSolver(NewtonSolver):
         self.lam = 0.0
         pb.Ar.setDiagonal(diag0)
         res.reason = ("trust region: no step lowers the potential (shift "
-                      f"{lam:.1e} x diag; residual {res.residuals[-1]:.3e})" if lam > LAMBDA_MAX else
+                      f"{lam:.1e} x diag; residual {res.residuals[-1]:.3e})"
+                      if lam > LAMBDA_MAX else
                       f"trust region: no convergence in {s.max_iterations} trial steps (residual "
                       f"{res.residuals[-1]:.3e})")

@@ -170,4 +170,3 @@ def write_adhesion_report(out: Path, scene: Any, hysteresis: Any, fit: AdhesionF
         print(text)
         print(f"adhesion report: {out}/ (fit.json, fit.png, adhesion.csv, mu_v.png)")
     return files
-

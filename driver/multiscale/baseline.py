@@ -98,7 +98,8 @@ def request_from_scene(scene: Scene, **overrides: Any) -> TheoryRequest:
     req = TheoryRequest(
         compound=str(cond.compound_paths[0]), pressure=float(cond.pressures[0]),
         velocities=tuple(float(v) for v in cond.velocities), T0=cond.T0,
-        surface="four_scale" if surf.source == "four_scale" else "default", files=tuple(str(f) for f in surf.files) if surf.source == "files" else (),
+        surface="four_scale" if surf.source == "four_scale" else "default",
+        files=tuple(str(f) for f in surf.files) if surf.source == "files" else (),
         sines=tuple(zip(surf.amplitudes, surf.wavelengths)) if surf.source == "sines" else (),
         edges=edges, lambda_max=edges[0] if edges else None,
         lambda_min=edges[-1] if edges else None, adhesion=scene.adhesion, notes=tuple(notes))
@@ -218,7 +219,8 @@ def evaluate(req: TheoryRequest) -> TheoryResult:
         spec = line_spectrum(k, amp / math.sqrt(2.0), dim=1)
         skipped = [m for m in req.models if m != "persson-1d"]
         if skipped:
-            notes.append(f"sine surface: line spectrum, only persson-1d applies (skipped {skipped})")
+            notes.append("sine surface: line spectrum, only persson-1d applies "
+                         f"(skipped {skipped})")
         curves = [persson_curve(spec, rubber, p, v, T0=req.T0, options=options, flash=req.flash,
                                 adhesion=law, alpha=alpha)]
         waves = ", ".join(f"{a:g} mm x {lam:g} mm" for a, lam in req.sines)

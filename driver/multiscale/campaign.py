@@ -84,7 +84,6 @@ def runs_per_point(scene: Scene) -> tuple[int, str]:
     return per, how
 
 
-
 def check_scene(scene: Scene) -> Scales:
     """What ``run --check`` does besides validating the TOML: load every compound the scene names
     and build its scales and samples (reads the surface files), so that bad material data or a
@@ -461,8 +460,8 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
 
     Runs go through the same store as the scene's campaign (same output folder), so a study
     reuses runs a campaign already did and vice versa.  Returns (on rank 0) a dict with the
-    study (:class:`~rubberfriction.driver.multiscale.cascade.SampleCountStudy`), the outcomes and the
-    files written.
+    study (:class:`~rubberfriction.driver.multiscale.cascade.SampleCountStudy`), the outcomes and
+    the files written.
     """
     comm = _comm() if comm is None else comm
     rank = comm.Get_rank()
@@ -507,9 +506,9 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
                 spec = make_spec(pt, si, smp, p, None, "study")
                 tasks.append(Task(run_key(spec), spec,
                                   {"campaign": scene.name, "point": pt.id, "branch": "study",
-                                                        "scale": si, "scale_name": sset.name,
+                                   "scale": si, "scale_name": sset.name,
                                    "sample": k,
-                                                        "pressure_in": p, "friction_in": 0.0}))
+                                   "pressure_in": p, "friction_in": 0.0}))
             return StaticPlanner(tasks)
 
         planner, _ = run_farm(planner_factory, executor, progress, comm)
@@ -524,12 +523,12 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
         stem = f"{holder['scale'].name}_p{p:g}_v{v:g}_{comp}"
         files = [write_csv(folder / f"{stem}.csv", study_rows(study)),
                  write_csv(folder / f"{stem}_samples.csv",
-                            [{"sample": k, "status": o.status,
-                              "reason": o.reason.splitlines()[0] if o.reason else "",
-                              "mu_force": o.value("mu_force"),
-                              "mean_pressure": o.value("mean_pressure"),
-                              "contact_fraction": o.value("contact_fraction"), "key": o.key}
-                             for k, o in enumerate(outcomes)]),
+                           [{"sample": k, "status": o.status,
+                             "reason": o.reason.splitlines()[0] if o.reason else "",
+                             "mu_force": o.value("mu_force"),
+                             "mean_pressure": o.value("mean_pressure"),
+                             "contact_fraction": o.value("contact_fraction"), "key": o.key}
+                            for k, o in enumerate(outcomes)]),
                  plot_sample_study(study, folder / f"{stem}.png",
                                    f"{holder['scale'].name}, p = {p:g} MPa, v = {v:g} mm/s, "
                                    f"{comp}: {study.values.size} samples ({study.n_failed} "

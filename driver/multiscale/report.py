@@ -271,7 +271,8 @@ def energy_balance_line(points: Sequence[PointResult]) -> str:
     """How far the successful runs' dissipated energy is from their friction work (see
     :func:`energy_balance`): the count beyond ENERGY_BALANCE_TOL and the largest, with its run,
     then per scale the count, the mean and the largest |balance|."""
-    balances = ((abs(energy_balance(o)), t) for r in points for rs in r.runs.values() for t, o in rs if o.ok)
+    balances = ((abs(energy_balance(o)), t) for r in points for rs in r.runs.values()
+                for t, o in rs if o.ok)
     runs = [(b, t) for b, t in balances if math.isfinite(b)]
     if not runs:
         return ""
@@ -460,7 +461,8 @@ def summary_text(result: Any) -> str:
                              f"= {s.contact.mean if s.contact else math.nan:.3g}  A_r = "
                              f"{s.area_ratio:.3g}{flag}")
         elif "mu_reference" not in r.extra:
-            lines.append(f"      multiscale wall time {r.extra.get('time_multiscale', math.nan):.1f}"
+            lines.append("      multiscale wall time "
+                         f"{r.extra.get('time_multiscale', math.nan):.1f}"
                          " s (no single-scale reference: [separated].reference = false)")
         else:
             e = r.extra
@@ -534,7 +536,7 @@ def draw_theory(ax: Any, scene: Any, compound: str, pressure: float, v_fe: Seque
         path = dict(zip(cond.compounds, cond.compound_paths)).get(compound, compound)
         n_before = len(ax.lines)
         curves, notes = baseline.draw_beside_fe(ax, scene, v_fe=list(v_fe), compound=str(path),
-                                       pressure=float(pressure), T0=cond.T0)
+                                                pressure=float(pressure), T0=cond.T0)
         for line in ax.lines[n_before:]:
             if color is not None:
                 line.set_color(color)
@@ -673,7 +675,8 @@ def plot_scales(r: PointResult, out: Path) -> list[Path]:
 
 
 def depth_edges(centres: np.ndarray) -> np.ndarray:
-    """Bin edges of contiguous depth bins from 0 given their centres (e_0 = 0, e_k+1 = 2 c_k - e_k)."""
+    """Bin edges of contiguous depth bins from 0 given their centres (e_0 = 0,
+    e_k+1 = 2 c_k - e_k)."""
     edges = np.zeros(len(centres) + 1)
     for k, c in enumerate(centres):
         edges[k + 1] = 2.0 * c - edges[k]
@@ -698,7 +701,8 @@ def dissipation_rows(r: PointResult, store: Any) -> list[dict[str, Any]]:
             share = e / e.sum() if e.sum() > 0 else np.zeros_like(e)
             for zk, dk, sk in zip(z, d, share):
                 rows.append({"point": r.point.id, "scale": t.label.get("scale"),
-                             "scale_name": t.label.get("scale_name"), "sample": t.label.get("sample"),
+                             "scale_name": t.label.get("scale_name"),
+                             "sample": t.label.get("sample"),
                              "depth_mm": float(zk), "dissipation": float(dk), "share": float(sk)})
     return rows
 
@@ -759,7 +763,8 @@ def stationarity_rows(r: PointResult, store: Any) -> list[dict[str, Any]]:
     return rows
 
 
-def plot_stationarity(rows: list[dict[str, Any]], tol: float, out: Path, point_id: str) -> list[Path]:
+def plot_stationarity(rows: list[dict[str, Any]], tol: float, out: Path,
+                      point_id: str) -> list[Path]:
     """Period means over the run's averaged value, one line per run (pressure branch dashed), the
     window's periods marked, the convergence tolerance as a band: how each homogenised number of
     a point got there."""
@@ -872,7 +877,6 @@ def campaign_json(result: Any) -> str:
         return str(o)
 
     return json.dumps(result.provenance(), indent=2, default=default)
-
 
 
 # ----------------------------------------------------------------------------------------------

@@ -121,7 +121,8 @@ def _multiscale_road(scene: Scene) -> Any:
                         scene.name)(tuple(s.edges))
 
 
-def macro_road(scene: Scene, start: float, length: float, dx: float) -> tuple[np.ndarray, np.ndarray]:
+def macro_road(scene: Scene, start: float, length: float,
+               dx: float) -> tuple[np.ndarray, np.ndarray]:
     """A non-periodic road for the thermal macro block: the first (macro) band of the scene's
     surface from ``start`` mm along its profile for ``length`` mm, sampled every ``dx`` mm; x from
     0.  Sines: the first sine.  The band is zero-mean; heights in mm."""
@@ -137,8 +138,8 @@ def macro_road(scene: Scene, start: float, length: float, dx: float) -> tuple[np
     x0 = float(band.x[0]) + start
     if x0 + length > float(band.x[-1]):
         raise SceneError(f"{scene.source}: [thermal] road_surface = 'macro': the macro band is "
-                         f"{band.x[-1] - band.x[0]:.1f} mm long; road_start = {start:g} mm plus the "
-                         f"{length:.1f} mm the slide needs does not fit")
+                         f"{band.x[-1] - band.x[0]:.1f} mm long; road_start = {start:g} mm plus "
+                         f"the {length:.1f} mm the slide needs does not fit")
     return x, np.interp(x0 + x, band.x, band.h)
 
 
@@ -153,5 +154,3 @@ def _full_sample(scene: Scene, road: Any) -> Any:
     full.meta.update(a.profile.meta)
     return extract_samples(full, a.block_length, 1, scene.surface.seed, carrier=a.carrier,
                            top_fraction=scene.surface.top_fraction)[0]
-
-

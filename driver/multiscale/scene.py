@@ -151,10 +151,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "adhesion": Key("bool", False, "bell-law adhesion on the macro scale with the multiscale "
                                        "real contact area (thesis 7.3, eq. 7.5-7.8); needs the "
                                        "[adhesion] table"),
-        "thermal": Key("bool", False, "thermomechanical macro scale (thesis ch. 8): a block sliding "
-                                      "over the road with frictional heating, with the friction of "
-                                      "[thermal].mu or mu_curve (the thermal loop over lower scales "
-                                      "is not built yet)"),
+        "thermal": Key("bool", False, "thermomechanical macro scale (thesis ch. 8): a block "
+                                      "sliding over the road with frictional heating, with the "
+                                      "friction of [thermal].mu or mu_curve (the thermal loop "
+                                      "over lower scales is not built yet)"),
     },
     "adhesion": {
         "tau0": Key("float", 3.0, "peak adhesive shear stress in MPa (eq. 7.6)", minimum=0.0),
@@ -220,8 +220,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "step_per_element": Key("float", 0.5, "sliding step / contact element size", above=0.0,
                                 maximum=4.0),
         "compression_steps": Key("int", 10, "steps of the compression phase", minimum=1),
-        "contact": Key("str", "mortar", "contact formulation (a failing run falls back to a softer c_T "
-                       "(frictional runs), nts, smaller steps, then contact elements twice as short)",
+        "contact": Key("str", "mortar", "contact formulation (a failing run falls back to a "
+                       "softer c_T (frictional runs), nts, smaller steps, then contact elements "
+                       "twice as short)",
                        choices=("mortar", "nts", "surface")),
         "element": Key("str", "Q1P0", "rubber element (Q1P0s: Q1P0 with pressure-jump "
                        "stabilisation, no checkerboard mode in confined cells)",
@@ -230,7 +231,8 @@ SCHEMA: dict[str, dict[str, Key]] = {
                       "(residual backtracking), trust-region (minimises the step's incremental "
                       "potential, driver.fe.trust_region: converges where the tangent is "
                       "indefinite; Q1P0 or Q1) or hybrid (line-search, and the trust region for a "
-                      "sub-step where it fails)", choices=("line-search", "trust-region", "hybrid")),
+                      "sub-step where it fails)",
+                      choices=("line-search", "trust-region", "hybrid")),
         "max_cutbacks": Key("int", 8, "step halvings before a step counts as failed", minimum=0),
         "stabilisation": Key("float", 0.1, "viscous stabilisation beta of a sub-step that still "
                              "fails after a cut-back (thesis 6.3.3; tried x1, x10, x100; its "
@@ -257,7 +259,8 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "mu": Key("opt_float", None, "constant friction coefficient of the macro run (or mu_curve)",
                   minimum=0.0),
         "mu_curve_T": Key("floats", [], "mu(T_s) curve (thesis fig. 8.5 a): temperatures in K, "
-                                        "increasing; the contact temperature of each node selects mu",
+                                        "increasing; the contact temperature of each node "
+                                        "selects mu",
                           above=0.0),
         "mu_curve_mu": Key("floats", [], "mu(T_s) curve: friction coefficients at mu_curve_T",
                            minimum=0.0),
@@ -266,25 +269,29 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "h_c": Key("float", 1.0e6, "interface conductance in mW/(mm^2 K) where in contact (thesis "
                                    "8.3.1: 1e6, i.e. perfect contact)", minimum=0.0),
         "road": Key("str", "r1", "road material with [thermal] data (forms/data or a TOML file)"),
-        "block_length": Key("float", 20.0, "rubber block length in mm (thesis 8.5.1: 20)", above=0.0),
+        "block_length": Key("float", 20.0, "rubber block length in mm (thesis 8.5.1: 20)",
+                            above=0.0),
         "block_height": Key("float", 8.0, "rubber block height in mm", above=0.0),
         "edge_radius": Key("float", 0.0, "rounded leading (front) edge in mm: 0 square, else a "
-                                              "multiple of h_contact, at least 3 h_contact", minimum=0.0),
+                                         "multiple of h_contact, at least 3 h_contact",
+                           minimum=0.0),
         "slide_distance": Key("float", 10.0, "sliding distance in mm", above=0.0),
         "h_contact": Key("float", 0.25, "contact element length of block and road along x, mm",
                          above=0.0),
         "step_per_element": Key("float", 0.5, "sliding step / h_contact", above=0.0),
         "road_depth": Key("float", 10.0, "depth of the road body in mm", above=0.0),
-        "road_mechanics": Key("str", "rigid", "rigid (thesis 8.4.1) or elastic: the road's surface "
-                                              "deflection under the contact forces (E, nu of the road "
-                                              "material) moves the road each step "
+        "road_mechanics": Key("str", "rigid", "rigid (thesis 8.4.1) or elastic: the road's "
+                                              "surface deflection under the contact forces (E, "
+                                              "nu of the road material) moves the road each step "
                                               "(driver/thermal/road_deflection.py)",
                               choices=("rigid", "elastic")),
-        "road_surface": Key("str", "flat", "flat, or macro: the block slides over the macro band (the "
-                                           "first scale) of the scene's [surface], from road_start on "
-                                           "(mode = given only: the lower scales' mu is the given one)",
+        "road_surface": Key("str", "flat", "flat, or macro: the block slides over the macro band "
+                                           "(the first scale) of the scene's [surface], from "
+                                           "road_start on (mode = given only: the lower scales' "
+                                           "mu is the given one)",
                             choices=("flat", "macro")),
-        "road_start": Key("float", 0.0, "macro road: where along the band profile the road starts, mm",
+        "road_start": Key("float", 0.0, "macro road: where along the band profile the road "
+                                        "starts, mm",
                           minimum=0.0),
         "road_ahead": Key("float", 2.0, "road ahead of the block (block frame, inflow at T0), mm",
                           minimum=0.0),
@@ -313,9 +320,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "points": Key("floats", [], "coupled: homogenisation points as sliding distances in mm "
                                     "(increasing; the slide's end is added); overrides divisions",
                       above=0.0),
-        "auto_dT": Key("float", 0.0, "coupled: automatic homogenisation points (thesis 8.4.3) whenever "
-                                     "the mean contact surface temperature moved by this many K; 0: "
-                                     "divisions / points", minimum=0.0),
+        "auto_dT": Key("float", 0.0, "coupled: automatic homogenisation points (thesis 8.4.3) "
+                                     "whenever the mean contact surface temperature moved by this "
+                                     "many K; 0: divisions / points", minimum=0.0),
         "max_points": Key("int", 16, "coupled: at most this many automatic points", minimum=1),
         "warm_start": Key("bool", True, "coupled: each homogenisation point's lower-scale runs "
                                         "slide on from the previous point's final states (the "
@@ -332,17 +339,19 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "partitions": Key("int", 4, "coupled: temperature partitions n_p over partition_depth "
                                     "(thesis 8.3.3, 8.4.2)", minimum=1),
         "partition_depth": Key("float", 0.09, "coupled: depth below the contact face the "
-                                              "partitions cover, mm (thesis 8.4.2: 0.09)", above=0.0),
+                                              "partitions cover, mm (thesis 8.4.2: 0.09)",
+                               above=0.0),
         "mu_const": Key("float", 0.0, "coupled: constant friction added on the macro scale to the "
                                       "lower scales' mu (thesis 8.3.2 adhesive part, 8.4.3: 0.6)",
                         minimum=0.0),
         "bulk_wlf": Key("bool", True, "the macro block's relaxation times follow its temperature "
                                       "cell by cell (WLF)"),
         "hot_layer_rises": Key("floats", [0.0, 5.0, 10.0, 20.0, 40.0, 80.0],
-                               "hot-layer mode (thesis 8.5.3): surface temperatures T_S - T0 in K of "
-                               "the precomputed lower scales (increasing, from 0)", minimum=0.0),
-        "hot_layer": Key("float", 0.005, "hot-layer mode: thickness of the layer at T_S, mm (thesis: "
-                                         "5 um)", above=0.0),
+                               "hot-layer mode (thesis 8.5.3): surface temperatures T_S - T0 in "
+                               "K of the precomputed lower scales (increasing, from 0)",
+                               minimum=0.0),
+        "hot_layer": Key("float", 0.005, "hot-layer mode: thickness of the layer at T_S, mm "
+                                         "(thesis: 5 um)", above=0.0),
         "hot_transition": Key("float", 0.020, "hot-layer mode: depth of the second partition at "
                                               "(T_S + T0) / 2, mm (thesis: 20 um)", above=0.0),
     },
@@ -1019,51 +1028,55 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
                          "friction (mu or mu_curve_T/mu_curve_mu), kappa, h_c and the geometry")
     T, m = t["mu_curve_T"], t["mu_curve_mu"]
     if len(T) != len(m):
-        raise SceneError(f"{where}.mu_curve_T has {len(T)} values and mu_curve_mu {len(m)}: expected "
-                         "one friction coefficient per temperature")
+        raise SceneError(f"{where}.mu_curve_T has {len(T)} values and mu_curve_mu {len(m)}: "
+                         "expected one friction coefficient per temperature")
     if t["mode"] == "hot-layer":
         r = t["hot_layer_rises"]
         if len(r) < 2 or r[0] != 0.0 or any(b <= a for a, b in zip(r[:-1], r[1:])):
-            raise SceneError(f"{where}.hot_layer_rises = {list(r)}: expected at least two increasing "
-                             "values starting at 0 K")
+            raise SceneError(f"{where}.hot_layer_rises = {list(r)}: expected at least two "
+                             "increasing values starting at 0 K")
         if t["hot_layer"] >= t["hot_transition"]:
-            raise SceneError(f"{where}.hot_layer = {t['hot_layer']} mm: expected below hot_transition = "
-                             f"{t['hot_transition']} mm")
+            raise SceneError(f"{where}.hot_layer = {t['hot_layer']} mm: expected below "
+                             f"hot_transition = {t['hot_transition']} mm")
     if t["mode"] in ("coupled", "hot-layer"):
         if t["mu"] is not None or T:
-            raise SceneError(f"{where}: mode = '{t['mode']}' takes mu from the lower scales (the scene's "
-                             "rough cascade); remove mu / mu_curve_T (a constant part on the macro scale: mu_const)")
+            raise SceneError(f"{where}: mode = '{t['mode']}' takes mu from the lower scales (the "
+                             "scene's rough cascade); remove mu / mu_curve_T (a constant part on "
+                             "the macro scale: mu_const)")
         pts = t["points"]
-        if pts and (any(b <= a for a, b in zip(pts[:-1], pts[1:])) or pts[-1] > t["slide_distance"]):
-            raise SceneError(f"{where}.points = {list(pts)}: expected increasing sliding distances up "
-                             f"to slide_distance = {t['slide_distance']} mm")
+        if pts and (any(b <= a for a, b in zip(pts[:-1], pts[1:]))
+                    or pts[-1] > t["slide_distance"]):
+            raise SceneError(f"{where}.points = {list(pts)}: expected increasing sliding distances "
+                             f"up to slide_distance = {t['slide_distance']} mm")
         if t["slides"] > 1:
-            raise SceneError(f"{where}: mode = '{t['mode']}' with slides = {t['slides']}: the loop runs one "
-                             "slide (repeated slides take a given mu)")
+            raise SceneError(f"{where}: mode = '{t['mode']}' with slides = {t['slides']}: the loop "
+                             "runs one slide (repeated slides take a given mu)")
         if t["road_surface"] != "flat":
-            raise SceneError(f"{where}: mode = '{t['mode']}' with road_surface = '{t['road_surface']}': the "
-                             "loop's cascade already holds the macro band; a rough macro road takes a given mu "
-                             "(mode = 'given')")
+            raise SceneError(f"{where}: mode = '{t['mode']}' with road_surface = "
+                             f"'{t['road_surface']}': the loop's cascade already holds the macro "
+                             "band; a rough macro road takes a given mu (mode = 'given')")
     elif doc.get("physics", {}).get("adhesion", False):
-        raise SceneError(f"{where}: mode = 'given' with [physics].adhesion = true: the given mu is the whole "
-                         "macro friction; put the adhesive part into mu, or use mode = 'coupled' (the bell law "
-                         "on every cascade's contact area)")
+        raise SceneError(f"{where}: mode = 'given' with [physics].adhesion = true: the given mu is "
+                         "the whole macro friction; put the adhesive part into mu, or use mode = "
+                         "'coupled' (the bell law on every cascade's contact area)")
     elif (t["mu"] is None) == (not T):
-        raise SceneError(f"{where}: expected exactly one of mu (constant) and mu_curve_T/mu_curve_mu "
-                         "(mu(T_s)), or mode = 'coupled' (mu from the lower scales)")
+        raise SceneError(f"{where}: expected exactly one of mu (constant) and "
+                         "mu_curve_T/mu_curve_mu (mu(T_s)), or mode = 'coupled' (mu from the "
+                         "lower scales)")
     if T and (len(T) < 2 or any(b <= a for a, b in zip(T[:-1], T[1:]))):
         raise SceneError(f"{where}.mu_curve_T = {list(T)}: expected at least two increasing "
                          "temperatures in K")
     r, hc = t["edge_radius"], t["h_contact"]
     if r > 0 and (abs(r / hc - round(r / hc)) > 1e-9 * max(1.0, r / hc) or r < 3.0 * hc - 1e-12
                   or r >= min(t["block_length"], t["block_height"])):
-        raise SceneError(f"{where}.edge_radius = {r} mm: expected 0 (square) or a whole number of contact "
-                         f"elements h_contact = {hc} mm, at least 3 of them (the mesh grades into the arc) "
-                         "and below the block's length and height")
+        raise SceneError(f"{where}.edge_radius = {r} mm: expected 0 (square) or a whole number of "
+                         f"contact elements h_contact = {hc} mm, at least 3 of them (the mesh "
+                         "grades into the arc) and below the block's length and height")
     if len(t["pauses"]) != t["slides"] - 1:
-        what = "a pause without a slide after it" if len(t["pauses"]) >= t["slides"] else "slides without pauses"
-        raise SceneError(f"{where}.pauses = {list(t['pauses'])} with slides = {t['slides']}: {what}; "
-                         "expected slides - 1 pauses (s)")
+        what = ("a pause without a slide after it" if len(t["pauses"]) >= t["slides"]
+                else "slides without pauses")
+        raise SceneError(f"{where}.pauses = {list(t['pauses'])} with slides = {t['slides']}: "
+                         f"{what}; expected slides - 1 pauses (s)")
     if len(t["probes_x"]) != len(t["probes_z"]):
         raise SceneError(f"{where}.probes_x has {len(t['probes_x'])} values and probes_z "
                          f"{len(t['probes_z'])}: expected one z per x")
@@ -1082,12 +1095,15 @@ def _thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
         step_per_element=t["step_per_element"], road_depth=t["road_depth"],
         road_ahead=t["road_ahead"], road_behind=t["road_behind"], first_layer=t["first_layer"],
         grading=t["grading"], probes=tuple(zip(t["probes_x"], t["probes_z"])), slides=t["slides"],
-        pauses=tuple(t["pauses"]), mode=t["mode"], divisions=t["divisions"], points=tuple(t["points"]),
+        pauses=tuple(t["pauses"]), mode=t["mode"], divisions=t["divisions"],
+        points=tuple(t["points"]),
         partitions=t["partitions"], partition_depth=t["partition_depth"], mu_const=t["mu_const"],
-        bulk_wlf=t["bulk_wlf"], hot_layer_rises=tuple(t["hot_layer_rises"]), hot_layer=t["hot_layer"],
+        bulk_wlf=t["bulk_wlf"], hot_layer_rises=tuple(t["hot_layer_rises"]),
+        hot_layer=t["hot_layer"],
         hot_transition=t["hot_transition"], auto_dT=t["auto_dT"], max_points=t["max_points"],
         warm_start=t["warm_start"], warm_window_periods=t["warm_window_periods"],
-        road_mechanics=t["road_mechanics"], road_surface=t["road_surface"], road_start=t["road_start"])
+        road_mechanics=t["road_mechanics"], road_surface=t["road_surface"],
+        road_start=t["road_start"])
 
 
 def shipped_scenes() -> list[str]:

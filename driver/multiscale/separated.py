@@ -17,7 +17,13 @@ from typing import Any, Sequence
 import numpy as np
 
 from rubberfriction.driver.fe.friction_law import SplineLaw, fit_mu_pv
-from rubberfriction.driver.multiscale.results import Point, PointResult, ScaleResult, ScaleSet, SpecFactory
+from rubberfriction.driver.multiscale.results import (
+    Point,
+    PointResult,
+    ScaleResult,
+    ScaleSet,
+    SpecFactory,
+)
 from rubberfriction.driver.multiscale.statistics import mean_contact_pressure, sample_stats
 from rubberfriction.driver.runtime.farm import Task
 from rubberfriction.driver.runtime.progress import Stage

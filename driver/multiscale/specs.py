@@ -133,7 +133,8 @@ def find_key(store: Store, prefix: str) -> str:
     if not hits:
         raise ValueError(f"run key {prefix!r}: no such run in {store.root}")
     if len(hits) > 1:
-        raise ValueError(f"run key {prefix!r} is ambiguous in {store.root}: " + ", ".join(h[:12] for h in hits))
+        raise ValueError(f"run key {prefix!r} is ambiguous in {store.root}: "
+                         + ", ".join(h[:12] for h in hits))
     return hits[0]
 
 
@@ -173,7 +174,8 @@ def stored_spec(stored: StoredRun, compound_dir: Path | None = None,
     key = stored.key
     image = json.loads(stored.inputs["spec"])
     if image.get("__type__") != "SlidingSpec":
-        raise ValueError(f"run {key[:12]}: its inputs are a {image.get('__type__')}, not a SlidingSpec")
+        raise ValueError(f"run {key[:12]}: its inputs are a {image.get('__type__')}, not a "
+                         "SlidingSpec")
     kw: dict[str, Any] = {}
     for f in dataclasses.fields(SlidingSpec):
         v = image.get(f.name)
@@ -193,8 +195,9 @@ def stored_spec(stored: StoredRun, compound_dir: Path | None = None,
                 raise ValueError(f"run {key[:12]}: compound {name!r}: {err}") from None
         elif f.name == "friction":
             if isinstance(v, dict):
-                raise ValueError(f"run {key[:12]}: friction is a {v.get('__type__')} law; a run file "
-                                 "holds constant coefficients only, so this run cannot be rebuilt")
+                raise ValueError(f"run {key[:12]}: friction is a {v.get('__type__')} law; a run "
+                                 "file holds constant coefficients only, so this run cannot be "
+                                 "rebuilt")
             kw["friction"] = v
         elif f.name == "temperature_layers":
             kw[f.name] = tuple(tuple(float(x) for x in layer) for layer in v)

@@ -98,7 +98,8 @@ class LoopSettings:
         V.nonnegative("mu_const", self.mu_const)
         p = np.asarray(self.points, float)
         if p.size and (not np.all(np.isfinite(p)) or p[0] <= 0 or np.any(np.diff(p) <= 0)):
-            raise V.InputError(f"points = {list(self.points)!r} mm: expected increasing sliding distances > 0")
+            raise V.InputError(f"points = {list(self.points)!r} mm: expected increasing sliding "
+                               "distances > 0")
 
     def distances(self, slide: float) -> np.ndarray:
         """The planned homogenisation points s_1 < ... < s_m = slide (mm); automatic points
@@ -147,8 +148,8 @@ class ThermalLoopResult:
 
     @property
     def mu(self) -> float:
-        """mu_const + the lower scales' mu at the end of the slide; nan unless the macro run finished,
-        every homogenisation point was reached and the last cascade succeeded."""
+        """mu_const + the lower scales' mu at the end of the slide; nan unless the macro run
+        finished, every homogenisation point was reached and the last cascade succeeded."""
         if (self.macro is None or not self.macro.ok or self.error or not self.intervals
                 or self.intervals[-1].s_end < self.s_final * (1.0 - 1e-6)):
             return math.nan
@@ -228,12 +229,13 @@ class CascadeRunner:
     ``warm_window`` > 0: the warm runs' periods per block of the window rule (1: faster, looser;
     scene key ``[thermal] warm_window_periods``)."""
 
-    def __init__(self, campaign: str, point: Point, scales: Sequence[ScaleSet], make_spec, k: int, j: int,
-                 execute, comm=None, progress=None, max_failed_fraction: float = 0.25,
-                 adhesion: BellLaw | None = None,
+    def __init__(self, campaign: str, point: Point, scales: Sequence[ScaleSet], make_spec,
+                 k: int, j: int, execute, comm=None, progress=None,
+                 max_failed_fraction: float = 0.25, adhesion: BellLaw | None = None,
                  states: Callable[[str], dict | None] | None = None, warm_window: int = 0):
         self.states, self.warm_window = states, warm_window
-        self.adhesion = adhesion  # the scene's bell law: alpha mu_A on the top scale of every cascade
+        # the scene's bell law: alpha mu_A on the top scale of every cascade
+        self.adhesion = adhesion
         self.campaign, self.point, self.scales = campaign, point, list(scales)
         self.make_spec, self.k, self.j = make_spec, k, j
         self.execute, self.comm, self.progress = execute, comm, progress
@@ -283,8 +285,8 @@ class LoopObserver:
     """SlidingRun observer after the ThermalCoupler: stops at each homogenisation point, runs the
     cascade with the current profile and hands its mu to the macro contact (steps B-E)."""
 
-    def __init__(self, coupler, distances: np.ndarray, settings: LoopSettings, cascade: CascadeRunner,
-                 mu_start: float, log: Callable[[str], None] | None = None,
+    def __init__(self, coupler, distances: np.ndarray, settings: LoopSettings,
+                 cascade: CascadeRunner, mu_start: float, log: Callable[[str], None] | None = None,
                  parents: dict[RunSlot, str] | None = None):
         self.coupler, self.distances, self.settings = coupler, distances, settings
         self.cascade, self.mu_start, self.log = cascade, mu_start, log
@@ -308,12 +310,13 @@ class LoopObserver:
             return
         try:
             self._step(run, t)
-        except Exception as err:  # noqa: BLE001 -- reported: the loop's mu is then nan, never silent
+        except Exception as err:  # noqa: BLE001 -- reported: the loop's mu is nan, never silent
             self.error = f"{type(err).__name__}: {err}"
 
     def _step(self, run, t: float) -> None:
         i, auto = len(self.intervals), self.settings.auto_dT > 0
-        if self.next >= len(self.distances) or self.coupler.heat is None or self.coupler.error is not None:
+        if (self.next >= len(self.distances) or self.coupler.heat is None
+                or self.coupler.error is not None):
             return
         s = float(run.spec.velocity) * (t - run.t_start)
         planned = s >= self.distances[self.next] - 1e-6 * max(1.0, self.distances[self.next])
@@ -328,12 +331,14 @@ class LoopObserver:
         _, z, T = self.coupler.heat.block_grid()
         profile = average_profile(z, T, active)
         if not planned:  # automatic: a point when the surface temperature moved by auto_dT
-            if abs(profile.mean[0] - self.T_last) < self.settings.auto_dT or i + 1 >= self.settings.max_points:
+            if (abs(profile.mean[0] - self.T_last) < self.settings.auto_dT
+                    or i + 1 >= self.settings.max_points):
                 return
         else:
             self.next += 1
         self.T_last = float(profile.mean[0])
-        parts = partition_profile(profile, self.settings.n_partitions, self.settings.partition_depth)
+        parts = partition_profile(profile, self.settings.n_partitions,
+                                  self.settings.partition_depth)
         wall = time.perf_counter()
         last = planned and self.next == len(self.distances)  # no later point starts from it
         result = self.cascade(parts, self.parents, keep=not last)
@@ -345,9 +350,11 @@ class LoopObserver:
         self.intervals.append(iv)
         if self.log:
             temps = ", ".join(f"{T_:.1f}" for _, T_ in parts.layers)
-            state = f"mu {mu_out:.4g}" if np.isfinite(mu_out) else f"cascade failed ({result.reason}); mu kept"
-            self.log(f"  point {i + 1}{'' if auto else f'/{len(self.distances)}'} at s = {s:.4g} mm: surface {profile.mean[0]:.2f} K "
-                     f"(std {profile.std[0]:.2f}, {profile.n_active} nodes), partitions [{temps}] K -> {state} "
+            state = (f"mu {mu_out:.4g}" if np.isfinite(mu_out)
+                     else f"cascade failed ({result.reason}); mu kept")
+            self.log(f"  point {i + 1}{'' if auto else f'/{len(self.distances)}'} at "
+                     f"s = {s:.4g} mm: surface {profile.mean[0]:.2f} K (std {profile.std[0]:.2f}, "
+                     f"{profile.n_active} nodes), partitions [{temps}] K -> {state} "
                      f"({wall:.1f} s)")
         if np.isfinite(mu_out):
             self.mu_now = mu_out
@@ -363,8 +370,8 @@ def isothermal_partitions(spec: SlidingSpec, thermal: ThermalSettings, loop: Loo
     return uniform_partitions(levels, loop.n_partitions, loop.partition_depth, thermal.T0)
 
 
-def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings, loop: LoopSettings,
-                     cascade: CascadeRunner, *, wall_limit: float = 0.0,
+def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings,
+                     loop: LoopSettings, cascade: CascadeRunner, *, wall_limit: float = 0.0,
                      log: Callable[[str], None] | None = None) -> ThermalLoopResult:
     """The loop of the module docstring for one point on rank 0 (``spec``: the macro run; its
     friction is replaced).  The workers of ``cascade.comm`` must be in ``cascade.serve()``;
@@ -385,14 +392,15 @@ def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSetting
     spec = dataclasses.replace(spec, friction=loop.mu_const + mu0)
     coupler = ThermalCoupler(rubber, thermal)
     observer = LoopObserver(coupler, distances, loop, cascade, mu0, log, run_slots(iso))
-    out.macro = run_thermal_macro(spec, rubber, thermal, observers=(observer,), wall_limit=wall_limit,
-                                  coupler=coupler)
+    out.macro = run_thermal_macro(spec, rubber, thermal, observers=(observer,),
+                                  wall_limit=wall_limit, coupler=coupler)
     out.intervals = observer.intervals
     if observer.error is not None:
         out.error = f"thermal loop stopped at point {len(out.intervals) + 1}: {observer.error}"
         out.notes.append(out.error)
     elif not out.intervals or out.intervals[-1].s_end < out.s_final * (1.0 - 1e-6):
-        out.notes.append(f"the slide's end (s = {out.s_final:g} mm) was not reached as a homogenisation point "
+        out.notes.append(f"the slide's end (s = {out.s_final:g} mm) was not reached as a "
+                         "homogenisation point "
                          f"({out.macro.sliding.reason or 'no active contact there'})")
     out.wall = time.perf_counter() - wall
     return out
@@ -417,19 +425,20 @@ class HotLayerSettings:
     def __post_init__(self) -> None:
         r = np.asarray(self.rises, float)
         if r.size < 2 or r[0] != 0.0 or np.any(np.diff(r) <= 0):
-            raise V.InputError(f"rises = {list(self.rises)!r} K: expected at least two increasing values "
-                             "starting at 0 (the isothermal point)")
+            raise V.InputError(f"rises = {list(self.rises)!r} K: expected at least two "
+                               "increasing values starting at 0 (the isothermal point)")
         V.positive("layer", self.layer, "mm")
         if not self.layer < self.transition:
-            raise V.InputError(f"layer = {self.layer!r} mm, transition = {self.transition!r} mm: expected "
-                               "0 < layer < transition")
+            raise V.InputError(f"layer = {self.layer!r} mm, transition = {self.transition!r} mm: "
+                               "expected 0 < layer < transition")
         V.nonnegative("mu_const", self.mu_const)
 
 
 def hot_layer_partitions(T_S: float, T0: float, settings: HotLayerSettings) -> Partitions:
     """The hot layer of fig. 8.17 b: T_S over ``layer``, T_1 = (T_S + T0) / 2 down to
     ``transition``, T0 below."""
-    layers = ((settings.layer, float(T_S)), (settings.transition - settings.layer, 0.5 * (T_S + T0)))
+    layers = ((settings.layer, float(T_S)),
+              (settings.transition - settings.layer, 0.5 * (T_S + T0)))
     return Partitions(layers, float(T0), np.array([0.0, settings.layer, settings.transition]))
 
 
@@ -466,8 +475,8 @@ class HotLayerResult:
         return np.isfinite(self.mu)
 
 
-def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings, hot: HotLayerSettings,
-                  cascade: CascadeRunner, *, wall_limit: float = 0.0,
+def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings,
+                  hot: HotLayerSettings, cascade: CascadeRunner, *, wall_limit: float = 0.0,
                   log: Callable[[str], None] | None = None) -> HotLayerResult:
     """Hot-layer mode: one cascade per surface temperature (independent: farmed together over all
     ranks, every run from rest), a mu(T_S) law (linear in T between the grid points, constant
@@ -496,7 +505,8 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings, 
         out.wall = time.perf_counter() - wall
         return out
     if not good.all():
-        out.notes.append(f"{int((~good).sum())} hot-layer cascades failed; the law interpolates over them")
+        out.notes.append(f"{int((~good).sum())} hot-layer cascades failed; the law interpolates "
+                         "over them")
     T, m = temps[good], hot.mu_const + out.mu_lower[good]
     grid = np.broadcast_to(m, (2, 2, T.size)).copy()  # constant in p and v
     out.law = fit_mu_pvT([0.0, 1.0e3], [1.0e-9, 1.0e7], T, grid, degree=1)

@@ -54,7 +54,13 @@ from rubberfriction.driver.multiscale.thermal_loop import (
     run_hot_layer,
     run_thermal_loop,
 )
-from rubberfriction.driver.multiscale.thermal_scene import _csv, _materials, _T0, macro_inputs, write_run
+from rubberfriction.driver.multiscale.thermal_scene import (
+    _csv,
+    _materials,
+    _T0,
+    macro_inputs,
+    write_run,
+)
 from rubberfriction.driver.runtime.farm import Executor, RunReports
 from rubberfriction.driver.runtime.progress import Progress
 
@@ -68,8 +74,8 @@ def loop_settings(scene: Scene) -> LoopSettings:
 
 def hot_layer_settings(scene: Scene) -> HotLayerSettings:
     t = scene.thermal
-    return HotLayerSettings(rises=tuple(t.hot_layer_rises), layer=t.hot_layer, transition=t.hot_transition,
-                            mu_const=t.mu_const)
+    return HotLayerSettings(rises=tuple(t.hot_layer_rises), layer=t.hot_layer,
+                            transition=t.hot_transition, mu_const=t.mu_const)
 
 
 def run_coupled_scene(scene: Scene, *, quiet: bool = False, comm: Any = None,
@@ -80,8 +86,8 @@ def run_coupled_scene(scene: Scene, *, quiet: bool = False, comm: Any = None,
     comm = MPI.COMM_WORLD if comm is None else comm
     t = scene.thermal
     if scene.variant != "rough":
-        raise SceneError(f"{scene.source}: [thermal] mode = '{t.mode}' needs variant = \"rough\" (the "
-                         "loop redoes the rough cascade at each homogenisation point)")
+        raise SceneError(f"{scene.source}: [thermal] mode = '{t.mode}' needs variant = \"rough\" "
+                         "(the loop redoes the rough cascade at each homogenisation point)")
     loop = loop_settings(scene)
     out = Path(scene.output)
     store = open_store(out, comm, fresh=fresh)
@@ -89,7 +95,8 @@ def run_coupled_scene(scene: Scene, *, quiet: bool = False, comm: Any = None,
         reports = RunReports()  # every sliding step of a lower-scale run reaches the progress line
         runner, timeout = runner_and_timeout(scene, None, reports)
         executor = Executor(store, runner, timeout=timeout, reports=reports,
-                            settings={"scene": scene.name, "scene_source": scene.source, "thermal": t.mode})
+                            settings={"scene": scene.name, "scene_source": scene.source,
+                                      "thermal": t.mode})
         compounds = load_compounds(scene)
         n = max(scene.samples.pressure, scene.samples.friction)
         scales = build_scales(scene, n)
@@ -127,14 +134,15 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet,
         if log and t.mode == "coupled":
             where = (f"automatic points (every {loop.auto_dT:g} K)" if loop.auto_dT > 0 else
                      f"{len(loop.distances(t.slide_distance))} homogenisation points")
-            log(f"[thermal loop] point {i}/{len(todo)}: {label}, {where}, {loop.n_partitions} partitions over "
-                f"{loop.partition_depth} mm")
+            log(f"[thermal loop] point {i}/{len(todo)}: {label}, {where}, {loop.n_partitions} "
+                f"partitions over {loop.partition_depth} mm")
         elif log:
-            log(f"[thermal loop] point {i}/{len(todo)}: {label}, hot layer {t.hot_layer} mm at T_S, "
-                f"{len(t.hot_layer_rises)} surface temperatures")
+            log(f"[thermal loop] point {i}/{len(todo)}: {label}, hot layer {t.hot_layer} mm at "
+                f"T_S, {len(t.hot_layer_rises)} surface temperatures")
         spec, settings = macro_inputs(scene, comp, road, p, v, T0, 0.0)  # friction: from the loop
-        cascade = CascadeRunner(scene.name, Point(name, p, v), scales.sets, make_spec, scene.samples.pressure,
-                                scene.samples.friction, executor, comm, progress=progress,
+        cascade = CascadeRunner(scene.name, Point(name, p, v), scales.sets, make_spec,
+                                scene.samples.pressure, scene.samples.friction, executor, comm,
+                                progress=progress,
                                 max_failed_fraction=scene.samples.max_failed_fraction,
                                 adhesion=scene.adhesion if scene.physics.adhesion else None,
                                 states=(executor.store.load_state
@@ -143,11 +151,11 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet,
         wall = time.perf_counter()
         try:
             if t.mode == "hot-layer":
-                res = run_hot_layer(spec, comp.thermal, settings, hot_layer_settings(scene), cascade,
-                                    wall_limit=num.run_timeout, log=log)
+                res = run_hot_layer(spec, comp.thermal, settings, hot_layer_settings(scene),
+                                    cascade, wall_limit=num.run_timeout, log=log)
             else:
-                res = run_thermal_loop(spec, comp.thermal, settings, loop, cascade, wall_limit=num.run_timeout,
-                                       log=log)
+                res = run_thermal_loop(spec, comp.thermal, settings, loop, cascade,
+                                       wall_limit=num.run_timeout, log=log)
         except Exception as err:  # noqa: BLE001 -- a campaign never dies of one point
             res = ThermalLoopResult(Point(name, p, v), None, None, settings=loop)
             res.error = f"{type(err).__name__}: {err}"
@@ -163,8 +171,9 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet,
         rows.append(_row(name, p, v, res, T0))
         if log:
             r = rows[-1]
-            log(f"[thermal loop]   mu {r['mu_isothermal']:.4g} without, {r['mu_flash']:.4g} with flash "
-                f"temperature ({100 * r['change']:+.2f} %), surface {r['T_surface'] - T0:+.3g} K, "
+            log(f"[thermal loop]   mu {r['mu_isothermal']:.4g} without, {r['mu_flash']:.4g} with "
+                f"flash temperature ({100 * r['change']:+.2f} %), surface "
+                f"{r['T_surface'] - T0:+.3g} K, "
                 f"{res.wall:.1f} s{'; ' + '; '.join(res.notes) if res.notes else ''}")
     _write_rows(folder / "loop_results.csv", rows)
     for note in plot_mu_v(scene, rows, folder / "mu_v.png"):
@@ -196,9 +205,12 @@ def _row(name: str, p: float, v: float, res, T0: float) -> dict:
     # a store that answered runs makes the times say nothing about the cost
     reused = sum(o.reused for c in cascades for runs in c.runs.values() for _, o in runs)
     cost = res.wall / wall_iso if wall_iso > 0 and not reused else math.nan
-    return {"compound": name, "pressure": p, "velocity": v, "mode": mode, "status": "ok" if res.ok else "failed",
-            "mu_isothermal": iso, "mu_flash": res.mu, "change": res.mu / iso - 1.0 if iso else math.nan,
-            "mu_const": res.settings.mu_const, "points": points, "T_surface": T_s, "T_surface_std": T_std,
+    return {"compound": name, "pressure": p, "velocity": v, "mode": mode,
+            "status": "ok" if res.ok else "failed",
+            "mu_isothermal": iso, "mu_flash": res.mu,
+            "change": res.mu / iso - 1.0 if iso else math.nan,
+            "mu_const": res.settings.mu_const, "points": points, "T_surface": T_s,
+            "T_surface_std": T_std,
             **_macro_stabilisation(res.macro), "wall": res.wall, "wall_isothermal": wall_iso,
             "cost_vs_isothermal": cost, "reused_runs": reused, "notes": " | ".join(res.notes)}
 
@@ -230,7 +242,8 @@ def write_loop(res: ThermalLoopResult, folder: Path, T0: float) -> None:
     names = [sc.name for sc in res.intervals[0].cascade.scales]
     rows = []
     for iv in res.intervals:
-        row = {"point": iv.index, "s": iv.s_end, "t": iv.t_end, "mu_in": iv.mu_in, "mu_out": iv.mu_out,
+        row = {"point": iv.index, "s": iv.s_end, "t": iv.t_end, "mu_in": iv.mu_in,
+               "mu_out": iv.mu_out,
                "T_surface": iv.profile.mean[0], "T_surface_std": iv.profile.std[0],
                "active_nodes": iv.profile.n_active}
         for sc in iv.cascade.scales:
@@ -249,7 +262,8 @@ def write_loop(res: ThermalLoopResult, folder: Path, T0: float) -> None:
     plot_loop(res, folder / "loop.png", T0, names, n_p)
 
 
-def plot_loop(res: ThermalLoopResult, path: Path, T0: float, scale_names: list[str], n_p: int) -> None:
+def plot_loop(res: ThermalLoopResult, path: Path, T0: float, scale_names: list[str],
+              n_p: int) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -262,7 +276,8 @@ def plot_loop(res: ThermalLoopResult, path: Path, T0: float, scale_names: list[s
     for iv in res.intervals:
         ax[0].axvline(iv.s_end, color="0.7", lw=0.8)
     ax[0].axhline(res.mu_isothermal, color="k", ls=":", label="isothermal mu")
-    ax[0].set(xlabel="sliding distance s (mm)", ylabel="mu", title="macro run, homogenisation points")
+    ax[0].set(xlabel="sliding distance s (mm)", ylabel="mu",
+              title="macro run, homogenisation points")
     ax[0].legend(fontsize=8)
     s_edges = [0.0] + [iv.s_end for iv in res.intervals]
     mus = [iv.mu_in for iv in res.intervals]
@@ -276,7 +291,8 @@ def plot_loop(res: ThermalLoopResult, path: Path, T0: float, scale_names: list[s
         z, m, sd = iv.profile.z, iv.profile.mean - T0, iv.profile.std
         keep = z <= 3 * depth
         line, = ax[2].plot(m[keep], z[keep], label=f"s = {iv.s_end:.3g} mm")
-        ax[2].fill_betweenx(z[keep], m[keep] - sd[keep], m[keep] + sd[keep], color=line.get_color(), alpha=0.15)
+        ax[2].fill_betweenx(z[keep], m[keep] - sd[keep], m[keep] + sd[keep],
+                            color=line.get_color(), alpha=0.15)
         b = iv.partitions.bounds
         T_p = np.repeat([T - T0 for _, T in iv.partitions.layers], 2)
         ax[2].plot(T_p, np.repeat(b, 2)[1:-1], color=line.get_color(), ls="--", lw=0.8)
@@ -308,7 +324,8 @@ def write_hot_layer(res: HotLayerResult, folder: Path, T0: float) -> None:
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
     ax[0].plot(res.temperatures - T0, res.settings.mu_const + res.mu_lower, "o-")
     ax[0].set(xlabel="surface temperature T_S - T0 (K)", ylabel="mu_const + lower scales' mu",
-              title=f"hot layer {1e3 * res.settings.layer:g} um at T_S, to {1e3 * res.settings.transition:g} um")
+              title=f"hot layer {1e3 * res.settings.layer:g} um at T_S, "
+                    f"to {1e3 * res.settings.transition:g} um")
     if res.macro is not None and res.macro.series:
         s = res.macro.series
         ax[1].plot(s["s"], s["mu"], label="macro mu = -F_x / F_z")
@@ -336,7 +353,8 @@ def plot_mu_v(scene: Scene, rows: list[dict], path: Path) -> list[str]:
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
     groups = sorted({(r["compound"], r["pressure"]) for r in rows})
     for g, (name, p) in enumerate(groups):
-        sel = sorted((r for r in rows if (r["compound"], r["pressure"]) == (name, p)), key=lambda r: r["velocity"])
+        sel = sorted((r for r in rows if (r["compound"], r["pressure"]) == (name, p)),
+                     key=lambda r: r["velocity"])
         v = np.array([r["velocity"] for r in sel])
         iso = np.array([r["mu_isothermal"] - r["mu_const"] for r in sel])
         hot = np.array([r["mu_flash"] - r["mu_const"] for r in sel])
@@ -349,15 +367,20 @@ def plot_mu_v(scene: Scene, rows: list[dict], path: Path) -> list[str]:
             grid = tuple(np.geomspace(v.min() / 3, v.max() * 3, 30))
             curves = {}
             for flash in (False, True):
-                req = request_from_scene(scene, velocities=grid, compound=str(comp), pressure=float(p),
-                                         T0=scene.conditions.T0, models=("persson-1d",), flash=flash)
+                req = request_from_scene(scene, velocities=grid, compound=str(comp),
+                                         pressure=float(p), T0=scene.conditions.T0,
+                                         models=("persson-1d",), flash=flash)
                 curves[flash] = evaluate(req).curves[0]
-            ax[0].plot(curves[False].v, curves[False].mu_hysteresis, ":", color=c, label="Persson (line)")
-            ax[0].plot(curves[True].v, curves[True].mu_hysteresis, "-.", color=c, label="Persson with flash")
-            ax[1].plot(curves[True].v, 100 * (curves[True].mu_hysteresis / curves[False].mu_hysteresis - 1), "-.",
+            ax[0].plot(curves[False].v, curves[False].mu_hysteresis, ":", color=c,
+                       label="Persson (line)")
+            ax[0].plot(curves[True].v, curves[True].mu_hysteresis, "-.", color=c,
+                       label="Persson with flash")
+            ax[1].plot(curves[True].v,
+                       100 * (curves[True].mu_hysteresis / curves[False].mu_hysteresis - 1), "-.",
                        color=c, label="Persson with flash")
         except Exception as err:  # noqa: BLE001 -- the baseline must never break the outputs
-            notes.append(f"{name}, {p:g} MPa: Persson curves not drawn: {type(err).__name__}: {err}")
+            notes.append(f"{name}, {p:g} MPa: Persson curves not drawn: "
+                         f"{type(err).__name__}: {err}")
     ax[0].set(xscale="log", xlabel="v (mm/s)", ylabel="mu of the lower scales (hysteresis)",
               title="with and without flash temperature")
     ax[1].set(xscale="log", xlabel="v (mm/s)", ylabel="change by flash temperature (%)",

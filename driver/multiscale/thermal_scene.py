@@ -16,8 +16,8 @@ Outputs under ``<output>/thermal/``:
 * ``<run>/interface.csv`` -- the final profile along the block: x, T_block, pressure, frictional
   power density, mu;
 * ``<run>/temperature.xdmf`` -- the final temperature field of both bodies (ParaView);
-* ``<run>/surface_history.csv`` / ``.png`` -- the rubber surface along the block and the road surface
-  (the heated track behind the block) over the sliding distance;
+* ``<run>/surface_history.csv`` / ``.png`` -- the rubber surface along the block and the road
+  surface (the heated track behind the block) over the sliding distance;
 * ``<run>/thermal.png`` -- mu(s), temperatures(s), heat balance and the final interface profile;
 * with ``slides`` > 1: ``<run>/slide_<k>/`` holds the files above per slide and
   ``<run>/history.csv`` the whole sequence (global time, slide number or 0 in a pause, mean rubber
@@ -72,7 +72,8 @@ class ThermalRunSummary:
     newton_iterations: float = math.nan
     cpu_heat: float = math.nan
     cpu_contact: float = math.nan
-    mu_error: float = math.nan  # half the window drift of mu: how far from steady the average may be
+    # half the window drift of mu: how far from steady the average may be
+    mu_error: float = math.nan
     # sub-steps solved with the viscous stabilisation and the dashpots' share of the window's
     # friction work (driver.fe.stabilisation); smallest det F of the accepted states
     stabilised_steps: float = math.nan
@@ -101,12 +102,13 @@ def _materials(scene: Scene):
     for name, path in zip(scene.conditions.compounds, scene.conditions.compound_paths):
         c = load_compound(path)
         if c.thermal is None:
-            raise SceneError(f"{scene.source}: [conditions].compounds: compound {name!r} has no [thermal] "
-                             "data (rho, c, k), which a thermal scene needs")
+            raise SceneError(f"{scene.source}: [conditions].compounds: compound {name!r} has no "
+                             "[thermal] data (rho, c, k), which a thermal scene needs")
         compounds.append((name, c))
     road = load_road(scene.thermal.road)
     if road.thermal is None:
-        raise SceneError(f"{scene.source}: [thermal].road = {scene.thermal.road!r} has no [thermal] data")
+        raise SceneError(f"{scene.source}: [thermal].road = {scene.thermal.road!r} has no "
+                         "[thermal] data")
     return compounds, road
 
 
@@ -119,7 +121,8 @@ def macro_inputs(scene: Scene, compound, road: Road, pressure: float, velocity: 
     spec = flat_road_spec(compound, pressure=pressure, velocity=velocity, friction=friction,
                           block_length=t.block_length, block_height=t.block_height,
                           slide_distance=t.slide_distance, h_contact=t.h_contact, T0=T0,
-                          step_per_element=t.step_per_element, element=num.element, contact=num.contact,
+                          step_per_element=t.step_per_element, element=num.element,
+                          contact=num.contact,
                           grading=num.grading, compression_steps=num.compression_steps,
                           max_cutbacks=num.max_cutbacks, stabilisation=num.stabilisation,
                           min_jacobian=num.min_jacobian,
@@ -131,8 +134,10 @@ def macro_inputs(scene: Scene, compound, road: Road, pressure: float, velocity: 
         short = scene.surface.edges[1] if scene.surface.edges else scene.surface.wavelengths[0]
         x, h = macro_road(scene, t.road_start, 3.0 * span, min(0.5 * t.h_contact, short / 16.0))
         spec = replace(spec, surface_x=x - span, surface_h=h)
-    settings = ThermalSettings(road=road.thermal, T0=T0, kappa=t.kappa, h_c=t.h_c, road_depth=t.road_depth,
-                               road_ahead=t.road_ahead, road_behind=t.road_behind, first_layer=t.first_layer,
+    settings = ThermalSettings(road=road.thermal, T0=T0, kappa=t.kappa, h_c=t.h_c,
+                               road_depth=t.road_depth,
+                               road_ahead=t.road_ahead, road_behind=t.road_behind,
+                               first_layer=t.first_layer,
                                grading=t.grading, probes=t.probes, bulk_wlf=t.bulk_wlf,
                                road_elastic=road if t.road_mechanics == "elastic" else None)
     return spec, settings
@@ -144,7 +149,8 @@ def _T0(scene: Scene, compound) -> float:
     return compound.wlf.T_ref if compound.wlf is not None else 293.15
 
 
-def run_thermal_scene(scene: Scene, *, quiet: bool = False, comm=None) -> list[ThermalRunSummary] | None:
+def run_thermal_scene(scene: Scene, *, quiet: bool = False,
+                      comm=None) -> list[ThermalRunSummary] | None:
     """Run every (compound, p, v) of a thermal scene; a failed run is reported, never raised.
 
     Every rank of ``comm`` (default COMM_WORLD) calls this: the runs are dealt out round robin (each
@@ -168,7 +174,8 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False, comm=None) -> list[T
     if size > 1:
         comm.Barrier()
     num = scene.numerics
-    todo = [(n, c, p, v) for n, c in compounds for p in scene.conditions.pressures for v in scene.conditions.velocities]
+    todo = [(n, c, p, v) for n, c in compounds for p in scene.conditions.pressures
+            for v in scene.conditions.velocities]
     quiet = quiet or rank != 0  # workers print nothing; rank 0 reports its own runs and the table
     summaries = []
     for i, (name, comp, p, v) in enumerate(todo, 1):
@@ -178,14 +185,15 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False, comm=None) -> list[T
         spec, settings = macro_inputs(scene, comp, road, p, v, T0, friction)
         label = f"{name}_p{p:g}_v{v:g}"
         if not quiet:
-            print(f"[thermal] run {i}/{len(todo)}: {label} (block {t.block_length} x {t.block_height} mm, "
-                  f"slide {t.slide_distance} mm)", flush=True)
+            print(f"[thermal] run {i}/{len(todo)}: {label} (block {t.block_length} x "
+                  f"{t.block_height} mm, slide {t.slide_distance} mm)", flush=True)
         wall = time.perf_counter()
         folder = out / label
         folder.mkdir(exist_ok=True)
         try:
             if t.slides > 1:
-                seq = run_thermal_slides(spec, comp.thermal, settings, t.pauses, wall_limit=num.run_timeout)
+                seq = run_thermal_slides(spec, comp.thermal, settings, t.pauses,
+                                         wall_limit=num.run_timeout)
                 for k, r in enumerate(seq.slides, 1):
                     (folder / f"slide_{k}").mkdir(exist_ok=True)
                     write_run(r, folder / f"slide_{k}", T0)
@@ -207,16 +215,18 @@ def run_thermal_scene(scene: Scene, *, quiet: bool = False, comm=None) -> list[T
         if not quiet:
             print(f"[thermal]   {summary.status} {summary.reason}  mu {summary.mu_force:.4g} "
                   f"(+- {100 * summary.mu_error:.2g} % from the window drift)  T_C "
-                  f"{summary.T_contact - T0:+.3g} K  T_R {summary.T_road_behind - T0:+.3g} K  ({wall:.1f} s, "
-                  f"{summary.steps:.0f} steps, {summary.cutbacks:.0f} cut-backs, {summary.newton_iterations:.0f} "
-                  f"Newton iterations, heat {summary.cpu_heat:.1f} s CPU{_stabilised(summary)})",
+                  f"{summary.T_contact - T0:+.3g} K  T_R {summary.T_road_behind - T0:+.3g} K  "
+                  f"({wall:.1f} s, {summary.steps:.0f} steps, {summary.cutbacks:.0f} cut-backs, "
+                  f"{summary.newton_iterations:.0f} Newton iterations, heat "
+                  f"{summary.cpu_heat:.1f} s CPU{_stabilised(summary)})",
                   flush=True)
     if size > 1:
         parts = comm.gather(summaries, root=0)
         if rank != 0:
             return None
         order = {(n, p, v): k for k, (n, _, p, v) in enumerate(todo)}
-        summaries = sorted((s for part in parts for s in part), key=lambda s: order[(s.compound, s.pressure, s.velocity)])
+        summaries = sorted((s for part in parts for s in part),
+                           key=lambda s: order[(s.compound, s.pressure, s.velocity)])
     write_summary(out / "thermal_results.csv", summaries)
     if not quiet:
         print(f"[thermal] results: {out / 'thermal_results.csv'}")
@@ -237,10 +247,13 @@ def _summarise(name, p, v, res: ThermalMacroResult, wall: float, folder: Path) -
     status = "ok" if res.ok else "failed"
     reason = res.stats.get("thermal_error", "") or res.sliding.reason
     st = res.sliding.stats
-    return ThermalRunSummary(name, p, v, status, reason, float(res.sliding.mu_force), end("T_contact"),
-                             end("T_max"), end("T_road_behind"), float(res.stats.get("max_step_dT", math.nan)),
-                             wall, folder, float(st.get("steps", math.nan)), float(st.get("cutbacks", math.nan)),
-                             float(st.get("newton_iterations", math.nan)), float(res.stats.get("cpu_heat", math.nan)),
+    return ThermalRunSummary(name, p, v, status, reason, float(res.sliding.mu_force),
+                             end("T_contact"), end("T_max"), end("T_road_behind"),
+                             float(res.stats.get("max_step_dT", math.nan)),
+                             wall, folder, float(st.get("steps", math.nan)),
+                             float(st.get("cutbacks", math.nan)),
+                             float(st.get("newton_iterations", math.nan)),
+                             float(res.stats.get("cpu_heat", math.nan)),
                              float(st.get("cpu_contact", math.nan)), float(res.sliding.mu_error),
                              float(st.get("stabilised_steps", math.nan)),
                              float(res.sliding.stabilisation_share),
@@ -248,9 +261,9 @@ def _summarise(name, p, v, res: ThermalMacroResult, wall: float, folder: Path) -
 
 
 def write_summary(path: Path, rows: list[ThermalRunSummary]) -> None:
-    cols = ["compound", "pressure", "velocity", "status", "mu_force", "mu_error", "T_contact", "T_max", "T_road_behind",
-            "max_step_dT", "wall", "steps", "cutbacks", "newton_iterations", "cpu_heat",
-            "cpu_contact",
+    cols = ["compound", "pressure", "velocity", "status", "mu_force", "mu_error", "T_contact",
+            "T_max", "T_road_behind", "max_step_dT", "wall", "steps", "cutbacks",
+            "newton_iterations", "cpu_heat", "cpu_contact",
             "stabilised_steps", "stabilisation_share", "min_det_F", "reason"]
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
@@ -279,7 +292,8 @@ def write_run(res: ThermalMacroResult, folder: Path, T0: float) -> None:
         write_surface_history(res, folder, T0)
 
 
-def write_surface_history(res: ThermalMacroResult, folder: Path, T0: float, max_rows: int = 200) -> None:
+def write_surface_history(res: ThermalMacroResult, folder: Path, T0: float,
+                          max_rows: int = 200) -> None:
     """surface_history.csv (long format: s, body, x, T; at most ``max_rows`` sliding steps, evenly
     picked, the last always) and surface_history.png: the rubber surface along the block and the
     road surface (the track behind the block, x < 0) over the sliding distance."""
@@ -288,7 +302,8 @@ def write_surface_history(res: ThermalMacroResult, folder: Path, T0: float, max_
     with open(folder / "surface_history.csv", "w") as f:
         f.write("s,body,x,T\n")
         for k in rows:
-            for body, x, T in (("block", h["x_block"], h["T_block"][k]), ("road", h["x_road"], h["T_road"][k])):
+            for body, x, T in (("block", h["x_block"], h["T_block"][k]),
+                               ("road", h["x_road"], h["T_road"][k])):
                 for xi, Ti in zip(x, T):
                     f.write(f"{s[k]:.8g},{body},{xi:.8g},{Ti:.8g}\n")
     import matplotlib
@@ -298,7 +313,8 @@ def write_surface_history(res: ThermalMacroResult, folder: Path, T0: float, max_
 
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
     for a, key, xk, title in ((ax[0], "T_block", "x_block", "rubber surface"),
-                              (ax[1], "T_road", "x_road", "road surface (track behind the block: x < 0)")):
+                              (ax[1], "T_road", "x_road",
+                               "road surface (track behind the block: x < 0)")):
         m = a.pcolormesh(h[xk], s, h[key] - T0, shading="nearest", cmap="inferno")
         a.set(xlabel="x (mm, block frame, trailing edge 0)", title=title)
         fig.colorbar(m, ax=a, label="T - T0 (K)")
@@ -323,7 +339,8 @@ def plot_run(res: ThermalMacroResult, path: Path, T0: float) -> None:
     s, p = res.series, res.profiles
     fig, ax = plt.subplots(2, 2, figsize=(10, 7))
     ax[0, 0].plot(s["s"], s["mu"])
-    ax[0, 0].set(xlabel="sliding distance s (mm)", ylabel="mu = -F_x / F_z (contact)", title="friction")
+    ax[0, 0].set(xlabel="sliding distance s (mm)", ylabel="mu = -F_x / F_z (contact)",
+                 title="friction")
     for k, lab in (("T_contact", "contact (pressure-weighted)"), ("T_max", "hottest rubber node"),
                    ("T_road_behind", "road behind the block")):
         ax[0, 1].plot(s["s"], s[k] - T0, label=lab)
@@ -332,7 +349,8 @@ def plot_run(res: ThermalMacroResult, path: Path, T0: float) -> None:
     ax[1, 0].plot(s["s"], s["friction_energy"], label="frictional heat in")
     ax[1, 0].plot(s["s"], s["heat_block"] + s["heat_road"], label="stored (block + road)")
     ax[1, 0].plot(s["s"], s["heat_block"], "--", label="stored in the block")
-    ax[1, 0].set(xlabel="s (mm)", ylabel="mJ per mm depth", title="heat balance (rest left through T0 faces)")
+    ax[1, 0].set(xlabel="s (mm)", ylabel="mJ per mm depth",
+                 title="heat balance (rest left through T0 faces)")
     ax[1, 0].legend(fontsize=8)
     if p:
         ax[1, 1].plot(p["x"], p["T_block"] - T0, label="T_block - T0 (K)")

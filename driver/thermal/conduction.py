@@ -93,8 +93,9 @@ class HeatGeometry:
         for name in ("block_length", "road_ahead", "road_behind"):
             n = getattr(self, name) / self.h_x
             if abs(n - round(n)) > 1e-9 * max(1.0, n):
-                raise V.InputError(f"HeatGeometry.{name} = {getattr(self, name)!r} mm is not a whole number of "
-                                   f"elements h_x = {self.h_x!r} mm (the interface nodes of both bodies must match)")
+                raise V.InputError(f"HeatGeometry.{name} = {getattr(self, name)!r} mm is not a "
+                                   f"whole number of elements h_x = {self.h_x!r} mm (the "
+                                   "interface nodes of both bodies must match)")
 
 
 @dataclass(frozen=True)
@@ -140,7 +141,8 @@ class TwoBodyHeat:
                                     velocity=self._velocity, tau=self._tau)
         a_steady, _ = convected_heat_forms(T, s, T, rho_c=self.rho_c, k=self.k, dt=None,
                                            velocity=self._velocity, tau=self._tau)
-        self._forms = {"transient": (fem.form(a), fem.form(B)), "steady": (fem.form(a_steady), None)}
+        self._forms = {"transient": (fem.form(a), fem.form(B)),
+                       "steady": (fem.form(a_steady), None)}
         self._cache: dict = {}
         self.time = 0.0
 
@@ -157,7 +159,8 @@ class TwoBodyHeat:
         pr, cr = tensor_grid(xr, -zd[::-1])
         points = np.vstack([pb, pr])
         cells = np.vstack([cb, cr + len(pb)])
-        domain = ufl.Mesh(ufl.VectorElement("Lagrange", ufl.Cell("quadrilateral", geometric_dimension=2), 1))
+        domain = ufl.Mesh(ufl.VectorElement("Lagrange",
+                                            ufl.Cell("quadrilateral", geometric_dimension=2), 1))
         self.mesh = dolfinx.mesh.create_mesh(MPI.COMM_SELF, cells.astype(np.int64), points, domain)
         self._zb, self._zd = zb, zd
         self._block_grid: np.ndarray | None = None  # block dofs as (n_x, n_z), see block_grid
@@ -223,7 +226,8 @@ class TwoBodyHeat:
             fixed.append(np.flatnonzero(in_road & (np.abs(X[:, 0] - x_in) < tol)))
         self._fixed = np.unique(np.concatenate(fixed)) if fixed else np.zeros(0, np.int64)
         self._fixed_values = np.where(np.isin(self._fixed, self.block_dofs),
-                                      self.top_temperature if self.top_temperature is not None else self.T0,
+                                      (self.top_temperature if self.top_temperature is not None
+                                       else self.T0),
                                       self.T0)
         self._free = np.setdiff1d(np.arange(len(X)), self._fixed)
         self.X = X
@@ -282,7 +286,8 @@ class TwoBodyHeat:
     def steady(self, power, contact=True) -> None:
         """Steady state for constant power and contact (needs a Dirichlet face or an outflow)."""
         if len(self._fixed) == 0:
-            raise V.InputError("steady heat conduction needs a fixed temperature (block top or moving road)")
+            raise V.InputError("steady heat conduction needs a fixed temperature (block top or "
+                               "moving road)")
         self._solve(None, power, contact)
 
     # ------------------------------------------------------------------ outputs
@@ -334,9 +339,10 @@ class TwoBodyHeat:
     def describe(self) -> str:
         g = self.geometry
         return (f"two-body heat: block {g.block_length} x {g.block_height} mm, road "
-                f"[{-g.road_behind}, {g.block_length + g.road_ahead}] x {g.road_depth} mm, h_x = {g.h_x} mm, "
-                f"first layer {g.first_layer} mm, {len(self.X)} dofs, kappa = {self.kappa}, h_c = {self.h_c:g}, "
-                f"road velocity {self.road_velocity:g} mm/s (element Peclet {self.supg_peclet:.3g})")
+                f"[{-g.road_behind}, {g.block_length + g.road_ahead}] x {g.road_depth} mm, "
+                f"h_x = {g.h_x} mm, first layer {g.first_layer} mm, {len(self.X)} dofs, "
+                f"kappa = {self.kappa}, h_c = {self.h_c:g}, road velocity "
+                f"{self.road_velocity:g} mm/s (element Peclet {self.supg_peclet:.3g})")
 
 
 def _csr(form, n: int) -> sps.csr_matrix:

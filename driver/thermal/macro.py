@@ -13,7 +13,8 @@ Why staggered: the mechanical run keeps its Newton, cut-backs and fallbacks unch
 problem is linear and its factorisation is reused for every step of equal length, and the
 coupling is one-way within a step (mu depends on T, T on the frictional power).  The lag of one
 step is the scheme's error; its measure is the largest change of the contact temperature per
-step (stats ``max_step_dT``), and halving the sliding step shows it (``tests/test_thermal_macro.py``).
+step (stats ``max_step_dT``), and halving the sliding step shows it
+(``tests/test_thermal_macro.py``).
 
 Thermo-viscoelastic bulk: after each heat step the temperature of every cell of the mechanical
 block (bilinear from the heat block's grid at the cell centroid) shifts its relaxation times by
@@ -49,7 +50,12 @@ from rubberfriction.driver.fe.contact import RigidMaster
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
 from rubberfriction.driver.sliding.run import SlidingRun
 from rubberfriction.driver.sliding.spec import SlidingResult, SlidingSpec
-from rubberfriction.driver.thermal.conduction import FIRST_LAYER, HeatGeometry, TwoBodyHeat, geometric_steps
+from rubberfriction.driver.thermal.conduction import (
+    FIRST_LAYER,
+    HeatGeometry,
+    TwoBodyHeat,
+    geometric_steps,
+)
 from rubberfriction.driver.thermal.road_deflection import ElasticRoad
 from rubberfriction.forms.compound import Road, Thermal
 
@@ -110,8 +116,9 @@ class ThermalMacroResult:
     profiles: dict[str, np.ndarray] = field(default_factory=dict)
     stats: dict[str, float] = field(default_factory=dict)
     heat: TwoBodyHeat | None = None  # the heat problem at the end (fields for output)
-    # surface temperatures over time: x_block (n_b,), x_road (n_r,) in the block frame (mm), T_block
-    # (steps, n_b) of the rubber surface, T_road (steps, n_r) of the road surface, K; rows = series rows
+    # surface temperatures over time: x_block (n_b,), x_road (n_r,) in the block frame (mm),
+    # T_block (steps, n_b) of the rubber surface, T_road (steps, n_r) of the road surface, K;
+    # rows = series rows
     surface_history: dict[str, np.ndarray] = field(default_factory=dict)
     probe_dofs: list[int] = field(default_factory=list)  # heat dofs of settings.probes
 
@@ -123,32 +130,36 @@ class ThermalMacroResult:
 class ThermalCoupler:
     """Observer of a SlidingRun that carries the heat problem along (see the module doc)."""
 
-    def __init__(self, rubber: Thermal, settings: ThermalSettings, initial_block: np.ndarray | None = None) -> None:
+    def __init__(self, rubber: Thermal, settings: ThermalSettings,
+                 initial_block: np.ndarray | None = None) -> None:
         self.rubber, self.settings = rubber, settings
-        self.initial_block = initial_block  # block temperatures carried from an earlier slide (or None: T0)
+        # block temperatures carried from an earlier slide (or None: T0)
+        self.initial_block = initial_block
         self.error: str | None = None
         self.heat: TwoBodyHeat | None = None
         self.bulk_map: sps.csr_matrix | None = None  # heat block grid -> mechanical cell centroids
 
     def on_start(self, run) -> None:
-        """A new attempt starts sliding (the run's fallbacks restart it): a fresh heat problem at T0,
-        with the carried block field of an earlier slide where there is one."""
+        """A new attempt starts sliding (the run's fallbacks restart it): a fresh heat problem at
+        T0, with the carried block field of an earlier slide where there is one."""
         self.error = None
         s = self.settings
         slave = run.contact.slave
         X = slave.X
         z_face = float(X[:, 1].min())
         tol = 1e-9 * max(1.0, float(np.ptp(X[:, 0])))
-        flat = np.sort(X[np.abs(X[:, 1] - z_face) < tol, 0])  # the flat face (an arc rises above it)
+        # the flat face (an arc rises above it)
+        flat = np.sort(X[np.abs(X[:, 1] - z_face) < tol, 0])
         h_x = float(np.diff(flat).mean())
         if np.ptp(np.diff(flat)) > 1e-9 * h_x:
-            raise RuntimeError("thermal macro run: the block's flat contact face must have equal elements")
+            raise RuntimeError("thermal macro run: the block's flat contact face must have equal "
+                               "elements")
         self.x0 = float(X[:, 0].min())
         length = float(X[:, 0].max()) - self.x0
         if abs(length / h_x - round(length / h_x)) > 1e-6:
-            raise V.InputError(f"thermal macro run: block length {length:g} mm is not a whole number of contact "
-                               f"elements {h_x:g} mm (with a rounded edge: make edge_radius a multiple of "
-                               "h_contact)")
+            raise V.InputError(f"thermal macro run: block length {length:g} mm is not a whole "
+                               f"number of contact elements {h_x:g} mm (with a rounded edge: make "
+                               "edge_radius a multiple of h_contact)")
         whole = lambda d: h_x * math.ceil(d / h_x - 1e-9)  # noqa: E731
         geo = HeatGeometry(block_length=h_x * round(length / h_x), block_height=float(run.H),
                            road_depth=s.road_depth, road_ahead=whole(s.road_ahead),
@@ -160,21 +171,27 @@ class ThermalCoupler:
         # slave node a -> interface node node_of[a] (nearest in x): one to one on a square block;
         # nodes of a rounded edge share the interface node below them (the heat block is square)
         self.slave_x = X[:, 0] - self.x0
-        self.node_of = np.clip(np.searchsorted(0.5 * (itf.x[1:] + itf.x[:-1]), self.slave_x), 0, len(itf.x) - 1)
-        self.lump = sps.csr_matrix((np.ones(len(X)), (self.node_of, np.arange(len(X)))), shape=(len(itf.x), len(X)))
+        self.node_of = np.clip(np.searchsorted(0.5 * (itf.x[1:] + itf.x[:-1]), self.slave_x), 0,
+                               len(itf.x) - 1)
+        self.lump = sps.csr_matrix((np.ones(len(X)), (self.node_of, np.arange(len(X)))),
+                                   shape=(len(itf.x), len(X)))
         self.count = np.asarray(self.lump.sum(axis=1)).ravel()
         on_face = np.abs(X[:, 1] - z_face) < tol
         if np.abs(itf.x[self.node_of[on_face]] - self.slave_x[on_face]).max() > tol:
-            raise RuntimeError("thermal macro run: slave nodes and heat interface nodes do not match")
+            raise RuntimeError("thermal macro run: slave nodes and heat interface nodes do not "
+                               "match")
         if self.initial_block is not None:
             if len(self.initial_block) != len(self.heat.block_dofs):
-                raise RuntimeError("thermal macro run: the carried block temperature field does not fit the mesh")
+                raise RuntimeError("thermal macro run: the carried block temperature field does "
+                                   "not fit the mesh")
             self.heat.T.x.array[self.heat.block_dofs] = self.initial_block
         self.probe_dofs = [self.heat.nearest_dof(px - self.x0, pz) for px, pz in s.probes]
         xr, _ = self.heat.road_surface()
-        self.behind = int(np.argmin(np.abs(xr + h_x)))  # road surface node one element behind the block
+        # road surface node one element behind the block
+        self.behind = int(np.argmin(np.abs(xr + h_x)))
         self.rows: list[tuple] = []
-        self.surface_rows: list[tuple[np.ndarray, np.ndarray]] = []  # per step: block and road surface T
+        # per step: block and road surface T
+        self.surface_rows: list[tuple[np.ndarray, np.ndarray]] = []
         self.energy = self.dissipation = 0.0
         self.cpu_heat = 0.0
         self.max_rescale = 0.0  # largest |scale - 1| of the nodal power (0 without cut-backs)
@@ -188,9 +205,11 @@ class ThermalCoupler:
             self._start_elastic_road(run, h_x, length)
         history = getattr(run.sp, "history", None)
         self.bulk_map = None  # bilinear, built only where the bulk follows the temperature
-        if s.bulk_wlf and history is not None and getattr(run.spec.compound, "wlf", None) is not None:
+        if (s.bulk_wlf and history is not None
+                and getattr(run.spec.compound, "wlf", None) is not None):
             c = run.sp.cell_centroids()
-            self.bulk_map = _bilinear_map(*self.heat.block_grid()[:2], c[:, 0] - self.x0, c[:, 1] - z_face)
+            self.bulk_map = _bilinear_map(*self.heat.block_grid()[:2], c[:, 0] - self.x0,
+                                          c[:, 1] - z_face)
             self._update_bulk(run)
 
     def on_step(self, run, k: int, t: float) -> None:
@@ -202,7 +221,8 @@ class ThermalCoupler:
             self.error = f"{type(err).__name__}: {err}"
 
     def interface_active(self, state: dict) -> np.ndarray:
-        """Contact mask per heat interface node: in contact where any slave node lumped onto it is."""
+        """Contact mask per heat interface node: in contact where any slave node lumped onto it
+        is."""
         return (self.lump @ state["active"].astype(float)) > 0.0
 
     def _slave_temperatures(self, Tb: np.ndarray) -> np.ndarray:
@@ -216,7 +236,8 @@ class ThermalCoupler:
         active = self.interface_active(st)
         dt = float(run.dt_slide)
         # a step cut back into sub-steps: the state is the last sub-step's; scale its power so the
-        # heat of the step is the frictional dissipation of all its sub-steps (run.step_friction_energy)
+        # heat of the step is the frictional dissipation of all its sub-steps
+        # (run.step_friction_energy)
         step_energy = float(run.step_friction_energy)
         if power.sum() > 0.0 and step_energy > 0.0:
             scale = step_energy / (float(power.sum()) * dt)
@@ -242,20 +263,24 @@ class ThermalCoupler:
         eb, er = self.heat.heat_content()
         mu = -st["Fx"] / st["Fz"] if st["Fz"] else float("nan")
         self.surface_rows.append((Tb, Tr))
-        self.rows.append((t, float(run.spec.velocity) * (t - run.t_start), mu, T_contact, float(Tb.mean()),
-                          float(Tb.max()), float(Tr[self.behind]), eb, er, self.energy, self.dissipation,
-                          self.road_sink, *[float(self.heat.T.x.array[d]) for d in self.probe_dofs]))
+        self.rows.append((t, float(run.spec.velocity) * (t - run.t_start), mu, T_contact,
+                          float(Tb.mean()), float(Tb.max()), float(Tr[self.behind]), eb, er,
+                          self.energy, self.dissipation, self.road_sink,
+                          *[float(self.heat.T.x.array[d]) for d in self.probe_dofs]))
         mean = lambda v: (L @ v) / np.maximum(self.count, 1.0)  # noqa: E731 -- per interface node
-        self._last = {"x": self.heat.interface.x + self.x0, "T_block": Tb, "pressure": mean(st["pressure"]),
+        self._last = {"x": self.heat.interface.x + self.x0, "T_block": Tb,
+                      "pressure": mean(st["pressure"]),
                       "power": power / self.heat.interface.weights, "mu": mean(st["mu"])}
 
     def _start_elastic_road(self, run, h_x: float, length: float) -> None:
         """The elastic road (``road_deflection``) under the block and the road's master polyline
-        refined to h_x / 2 (the deflection needs vertices to move); loaded by the compressed state."""
+        refined to h_x / 2 (the deflection needs vertices to move); loaded by the compressed
+        state."""
         s = self.settings
         margin = s.road_depth  # the clamped ends stay a road depth away from the block
-        self.road = ElasticRoad(self.x0 - s.road_behind - margin, self.x0 + length + s.road_ahead + margin,
-                                s.road_depth, s.road_elastic, h_x=h_x, first_layer=s.first_layer,
+        self.road = ElasticRoad(self.x0 - s.road_behind - margin,
+                                self.x0 + length + s.road_ahead + margin, s.road_depth,
+                                s.road_elastic, h_x=h_x, first_layer=s.first_layer,
                                 grading=s.grading)
         m = run.contact.master
         x = np.union1d(m.vertices[:, 0], np.arange(m.vertices[0, 0], m.vertices[-1, 0], 0.5 * h_x))
@@ -268,12 +293,14 @@ class ThermalCoupler:
         n, p, w = st["normal"], st["pressure"], st["weight"]
         tangent = np.column_stack([n[:, 1], -n[:, 0]])
         f_slave = w[:, None] * (-p[:, None] * n + st["tangential_traction"][:, None] * tangent)
-        f_slave[~st["active"]] = 0.0  # open or unpaired nodes carry nothing (their frame may be undefined)
+        # open or unpaired nodes carry nothing (their frame may be undefined)
+        f_slave[~st["active"]] = 0.0
         d = run.contact.slave.dofs
         x = run.contact.slave.X[:, 0] + run.sp.w.x.array[d[:, 0]]
         self.road.deflect(x, -f_slave)
         on = st["active"] & (p > 0)
-        sink = float((p * w)[on] @ self.road.at(x[on])[:, 1] / (p * w)[on].sum()) if on.any() else 0.0
+        sink = (float((p * w)[on] @ self.road.at(x[on])[:, 1] / (p * w)[on].sum()) if on.any()
+                else 0.0)
         # the block follows the road's sink rigidly (Newton's start only): a road that moved away
         # by more than the penalty penetration would leave a load-controlled block without contact
         run.sp.w.x.array[run.sp.displacement_dofs()[:, 1]] += sink - self.road_sink
@@ -301,7 +328,8 @@ def _bilinear_map(xs: np.ndarray, zs: np.ndarray, x: np.ndarray, z: np.ndarray) 
     j, tz = cell(zs, z)
     nz, n = len(zs), len(x)
     rows = np.repeat(np.arange(n), 4)
-    cols = np.column_stack([i * nz + j, (i + 1) * nz + j, i * nz + j + 1, (i + 1) * nz + j + 1]).ravel()
+    cols = np.column_stack([i * nz + j, (i + 1) * nz + j, i * nz + j + 1,
+                            (i + 1) * nz + j + 1]).ravel()
     w = np.column_stack([(1 - tx) * (1 - tz), tx * (1 - tz), (1 - tx) * tz, tx * tz]).ravel()
     return sps.csr_matrix((w, (rows, cols)), shape=(n, len(xs) * nz))
 
@@ -315,18 +343,19 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSetti
     ``settings.T0``; then the heat field sets the contact temperature and, with
     ``settings.bulk_wlf``, the WLF shift of every cell (stats ``bulk_wlf``, ``bulk_T_max``).
     ``coupler``: a ThermalCoupler of these settings made by the caller (observers after it may
-    read its heat problem, as the thermal loop does); default: a new one.  ``progress(k, n)``: called
-    after sliding step k of n (long slides)."""
+    read its heat problem, as the thermal loop does); default: a new one.  ``progress(k, n)``:
+    called after sliding step k of n (long slides)."""
     V.instance("rubber thermal data", rubber, Thermal)
     if spec.period > 0:
         raise V.InputError("thermal macro run: the block must be finite (period = 0)")
     if spec.temperature != settings.T0:
-        # bulk (WLF shift) and contact start at T0; the heat solver then owns the contact temperature
+        # bulk (WLF shift) and contact start at T0; the heat solver then owns the contact
+        # temperature
         spec = replace(spec, temperature=float(settings.T0))
     if coupler is None:
         coupler = ThermalCoupler(rubber, settings, initial_block)
-    run = SlidingRun(spec, block_mesh, sliding_contact, progress=progress, observers=(coupler, *observers),
-                     wall_limit=wall_limit)
+    run = SlidingRun(spec, block_mesh, sliding_contact, progress=progress,
+                     observers=(coupler, *observers), wall_limit=wall_limit)
     res = run.run()
     out = ThermalMacroResult(res)
     if coupler.error is not None:
@@ -334,15 +363,16 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSetti
         return out
     if coupler.heat is None:
         return out
-    cols = ["t", "s", "mu", "T_contact", "T_surface", "T_max", "T_road_behind", "heat_block", "heat_road",
-            "friction_energy", "contact_dissipation", "road_sink"]
+    cols = ["t", "s", "mu", "T_contact", "T_surface", "T_max", "T_road_behind", "heat_block",
+            "heat_road", "friction_energy", "contact_dissipation", "road_sink"]
     cols += [f"probe_{i}" for i in range(len(settings.probes))]
     arr = np.array(coupler.rows, float).reshape(-1, len(cols))
     out.series = {c: arr[:, i] for i, c in enumerate(cols)}
     out.profiles = getattr(coupler, "_last", {})
     if coupler.surface_rows:
         xr, _ = coupler.heat.road_surface()
-        out.surface_history = {"x_block": coupler.heat.interface.x + coupler.x0, "x_road": xr + coupler.x0,
+        out.surface_history = {"x_block": coupler.heat.interface.x + coupler.x0,
+                               "x_road": xr + coupler.x0,
                                "T_block": np.array([r[0] for r in coupler.surface_rows]),
                                "T_road": np.array([r[1] for r in coupler.surface_rows])}
     out.heat = coupler.heat
@@ -381,8 +411,10 @@ def run_thermal_slides(spec: SlidingSpec, rubber: Thermal, settings: ThermalSett
     pauses = tuple(V.nonnegative("pause", p, "s") for p in pauses)
     slides, rows, carried, t_global = [], [], None, 0.0
     for i in range(len(pauses) + 1):
-        res = run_thermal_macro(spec, rubber, settings, wall_limit=wall_limit, initial_block=carried,
-                                progress=None if progress is None else (lambda k, n, i=i: progress(i + 1, k, n)))
+        res = run_thermal_macro(spec, rubber, settings, wall_limit=wall_limit,
+                                initial_block=carried,
+                                progress=None if progress is None
+                                else (lambda k, n, i=i: progress(i + 1, k, n)))
         slides.append(res)
         if not res.ok or res.heat is None:
             break
@@ -390,7 +422,8 @@ def run_thermal_slides(spec: SlidingSpec, rubber: Thermal, settings: ThermalSett
         t_slide = s["s"] / spec.velocity  # time since this slide's sliding started
         probe_cols = [k for k in s if k.startswith("probe_")]
         for k in range(len(t_slide)):
-            rows.append((t_global + t_slide[k], i + 1, s["T_surface"][k], *[s[c][k] for c in probe_cols]))
+            rows.append((t_global + t_slide[k], i + 1, s["T_surface"][k],
+                         *[s[c][k] for c in probe_cols]))
         t_global += float(t_slide[-1])
         heat = res.heat
         if i < len(pauses) and pauses[i] > 0:
@@ -398,7 +431,8 @@ def run_thermal_slides(spec: SlidingSpec, rubber: Thermal, settings: ThermalSett
                 heat.step(float(dt), 0.0, False)
                 t_global += float(dt)
                 Tb, _ = heat.interface_temperatures()
-                rows.append((t_global, 0, float(Tb.mean()), *[float(heat.T.x.array[d]) for d in res.probe_dofs]))
+                rows.append((t_global, 0, float(Tb.mean()),
+                             *[float(heat.T.x.array[d]) for d in res.probe_dofs]))
         carried = heat.T.x.array[heat.block_dofs].copy()
     cols = ["t", "slide", "T_surface"] + [f"probe_{j}" for j in range(len(settings.probes))]
     arr = np.array(rows, float).reshape(-1, len(cols))
@@ -412,6 +446,7 @@ def flat_road_spec(compound, *, pressure: float, velocity: float, friction, bloc
     slide (non-periodic); ``numerics``: further SlidingSpec fields (element, contact, ...)."""
     span = slide_distance + block_length
     return SlidingSpec(surface_x=np.array([-span, 2.0 * span]), surface_h=np.zeros(2), period=0.0,
-                       pressure=pressure, velocity=velocity, compound=compound, block_length=block_length,
-                       block_height=block_height, temperature=T0, friction=friction, h_contact=h_contact,
-                       slide_distance=slide_distance, step_length=step_per_element * h_contact, **numerics)
+                       pressure=pressure, velocity=velocity, compound=compound,
+                       block_length=block_length, block_height=block_height, temperature=T0,
+                       friction=friction, h_contact=h_contact, slide_distance=slide_distance,
+                       step_length=step_per_element * h_contact, **numerics)

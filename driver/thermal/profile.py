@@ -51,7 +51,8 @@ def average_profile(z: np.ndarray, T: np.ndarray, active: np.ndarray) -> Tempera
     T = np.asarray(T, dtype=float)
     active = np.asarray(active, dtype=bool)
     if T.shape != (active.size, z.size):
-        raise ValueError(f"average_profile: T has shape {T.shape}, expected ({active.size}, {z.size})")
+        raise ValueError(f"average_profile: T has shape {T.shape}, expected "
+                         f"({active.size}, {z.size})")
     if not active.any():
         raise ValueError("average_profile: no active contact node (eq. 8.1 averages over them)")
     cols = T[active]
@@ -64,8 +65,9 @@ def partition_indices(z: np.ndarray, n_p: int, depth: float) -> np.ndarray:
     depth = V.positive("depth", depth, "mm")
     m = int(np.searchsorted(z, depth * (1.0 + 1e-12), side="right")) - 1
     if n_p > m:
-        raise ValueError(f"n_p = {n_p}: the macro mesh has only {m} element rows above depth {depth:g} mm; "
-                         "use fewer partitions, a larger depth or a finer macro mesh (first_layer)")
+        raise ValueError(f"n_p = {n_p}: the macro mesh has only {m} element rows above depth "
+                         f"{depth:g} mm; use fewer partitions, a larger depth or a finer macro "
+                         "mesh (first_layer)")
     return np.rint(np.arange(n_p + 1) * m / n_p).astype(int)
 
 

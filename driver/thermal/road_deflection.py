@@ -34,15 +34,16 @@ from rubberfriction.meshes.road import road_body
 
 class ElasticRoad:
     """Plane-strain elastic road [x_lo, x_hi] x [-depth, 0] (mm, block frame) of the material
-    ``road`` (its E and nu), bottom clamped, ends held in x (rollers), top loaded by nodal forces."""
+    ``road`` (its E and nu), bottom clamped, ends held in x (rollers), top loaded by nodal
+    forces."""
 
     def __init__(self, x_lo: float, x_hi: float, depth: float, road: Road, *, h_x: float,
                  first_layer: float = 0.01, grading: float = 1.2) -> None:
         if not x_hi > x_lo:
             raise V.InputError(f"elastic road: x range [{x_lo!r}, {x_hi!r}] mm is empty")
         V.instance("elastic road material", road, Road)
-        body = road_body(x_hi - x_lo, depth, h_surface=h_x, first_layer=first_layer, grading=grading,
-                         comm=MPI.COMM_SELF)
+        body = road_body(x_hi - x_lo, depth, h_surface=h_x, first_layer=first_layer,
+                         grading=grading, comm=MPI.COMM_SELF)
         mesh = body.mesh
         mesh.geometry.x[:, 0] += x_lo
         self.depth = float(depth)
@@ -60,7 +61,8 @@ class ElasticRoad:
         def nodes(tag: int) -> np.ndarray:
             return fem.locate_dofs_topological(self.V, fdim, tags.find(tag))
 
-        fixed = np.concatenate([2 * nodes(OPPOSITE), 2 * nodes(OPPOSITE) + 1, 2 * nodes(LEFT), 2 * nodes(RIGHT)])
+        fixed = np.concatenate([2 * nodes(OPPOSITE), 2 * nodes(OPPOSITE) + 1, 2 * nodes(LEFT),
+                                2 * nodes(RIGHT)])
         self._fixed = np.unique(fixed)
         self._free = np.setdiff1d(np.arange(n), self._fixed)
         self._lu = spla.splu(K[self._free][:, self._free].tocsc())
@@ -78,8 +80,8 @@ class ElasticRoad:
         xs = self.x_surface
         x = np.asarray(x, float)
         if x.size and (x.min() < xs[0] - 1e-12 or x.max() > xs[-1] + 1e-12):
-            raise V.InputError(f"elastic road: a contact force at x = [{x.min():g}, {x.max():g}] mm lies off the "
-                               f"road [{xs[0]:g}, {xs[-1]:g}] mm")
+            raise V.InputError(f"elastic road: a contact force at x = [{x.min():g}, {x.max():g}] "
+                               f"mm lies off the road [{xs[0]:g}, {xs[-1]:g}] mm")
         i = np.clip(np.searchsorted(xs, x, side="right") - 1, 0, len(xs) - 2)
         t = (x - xs[i]) / (xs[i + 1] - xs[i])
         b = np.zeros(self.n_dofs)
@@ -90,8 +92,8 @@ class ElasticRoad:
         return b
 
     def deflect(self, x: np.ndarray, f: np.ndarray) -> np.ndarray:
-        """Solve for point forces f (m, 2) at x (m,); returns the surface displacement (n_surface, 2)
-        (mm) at ``x_surface``."""
+        """Solve for point forces f (m, 2) at x (m,); returns the surface displacement
+        (n_surface, 2) (mm) at ``x_surface``."""
         b = self.loads(x, np.asarray(f, float).reshape(-1, 2))
         self.u[:] = 0.0
         self.u[self._free] = self._lu.solve(b[self._free])
@@ -102,6 +104,8 @@ class ElasticRoad:
         return np.column_stack([self.u[2 * self._top], self.u[2 * self._top + 1]])
 
     def at(self, x: np.ndarray) -> np.ndarray:
-        """Surface displacement (m, 2) at positions x (linear between nodes, zero beyond the road)."""
+        """Surface displacement (m, 2) at positions x (linear between nodes, zero beyond the
+        road)."""
         d = self.surface_displacement()
-        return np.column_stack([np.interp(x, self.x_surface, d[:, c], left=0.0, right=0.0) for c in (0, 1)])
+        return np.column_stack([np.interp(x, self.x_surface, d[:, c], left=0.0, right=0.0)
+                                for c in (0, 1)])
