@@ -15,8 +15,7 @@ BSplineAxis::BSplineAxis(std::vector<double> knots, int degree) : t_(std::move(k
   }
   if (t_.size() < static_cast<std::size_t>(2 * k_ + 2)) {
     std::ostringstream msg;
-    msg << "spline knot vector needs at least 2*(degree+1) = " << 2 * k_ + 2 << " knots, got "
-        << t_.size();
+    msg << "spline knot vector needs at least 2*(degree+1) = " << 2 * k_ + 2 << " knots, got " << t_.size();
     throw std::invalid_argument(msg.str());
   }
   for (std::size_t i = 0; i < t_.size(); ++i) {
@@ -60,7 +59,8 @@ int BSplineAxis::evaluate(double x, std::array<double, 6>& value, std::array<dou
     }
     ndu[static_cast<std::size_t>(j)][static_cast<std::size_t>(j)] = saved;
   }
-  for (int j = 0; j <= k_; ++j) value[static_cast<std::size_t>(j)] = ndu[static_cast<std::size_t>(j)][static_cast<std::size_t>(k_)];
+  for (int j = 0; j <= k_; ++j)
+    value[static_cast<std::size_t>(j)] = ndu[static_cast<std::size_t>(j)][static_cast<std::size_t>(k_)];
   // first derivative: N'_{i,k} = k [N_{i,k-1}/(t_{i+k}-t_i) - N_{i+1,k-1}/(t_{i+k+1}-t_{i+1})]
   for (int r = 0; r <= k_; ++r) {
     double d = 0.0;

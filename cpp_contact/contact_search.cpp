@@ -56,7 +56,8 @@ void SegmentGrid::build(const std::vector<V2<double>>& a, const std::vector<V2<d
     int i0, i1, j0, j1;
     cell_range(lo_[static_cast<std::size_t>(s)], hi_[static_cast<std::size_t>(s)], i0, i1, j0, j1);
     for (int j = j0; j <= j1; ++j)
-      for (int i = i0; i <= i1; ++i) items_[static_cast<std::size_t>(fill[static_cast<std::size_t>(j * nx_ + i)]++)] = s;
+      for (int i = i0; i <= i1; ++i)
+        items_[static_cast<std::size_t>(fill[static_cast<std::size_t>(j * nx_ + i)]++)] = s;
   }
 }
 

@@ -27,8 +27,8 @@ class SegmentGrid {
  private:
   double x0_ = 0, y0_ = 0, x1_ = 0, y1_ = 0, h_ = 1;
   int nx_ = 0, ny_ = 0, nseg_ = 0;
-  std::vector<int> start_;  // CSR offsets per cell
-  std::vector<int> items_;  // segment ids
+  std::vector<int> start_;           // CSR offsets per cell
+  std::vector<int> items_;           // segment ids
   std::vector<V2<double>> lo_, hi_;  // segment boxes
 };
 

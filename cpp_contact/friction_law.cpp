@@ -23,8 +23,11 @@ std::string ConstantFriction::describe() const {
 
 SplineFriction::SplineFriction(std::vector<BSplineAxis> axes, std::vector<double> coefficients,
                                std::vector<AxisTransform> transforms, double log_floor, double mu_min)
-    : axes_(std::move(axes)), c_(std::move(coefficients)), transforms_(std::move(transforms)),
-      log_floor_(log_floor), mu_min_(mu_min) {
+    : axes_(std::move(axes)),
+      c_(std::move(coefficients)),
+      transforms_(std::move(transforms)),
+      log_floor_(log_floor),
+      mu_min_(mu_min) {
   if (axes_.size() != 2 && axes_.size() != 3)
     throw std::invalid_argument("SplineFriction: need 2 axes (p, v) or 3 axes (p, v, T)");
   if (transforms_.size() != axes_.size())
@@ -77,11 +80,10 @@ FrictionValue SplineFriction::evaluate(double p, double v, double T) const {
   for (int i = 0; i < nb[0]; ++i) {
     for (int j = 0; j < nb[1]; ++j) {
       for (int k = 0; k < nb[2]; ++k) {
-        const std::size_t idx =
-            (static_cast<std::size_t>(first[0] + i) * static_cast<std::size_t>(ncoef[1]) +
-             static_cast<std::size_t>(first[1] + j)) *
-                static_cast<std::size_t>(ncoef[2]) +
-            static_cast<std::size_t>(first[2] + k);
+        const std::size_t idx = (static_cast<std::size_t>(first[0] + i) * static_cast<std::size_t>(ncoef[1]) +
+                                 static_cast<std::size_t>(first[1] + j)) *
+                                    static_cast<std::size_t>(ncoef[2]) +
+                                static_cast<std::size_t>(first[2] + k);
         const double c = c_[idx];
         const double bi = b[0][static_cast<std::size_t>(i)], bj = b[1][static_cast<std::size_t>(j)],
                      bk = b[2][static_cast<std::size_t>(k)];
@@ -115,8 +117,8 @@ std::string SplineFriction::describe() const {
   s << ")";
   for (std::size_t a = 0; a < axes_.size(); ++a) {
     s << "; " << names[a] << ": degree " << axes_[a].degree() << ", "
-      << (transforms_[a] == AxisTransform::log10 ? "log10 axis" : "linear axis") << " on ["
-      << axes_[a].lower() << ", " << axes_[a].upper() << "]";
+      << (transforms_[a] == AxisTransform::log10 ? "log10 axis" : "linear axis") << " on [" << axes_[a].lower() << ", "
+      << axes_[a].upper() << "]";
   }
   return s.str();
 }

@@ -54,8 +54,8 @@ enum class AxisTransform { linear, log10 };
 class SplineFriction final : public FrictionLaw {
  public:
   /// axes: 2 (p, v) or 3 (p, v, T); transforms one per axis.
-  SplineFriction(std::vector<BSplineAxis> axes, std::vector<double> coefficients,
-                 std::vector<AxisTransform> transforms, double log_floor, double mu_min);
+  SplineFriction(std::vector<BSplineAxis> axes, std::vector<double> coefficients, std::vector<AxisTransform> transforms,
+                 double log_floor, double mu_min);
   FrictionValue evaluate(double p, double v, double T) const override;
   bool depends_on_velocity() const override { return true; }
   bool depends_on_temperature() const override { return axes_.size() == 3; }

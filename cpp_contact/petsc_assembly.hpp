@@ -22,7 +22,7 @@ struct AssemblyReport {
   /// Mallocs of A reported by MatGetInfo (cumulative; PETSc counts them at final assembly, which
   /// this call performs itself when new nonzeros are allowed). 0 if A is null.
   double mallocs = 0.0;
-  long entries = 0;        ///< matrix entries added
+  long entries = 0;  ///< matrix entries added
 };
 
 /// Adds the blocks into A (may be null) and their residual entries into b (may be null).

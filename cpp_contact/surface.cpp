@@ -39,9 +39,9 @@ bool segments_intersect(const V2<double>& p1, const V2<double>& p2, const V2<dou
   return false;
 }
 
-SurfaceMesh make_surface(const std::string& name, std::vector<V2<double>> X,
-                         std::vector<std::array<DofIndex, 2>> dofs, std::vector<std::array<int, 2>> segments,
-                         std::vector<DofIndex> temperature_dofs, const std::vector<V2<double>>& interior) {
+SurfaceMesh make_surface(const std::string& name, std::vector<V2<double>> X, std::vector<std::array<DofIndex, 2>> dofs,
+                         std::vector<std::array<int, 2>> segments, std::vector<DofIndex> temperature_dofs,
+                         const std::vector<V2<double>>& interior) {
   SurfaceMesh s;
   s.name = name;
   const int n = static_cast<int>(X.size());
@@ -83,8 +83,8 @@ SurfaceMesh make_surface(const std::string& name, std::vector<V2<double>> X,
     const double len = norm(X[static_cast<std::size_t>(b)] - X[static_cast<std::size_t>(a)]);
     if (!(len > 0.0)) fail(sk + " has zero length at " + fmt(X[static_cast<std::size_t>(a)]));
     if (start_of[static_cast<std::size_t>(a)] >= 0)
-      fail("node " + std::to_string(a) + " starts two segments (" + std::to_string(start_of[static_cast<std::size_t>(a)]) +
-           " and " + std::to_string(k) +
+      fail("node " + std::to_string(a) + " starts two segments (" +
+           std::to_string(start_of[static_cast<std::size_t>(a)]) + " and " + std::to_string(k) +
            "): segments must form chains oriented counter-clockwise around the body "
            "(bottom face from left to right, outward normal = tangent rotated clockwise)");
     if (end_of[static_cast<std::size_t>(b)] >= 0)
@@ -123,7 +123,8 @@ SurfaceMesh make_surface(const std::string& name, std::vector<V2<double>> X,
   return s;
 }
 
-RigidPolyline::RigidPolyline(std::vector<V2<double>> vertices, double period) : V_(std::move(vertices)), period_(period) {
+RigidPolyline::RigidPolyline(std::vector<V2<double>> vertices, double period)
+    : V_(std::move(vertices)), period_(period) {
   auto fail = [](const std::string& what) { throw std::invalid_argument("rigid master polyline: " + what); };
   if (!std::isfinite(period_) || period_ < 0.0) {
     std::ostringstream m;

@@ -25,13 +25,13 @@ using DofIndex = std::int64_t;
 
 /// Chains of linear segments of a deformable body.
 struct SurfaceMesh {
-  std::string name;                              ///< "slave" or "master", used in messages
-  std::vector<V2<double>> X;                     ///< reference coordinates
-  std::vector<std::array<DofIndex, 2>> dofs;     ///< displacement dofs (x, z) per node
-  std::vector<DofIndex> temperature_dofs;        ///< empty, or one per node
-  std::vector<std::array<int, 2>> segments;      ///< node pairs, counter-clockwise around the body
-  std::vector<int> prev, next;                   ///< chain neighbours (-1 at the ends of open chains)
-  double h_min = 0.0, h_max = 0.0;               ///< reference segment lengths
+  std::string name;                           ///< "slave" or "master", used in messages
+  std::vector<V2<double>> X;                  ///< reference coordinates
+  std::vector<std::array<DofIndex, 2>> dofs;  ///< displacement dofs (x, z) per node
+  std::vector<DofIndex> temperature_dofs;     ///< empty, or one per node
+  std::vector<std::array<int, 2>> segments;   ///< node pairs, counter-clockwise around the body
+  std::vector<int> prev, next;                ///< chain neighbours (-1 at the ends of open chains)
+  double h_min = 0.0, h_max = 0.0;            ///< reference segment lengths
 
   int num_nodes() const { return static_cast<int>(X.size()); }
   bool has_temperature() const { return !temperature_dofs.empty(); }
@@ -40,9 +40,9 @@ struct SurfaceMesh {
 /// Validates and completes a surface. `interior` is either empty or one reference point per
 /// segment that lies inside the body (e.g. the centroid of the cell owning the facet); it is used
 /// to check the orientation rule.
-SurfaceMesh make_surface(const std::string& name, std::vector<V2<double>> X,
-                         std::vector<std::array<DofIndex, 2>> dofs, std::vector<std::array<int, 2>> segments,
-                         std::vector<DofIndex> temperature_dofs, const std::vector<V2<double>>& interior);
+SurfaceMesh make_surface(const std::string& name, std::vector<V2<double>> X, std::vector<std::array<DofIndex, 2>> dofs,
+                         std::vector<std::array<int, 2>> segments, std::vector<DofIndex> temperature_dofs,
+                         const std::vector<V2<double>>& interior);
 
 /// Rigid master polyline (open, or periodic with period L along x).
 class RigidPolyline {

@@ -16,16 +16,26 @@ struct V2 {
 };
 
 template <class T>
-inline V2<T> operator+(const V2<T>& a, const V2<T>& b) { return {a.x + b.x, a.y + b.y}; }
+inline V2<T> operator+(const V2<T>& a, const V2<T>& b) {
+  return {a.x + b.x, a.y + b.y};
+}
 template <class T>
-inline V2<T> operator-(const V2<T>& a, const V2<T>& b) { return {a.x - b.x, a.y - b.y}; }
+inline V2<T> operator-(const V2<T>& a, const V2<T>& b) {
+  return {a.x - b.x, a.y - b.y};
+}
 template <class T, class S>
-inline V2<T> operator*(const S& s, const V2<T>& a) { return {s * a.x, s * a.y}; }
+inline V2<T> operator*(const S& s, const V2<T>& a) {
+  return {s * a.x, s * a.y};
+}
 template <class T>
-inline T dot(const V2<T>& a, const V2<T>& b) { return a.x * b.x + a.y * b.y; }
+inline T dot(const V2<T>& a, const V2<T>& b) {
+  return a.x * b.x + a.y * b.y;
+}
 /// z-component of the 3D cross product of (a, 0) and (b, 0).
 template <class T>
-inline T cross(const V2<T>& a, const V2<T>& b) { return a.x * b.y - a.y * b.x; }
+inline T cross(const V2<T>& a, const V2<T>& b) {
+  return a.x * b.y - a.y * b.x;
+}
 template <class T>
 inline T norm(const V2<T>& a) {
   using std::sqrt;
@@ -34,10 +44,14 @@ inline T norm(const V2<T>& a) {
 /// Tangent rotated clockwise by 90 degrees: the outward normal of a boundary traversed
 /// counter-clockwise around its body (body on the left of the tangent).
 template <class T>
-inline V2<T> right_normal(const V2<T>& t) { return {t.y, -t.x}; }
+inline V2<T> right_normal(const V2<T>& t) {
+  return {t.y, -t.x};
+}
 /// Tangent rotated counter-clockwise by 90 degrees (body on the right of the tangent).
 template <class T>
-inline V2<T> left_normal(const V2<T>& t) { return {-t.y, t.x}; }
+inline V2<T> left_normal(const V2<T>& t) {
+  return {-t.y, t.x};
+}
 template <class T>
 inline V2<T> normalized(const V2<T>& a) {
   const T n = norm(a);
@@ -46,7 +60,9 @@ inline V2<T> normalized(const V2<T>& a) {
 
 inline V2<double> values(const V2<double>& a) { return a; }
 template <class G>
-inline V2<double> values(const V2<Dual<G>>& a) { return {a.x.v, a.y.v}; }
+inline V2<double> values(const V2<Dual<G>>& a) {
+  return {a.x.v, a.y.v};
+}
 
 inline V2<double> from_eigen(const Eigen::Vector2d& v) { return {v.x(), v.y()}; }
 inline Eigen::Vector2d to_eigen(const V2<double>& v) { return {v.x, v.y}; }

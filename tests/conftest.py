@@ -25,10 +25,13 @@ EMBEDDED_CAPTIF = ROOT / "driver" / "surfaces" / "data" / "captif_chipseal_stati
 
 #: sha256 of the original, uncompressed files (``../shared/data``); the copies must be identical.
 SHA256 = {
-    "captif_chipseal_station0.dat": "ea097ad417d64eeb9dd7db2ad5eb7ed5f1f4410d57a00ea336ae76a7fd88f52a",
+    "captif_chipseal_station0.dat":
+        "ea097ad417d64eeb9dd7db2ad5eb7ed5f1f4410d57a00ea336ae76a7fd88f52a",
     "pyvisco_freq_master.csv": "bd8d877ba95bba874ec927afcc5ddc64373688738acb03b6ae661497dc764810",
-    "pyvisco_time_user_master.csv": "a925a5b1906af78f31d7bb61301b158cc38bd34081fc8368a0b279075511077b",
-    "pyvisco_prony_terms_KPf_MD.csv": "969243a958babc9ed8875bae9a085bcbcb50d5497200bc50db4a5b60a6d74248",
+    "pyvisco_time_user_master.csv":
+        "a925a5b1906af78f31d7bb61301b158cc38bd34081fc8368a0b279075511077b",
+    "pyvisco_prony_terms_KPf_MD.csv":
+        "969243a958babc9ed8875bae9a085bcbcb50d5497200bc50db4a5b60a6d74248",
 }
 
 
@@ -70,5 +73,6 @@ def shared_data(tmp_path_factory) -> Path:
         else:
             shutil.copyfile(src, dst)
         got = sha256(dst)
-        assert got == SHA256[name], f"{src}: sha256 {got} differs from the original's {SHA256[name]}"
+        assert got == SHA256[name], \
+            f"{src}: sha256 {got} differs from the original's {SHA256[name]}"
     return out

@@ -95,7 +95,7 @@ def test_written_curves_read_back(tmp_path: Path):
     ("v [ft/s], mu\n1, 0.5\n2, 0.6\n", "mu", "speed unit 'ft/s'"),
     ("T [K], mu\n1, 0.5\n2, 0.6\n", "mu", "expected the sliding speed with its unit"),
     ("v [m/s], mu\n0.1, 0.5\n0.01, 0.6\n", "mu", "line 3: v = 10.0 after 100.0: expected speeds "
-                                                "sorted ascending"),
+                                           "sorted ascending"),
     ("v [mm/s], mu\n1, 0.5\n1, 0.6\n", "mu", "line 3: duplicate speed v = 1.0"),
     ("v [mm/s], mu\n1, 0.5\n2, -0.1\n", "mu", "line 3: mu = -0.1: expected a coefficient of "
                                               "friction >= 0"),
@@ -498,7 +498,7 @@ def test_report_writes_the_area_spread_and_the_area_plot(tmp_path: Path):
     ("original", {"A": 3.5, "B": 2.8, "C": 2.1}, {"water": (0.6 - 0.3) / 0.7}),
 ])
 def test_shipped_thesis_7_4_files_return_their_stated_parameters(approach: str, tau0: dict,
-                                                                  alphas: dict):
+                                                                 alphas: dict):
     """The files of driver/scenes/thesis_7_4 (README there): mu = mu_H + alpha mu_A with
     c = 0.12, v0 = 0.11 m/s, tau0 = 5 / 4 / 3 MPa, alpha dry / water / soap = 1 / 0.6 / 0.3.
     Modified approach: exactly those; original (dry - soap = 0.7 mu_A): tau0 x 0.7 and

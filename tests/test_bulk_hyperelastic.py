@@ -17,8 +17,9 @@ C10, C01, D1 = 0.174, 0.300, 0.0208  # compound m1, table C.2
 
 
 def rubber(form: str = "split") -> Compound:
-    return Compound(name="m1-elastic", hyperelastic=MooneyRivlin(C10, C01, D1, form=form), prony=None,
-                    wlf=None, thermal=None, description="test", source="thesis table C.2")
+    return Compound(name="m1-elastic", hyperelastic=MooneyRivlin(C10, C01, D1, form=form),
+                    prony=None, wlf=None, thermal=None, description="test",
+                    source="thesis table C.2")
 
 
 @pytest.mark.parametrize("element", ["Q1P0", "Q1P0s", "Q1"])

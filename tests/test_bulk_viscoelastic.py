@@ -40,7 +40,8 @@ def relative_moduli(gamma):
 def ramp_hold_exact(t, t_ramp, gamma, tau):
     g, tau = relative_moduli(gamma), np.asarray(tau, float)
     t = np.asarray(t, float)[:, None]
-    return GAMMA0 * G_INF * (1.0 + np.sum(g * tau * np.exp(-t / tau) * np.expm1(t_ramp / tau), axis=1) / t_ramp)
+    return GAMMA0 * G_INF * (1.0 + np.sum(g * tau * np.exp(-t / tau) * np.expm1(t_ramp / tau),
+                                          axis=1) / t_ramp)
 
 
 def harmonic_exact(omega, gamma, tau):
@@ -81,8 +82,8 @@ def test_harmonic_shear_second_order(scheme):
     _, G2, _ = harmonic_exact(1.0 / tau, [0.6], [tau])
     err = []
     for per_cycle in (16, 32):
-        h = harmonic_shear(M1, [0.6], [tau], omega=1.0 / tau, per_cycle=per_cycle, cycles=6, gamma0=GAMMA0,
-                           scheme=scheme)
+        h = harmonic_shear(M1, [0.6], [tau], omega=1.0 / tau, per_cycle=per_cycle, cycles=6,
+                           gamma0=GAMMA0, scheme=scheme)
         err.append(abs(h["G_loss"] - G2) / G2)
     order = np.log2(err[0] / err[1])
     assert 1.7 < order < 2.3, (err, order)
@@ -90,7 +91,8 @@ def test_harmonic_shear_second_order(scheme):
 
 @pytest.mark.parametrize("omega_tau", [0.1, 1.0, 10.0])
 def test_harmonic_shear_storage_loss_and_dissipation(omega_tau):
-    """G', G'' within 1 % of eq. (3.34); energy per cycle and loop area = pi gamma0^2 G'' within 1 %."""
+    """G', G'' within 1 % of eq. (3.34); energy per cycle and loop area = pi gamma0^2 G'' within
+    1 %."""
     tau = 0.05
     G1, G2, energy = harmonic_exact(omega_tau / tau, [0.6], [tau])
     h = harmonic_shear(M1, [0.6], [tau], omega=omega_tau / tau, gamma0=GAMMA0)

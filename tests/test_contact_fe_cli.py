@@ -20,7 +20,8 @@ def test_verify_patch_cli_json(tmp_path, capsys):
     assert data["case"] == "patch" and data["parameters"]["n_upper"] == 6
     assert data["parameters"]["method"] == "mortar"
     by = checks_of(data, {"slave nodes in contact", "contact pressure min", "contact pressure max",
-                          "total contact force F_z", "sigma_zz upper (max dev.)", "sigma_zz lower (max dev.)"})
+                          "total contact force F_z", "sigma_zz upper (max dev.)",
+                          "sigma_zz lower (max dev.)"})
     lam_x, _ = plane_strain_compression(10.0, 0.3, 0.1)
     p_exact = 0.1 / lam_x
     assert by["slave nodes in contact"]["computed"] == 7

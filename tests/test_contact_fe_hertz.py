@@ -56,7 +56,8 @@ def test_hertz_within_one_percent_and_converging(nu):
     for run in runs:
         assert rel(run["P"], P) <= 5e-3  # the load carried
     a, p0 = hertz_exact(fine["P"], nu)
-    assert by["half-width a"]["computed"] == fine["a"] and by["peak pressure p0"]["computed"] == fine["p0"]
+    assert (by["half-width a"]["computed"] == fine["a"]
+            and by["peak pressure p0"]["computed"] == fine["p0"])
     assert rel(fine["a"], a) <= TOL, (fine["a"], a)
     assert rel(fine["p0"], p0) <= TOL, (fine["p0"], p0)
     assert max(errors(fine, nu)) < max(errors(coarse, nu))

@@ -26,8 +26,8 @@ from rubberfriction.driver.fe.contact import DEFAULT_TANGENTIAL_FRACTION
 from rubberfriction.driver.verification import contact_cases as cc
 
 PATCH = dict(E=10.0, nu=0.3, pressure=0.1, length=1.0)
-PATCH_CHECKS = {"slave nodes in contact", "contact pressure min", "contact pressure max", "total contact force F_z",
-                "sigma_zz upper (max dev.)", "sigma_zz lower (max dev.)"}
+PATCH_CHECKS = {"slave nodes in contact", "contact pressure min", "contact pressure max",
+                "total contact force F_z", "sigma_zz upper (max dev.)", "sigma_zz lower (max dev.)"}
 PATCH_TOL = 1e-10  # product: 1e-8
 
 
@@ -37,7 +37,8 @@ def patch_exact(E, nu, pressure, length):
     return pressure / lam_x, pressure * length
 
 
-@pytest.mark.parametrize("n_upper,n_lower,element", [(7, 5, "Q1P0"), (4, 9, "Q1P0"), (7, 5, "Q1P0s")])
+@pytest.mark.parametrize("n_upper,n_lower,element",
+                         [(7, 5, "Q1P0"), (4, 9, "Q1P0"), (7, 5, "Q1P0s")])
 def test_patch_mortar_exact(n_upper, n_lower, element):
     """Exact with the stabilised element too: a uniform pressure has no jumps."""
     r = cc.patch(n_upper=n_upper, n_lower=n_lower, method="mortar", element=element, **PATCH)
@@ -47,9 +48,11 @@ def test_patch_mortar_exact(n_upper, n_lower, element):
     for q in ("contact pressure min", "contact pressure max"):
         assert rel(by[q]["computed"], p_exact) <= PATCH_TOL, by[q]
     assert rel(by["total contact force F_z"]["computed"], force) <= PATCH_TOL
-    for q in ("sigma_zz upper (max dev.)", "sigma_zz lower (max dev.)"):  # the worst quadrature point
+    # the worst quadrature point
+    for q in ("sigma_zz upper (max dev.)", "sigma_zz lower (max dev.)"):
         assert rel(by[q]["computed"], -p_exact) <= PATCH_TOL, by[q]
-    assert r["pressure_spread"] < 1e-10 and r["stress_spread_lower"] < 1e-10 and r["stress_spread_upper"] < 1e-10
+    assert (r["pressure_spread"] < 1e-10 and r["stress_spread_lower"] < 1e-10
+            and r["stress_spread_upper"] < 1e-10)
 
 
 def test_patch_node_to_segment_fails_as_known():
@@ -58,19 +61,21 @@ def test_patch_node_to_segment_fails_as_known():
     by = checks_of(r, PATCH_CHECKS)
     p_exact, force = patch_exact(**PATCH)
     assert rel(by["total contact force F_z"]["computed"], force) <= PATCH_TOL
-    spread = (by["contact pressure max"]["computed"] - by["contact pressure min"]["computed"]) / p_exact
+    spread = ((by["contact pressure max"]["computed"] - by["contact pressure min"]["computed"])
+              / p_exact)
     assert spread > 0.1 and r["pressure_spread"] > 0.1 and r["stress_spread_lower"] > 0.1
     assert rel(by["sigma_zz lower (max dev.)"]["computed"], -p_exact) > 0.1
 
 
-BARS = dict(L1=0.5, L2=1.0, k1=0.25, k2=50.0, width=1.0, h0=2.0, h1=0.5, beta=1.0, T_top=400.0, T_bottom=300.0,
-            penetration=1e-4, c_N=1e3, mu=0.5, kappa=0.3, slide=0.01, dt=1e-3)
-BARS_CHECKS = {"conduction: heat in at top", "conduction: heat out at bottom", "conduction: interface jump",
-               "friction: total heat W", "friction: slave share", "friction: master share",
-               "friction: W from contact state"}
+BARS = dict(L1=0.5, L2=1.0, k1=0.25, k2=50.0, width=1.0, h0=2.0, h1=0.5, beta=1.0, T_top=400.0,
+            T_bottom=300.0, penetration=1e-4, c_N=1e3, mu=0.5, kappa=0.3, slide=0.01, dt=1e-3)
+BARS_CHECKS = {"conduction: heat in at top", "conduction: heat out at bottom",
+               "conduction: interface jump", "friction: total heat W", "friction: slave share",
+               "friction: master share", "friction: W from contact state"}
 
 
-def bars_exact(L1, L2, k1, k2, width, h0, h1, beta, T_top, T_bottom, penetration, c_N, mu, kappa, slide, dt):
+def bars_exact(L1, L2, k1, k2, width, h0, h1, beta, T_top, T_bottom, penetration, c_N, mu, kappa,
+               slide, dt):
     p = c_N * penetration
     hc = h0 + h1 * p ** beta
     q = (T_top - T_bottom) / (L1 / k1 + 1.0 / hc + L2 / k2)
@@ -78,15 +83,17 @@ def bars_exact(L1, L2, k1, k2, width, h0, h1, beta, T_top, T_bottom, penetration
     v = (slide - mu * p / c_T) / dt
     W = mu * p * v * (width - slide)
     return {"conduction: heat in at top": q * width, "conduction: heat out at bottom": q * width,
-            "conduction: interface jump": q / hc, "friction: total heat W": W, "friction: slave share": kappa * W,
-            "friction: master share": (1.0 - kappa) * W, "friction: W from contact state": W}
+            "conduction: interface jump": q / hc, "friction: total heat W": W,
+            "friction: slave share": kappa * W, "friction: master share": (1.0 - kappa) * W,
+            "friction: W from contact state": W}
 
 
 def test_thermal_bars_mortar_exact():
     r = cc.thermal_bars(method="mortar", **BARS)
     by = checks_of(r, BARS_CHECKS)
     exact = bars_exact(**BARS)
-    assert exact["friction: total heat W"] > 0.0 and math.isfinite(exact["conduction: heat in at top"])
+    assert (exact["friction: total heat W"] > 0.0
+            and math.isfinite(exact["conduction: heat in at top"]))
     for q, value in exact.items():
         # product: 1e-8 (conduction), 1e-6 (friction); achieved <= 5e-12
         assert rel(by[q]["computed"], value) <= 1e-9, (q, by[q], value)

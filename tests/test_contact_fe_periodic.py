@@ -25,7 +25,8 @@ WAVELENGTH, STEPS, PERIODS = 1.0, 32, 3
 
 def test_periodic_sliding_three_periods():
     r = cc.periodic_sliding(wavelength=WAVELENGTH, periods=PERIODS, steps_per_period=STEPS)
-    checks_of(r, {"mean F_x, last two periods", "mean F_z, last two periods", "mean dissipation, last two periods"})
+    checks_of(r, {"mean F_x, last two periods", "mean F_z, last two periods",
+                  "mean dissipation, last two periods"})
     means = np.asarray(r["period_means"])  # (period, [F_x, F_z, dissipation per step])
     assert means.shape == (PERIODS, 3) and np.all(np.isfinite(means))
     last, prev = means[-1], means[-2]

@@ -7,9 +7,10 @@ Closed forms, evaluated here:
    the rounded edge's remaining bias); the same for sharp edges (test_sharp_edged_block_...);
 2. periodic layer (no edges: uniform pressure p = F_z/L, every node slips at the master's
    velocity v) with a mu(p, v) law: -F_x/F_z = mu(p, v) exactly -- within 1e-6 (achieved
-   <= 1.1e-7, the 6 printed digits of p; the case's own tolerance is 0.5 %).  The law is the interpolating cubic spline of
-   MU(p, v) = 0.9 - 0.25 p + 0.15 tanh(log10 v - 1) on a grid with a node at v = 10 mm/s, so at
-   v = 10 it is MU exactly (the data are linear in p, which the spline reproduces);
+   <= 1.1e-7, the 6 printed digits of p; the case's own tolerance is 0.5 %).  The law is the
+   interpolating cubic spline of MU(p, v) = 0.9 - 0.25 p + 0.15 tanh(log10 v - 1) on a grid
+   with a node at v = 10 mm/s, so at v = 10 it is MU exactly (the data are linear in p, which
+   the spline reproduces);
 3. the Newton residuals of a sliding step converge quadratically: the order
    log(r_k+1/r_k)/log(r_k/r_k-1) of the last three residuals above round-off (1e-13 F) is ~2,
    but the three-point estimate is noisy, so >= 1.6 is required.
@@ -31,9 +32,9 @@ from rubberfriction.driver.verification import SolverFailure
 from rubberfriction.driver.verification import contact_cases as cc
 
 MU, PRESSURE, VELOCITY, LENGTH = 0.6, 0.2, 10.0, 1.0
-CHECKS = {"finite block: slipping nodes", "finite block: -F_x/F_z", "layer: slipping nodes", "layer: pressure spread",
-          "layer: slip velocity", "layer: -F_x/F_z = mu(p, v)", "Newton order, finite block",
-          "Newton order, layer mu(p,v)"}
+CHECKS = {"finite block: slipping nodes", "finite block: -F_x/F_z", "layer: slipping nodes",
+          "layer: pressure spread", "layer: slip velocity", "layer: -F_x/F_z = mu(p, v)",
+          "Newton order, finite block", "Newton order, layer mu(p,v)"}
 
 
 def mu_pv(p, v):
@@ -61,10 +62,12 @@ def test_sliding_block(method, n_contact):
     assert slipping["computed"] == slipping["analytical"] > 0
     assert rel(by["finite block: -F_x/F_z"]["computed"], MU) <= 5e-3
     # 2. periodic layer: every slave node in contact and slipping at v under a uniform p
-    assert by["layer: slipping nodes"]["computed"] == by["layer: slipping nodes"]["analytical"] == n_contact + 1
+    assert (by["layer: slipping nodes"]["computed"] == by["layer: slipping nodes"]["analytical"]
+            == n_contact + 1)
     assert by["layer: pressure spread"]["computed"] < 1e-8
     assert rel(by["layer: slip velocity"]["computed"], VELOCITY) <= 1e-6
-    p = float(re.search(r"periodic layer: p = ([0-9.eE+-]+) MPa", "\n".join(r["notes"])).group(1))  # F_z/L
+    p = float(re.search(r"periodic layer: p = ([0-9.eE+-]+) MPa",  # F_z/L
+                        "\n".join(r["notes"])).group(1))
     assert 0.9 * PRESSURE < p < 1.1 * PRESSURE
     mu_exact = 0.9 - 0.25 * p  # MU(p, v = 10)
     # p is printed with 6 digits: |d mu| <= 0.25 x 5e-7, i.e. < 1.5e-7 relative (achieved 1e-7)
@@ -78,8 +81,8 @@ def test_sliding_block(method, n_contact):
     assert order_layer >= 1.6, r["newton"]["periodic"]["residuals"][1]
 
 
-@pytest.mark.parametrize("case", ["sharp, 16 elements", "sharp, 32 elements", "rounded r = 0.2, 16 elements",
-                                  "sharp 20 x 8 mm block"])
+@pytest.mark.parametrize("case", ["sharp, 16 elements", "sharp, 32 elements",
+                                  "rounded r = 0.2, 16 elements", "sharp 20 x 8 mm block"])
 def test_sharp_edged_block_slides_at_mu(case):
     """Steady Coulomb sliding of a finite block on a rigid flat: every node in contact slips with
     |t_T| = mu p, so -F_x/F_z = mu exactly whatever the corner -- required within 0.5 %.
@@ -93,13 +96,15 @@ def test_sharp_edged_block_slides_at_mu(case):
     kw = {"sharp, 16 elements": dict(edge_radius=0.0, n_contact=16),
           "sharp, 32 elements": dict(edge_radius=0.0, n_contact=32),
           "rounded r = 0.2, 16 elements": dict(edge_radius=0.2, n_contact=16),
-          "sharp 20 x 8 mm block": dict(edge_radius=0.0, E=3.0, pressure=0.2, mu=0.5, length=20.0, height=8.0,
-                                        n_contact=40, steps=40, step_length=0.125)}[case]
+          "sharp 20 x 8 mm block": dict(edge_radius=0.0, E=3.0, pressure=0.2, mu=0.5, length=20.0,
+                                        height=8.0, n_contact=40, steps=40,
+                                        step_length=0.125)}[case]
     mu = kw.get("mu", MU)
     r = cc.sliding_block(**{"mu": mu, **kw})
     by = checks_of(r, CHECKS)
     slipping = by["finite block: slipping nodes"]
-    assert slipping["computed"] == slipping["analytical"] > 0  # steady sliding: every node in contact slips
+    # steady sliding: every node in contact slips
+    assert slipping["computed"] == slipping["analytical"] > 0
     assert rel(by["finite block: -F_x/F_z"]["computed"], mu) <= 5e-3
 
 
@@ -124,8 +129,9 @@ def test_master_frame_makes_full_slip_exact(case):
     sticking).  This pins the frame and the solver, not the corner: the corner element is folded
     (its end segment reversed, -176 degrees), see test_sharp_corner_at_80_elements_slave_frame."""
     kw = {"sharp, 16 elements": dict(edge_radius=0.0, n_contact=16),
-          "sharp 20 x 8 mm block at 0.3 MPa": dict(edge_radius=0.0, E=3.0, pressure=0.3, mu=0.5, length=20.0,
-                                                   height=8.0, n_contact=40, steps=40, step_length=0.25),
+          "sharp 20 x 8 mm block at 0.3 MPa": dict(edge_radius=0.0, E=3.0, pressure=0.3, mu=0.5,
+                                                   length=20.0, height=8.0, n_contact=40, steps=40,
+                                                   step_length=0.25),
           "sharp 20 x 8 mm block at 0.3 MPa, 80 elements": CORNER_80}[case]
     mu = kw.get("mu", MU)
     r = cc.sliding_block(**{"mu": mu, **kw}, frame="master")

@@ -27,8 +27,8 @@ E, WAVELENGTH, AMPLITUDE = 6.0, 1.0, 0.005
 CHECKS = {"half-width a", "p_mean = p* sin^2(pi a/lam)", "peak pressure", "contact length / 2"}
 
 
-@pytest.mark.parametrize("p_ratio,nu,tol", [(0.1, 0.4999, 0.01), (0.4, 0.4999, 0.01), (0.8, 0.4999, 0.01),
-                                            (0.4, 0.3, 0.02)])
+@pytest.mark.parametrize("p_ratio,nu,tol", [(0.1, 0.4999, 0.01), (0.4, 0.4999, 0.01),
+                                            (0.8, 0.4999, 0.01), (0.4, 0.3, 0.02)])
 def test_westergaard(p_ratio, nu, tol):
     r = cc.westergaard(E=E, nu=nu, wavelength=WAVELENGTH, amplitude=AMPLITUDE, p_ratio=p_ratio)
     by = checks_of(r, CHECKS)
@@ -41,4 +41,5 @@ def test_westergaard(p_ratio, nu, tol):
     a = by["half-width a"]["computed"]
     assert rel(a, a_exact) <= tol, (a, a_exact)
     assert rel(p_star * math.sin(math.pi * a / WAVELENGTH) ** 2, p_mean) <= tol
-    assert rel(by["peak pressure"]["computed"], 2.0 * p_mean / s) <= tol, (by["peak pressure"], 2.0 * p_mean / s)
+    assert rel(by["peak pressure"]["computed"], 2.0 * p_mean / s) <= tol, \
+        (by["peak pressure"], 2.0 * p_mean / s)

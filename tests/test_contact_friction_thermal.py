@@ -30,7 +30,8 @@ def build_interface(friction, *, thermal=None, deformable=False, temps=False):
     n = XS.size
     nd = 3 if temps else 2
     dofs = np.column_stack([nd * np.arange(n), nd * np.arange(n) + 1])
-    slave = SlaveSurface(np.column_stack([XS, np.zeros(n)]), dofs, np.column_stack([np.arange(n - 1), np.arange(1, n)]),
+    slave = SlaveSurface(np.column_stack([XS, np.zeros(n)]), dofs,
+                         np.column_stack([np.arange(n - 1), np.arange(1, n)]),
                          nd * np.arange(n) + 2 if temps else None)
     ndof = nd * n
     if deformable:
@@ -43,7 +44,8 @@ def build_interface(friction, *, thermal=None, deformable=False, temps=False):
         ndof += nd * m
     else:
         master = RigidMaster(np.array([[-1.0, 0.0], [0.33, 0.0], [0.71, 0.0], [2.0, 0.0]]))
-    c = Contact(slave, master, friction=friction, penalty=PenaltySettings(c_N=CN, c_T=CT), thermal=thermal)
+    c = Contact(slave, master, friction=friction, penalty=PenaltySettings(c_N=CN, c_T=CT),
+                thermal=thermal)
     u = np.zeros(ndof)
     u[1: nd * n: nd] = -G
     return c, u, nd
@@ -60,7 +62,8 @@ def residual(c, u, **kw):
 def test_stick_then_slip_coulomb_exact(method):
     mu = 0.35
     c, u, nd = build_interface(mu)
-    c = Contact(c.slave, c.master, method=method, friction=mu, penalty=PenaltySettings(c_N=CN, c_T=CT))
+    c = Contact(c.slave, c.master, method=method, friction=mu,
+                penalty=PenaltySettings(c_N=CN, c_T=CT))
     stick_limit = mu * P / CT
     u[0::nd] = 0.5 * stick_limit  # stick
     s = c.evaluate(u, dt=0.1)
@@ -78,7 +81,8 @@ def test_stick_then_slip_coulomb_exact(method):
     u[0::nd] = 3.0 * stick_limit - 1.5 * stick_limit
     s = c.evaluate(u, dt=0.1)
     assert np.all(s["status"] == 1)
-    np.testing.assert_allclose(s["tangential_traction"], mu * P - CT * 1.5 * stick_limit, rtol=1e-12)
+    np.testing.assert_allclose(s["tangential_traction"], mu * P - CT * 1.5 * stick_limit,
+                               rtol=1e-12)
 
 
 def pv_spline():
@@ -96,7 +100,8 @@ def test_spline_matches_scipy_values_and_derivatives():
     e = law.evaluate(pp, vv)
     np.testing.assert_allclose(e[:, 0], ref.ev(pp, np.log10(vv)), rtol=1e-13)
     np.testing.assert_allclose(e[:, 1], ref.ev(pp, np.log10(vv), dx=1), rtol=1e-12)
-    np.testing.assert_allclose(e[:, 2], ref.ev(pp, np.log10(vv), dy=1) / (vv * np.log(10.0)), rtol=1e-12)
+    np.testing.assert_allclose(e[:, 2], ref.ev(pp, np.log10(vv), dy=1) / (vv * np.log(10.0)),
+                               rtol=1e-12)
     np.testing.assert_allclose(law(p[3], v[4]), mu[3, 4], rtol=1e-13)  # interpolates the data
     # outside the data: clamped, zero derivative
     out = law.evaluate(10.0, 1e6)
@@ -195,7 +200,8 @@ def test_slave_node_temperatures_select_mu_per_node_and_power_density_sums_to_th
     s = c.evaluate(u, dt=dt)
     assert np.all(s["status"] == 2)
     np.testing.assert_allclose(s["mu"], 0.8 - 0.002 * (TA - 273.0), rtol=1e-12)
-    np.testing.assert_allclose(np.sum(s["friction_power_density"] * s["weight"]), s["friction_power"], rtol=1e-12)
+    np.testing.assert_allclose(np.sum(s["friction_power_density"] * s["weight"]),
+                               s["friction_power"], rtol=1e-12)
     with pytest.raises(ValueError, match="slave temperatures"):
         c.set_slave_temperatures(TA[:-1])
     with pytest.raises(ValueError, match="slave temperatures"):

@@ -26,7 +26,8 @@ SCRIPT = textwrap.dedent("""
     from rubberfriction.driver.fe.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
 
     n = 6
-    slave = SlaveSurface(np.column_stack([np.linspace(0, 1, n), np.zeros(n)]), np.arange(2 * n).reshape(n, 2),
+    slave = SlaveSurface(np.column_stack([np.linspace(0, 1, n), np.zeros(n)]),
+                         np.arange(2 * n).reshape(n, 2),
                          np.column_stack([np.arange(n - 1), np.arange(1, n)]))
     master = RigidMaster(np.array([[-1.0, 0.0], [2.0, 0.0]]))
     u = np.zeros(2 * n)
@@ -60,8 +61,9 @@ def test_two_ranks_farming_and_refusal(tmp_path):
         missing("mpirun not available (openmpi-bin, installed by scripts/setup.sh)")
     script = tmp_path / "run.py"
     script.write_text(SCRIPT.format(root=str(ROOT)))
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1")
-    out = subprocess.run([mpirun, "-n", "2", "--oversubscribe", sys.executable, str(script)], env=env,
-                         capture_output=True, text=True, timeout=300)
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMP_NUM_THREADS="1")
+    out = subprocess.run([mpirun, "-n", "2", "--oversubscribe", sys.executable, str(script)],
+                         env=env, capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stdout + out.stderr
     assert out.stdout.count("ok") == 2 and "NOT REFUSED" not in out.stdout, out.stdout

@@ -12,7 +12,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rubberfriction.driver.fe.contact import Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface
+from rubberfriction.driver.fe.contact import (Contact, DeformableMaster, PenaltySettings,
+                                              RigidMaster, SlaveSurface)
 
 CN = 250.0
 G = 0.004  # penetration
@@ -56,7 +57,8 @@ def test_rigid_master_uniform_pressure_exact(theta, method):
     X = X @ Q.T
     xm = np.array([-0.4, -0.05, 0.17, 0.4, 0.44, 0.71, 0.98, 1.3])  # non-matching master vertices
     V = np.column_stack([xm, np.zeros(xm.size)]) @ Q.T
-    c = Contact(SlaveSurface(X, dofs, seg), RigidMaster(V), method=method, penalty=PenaltySettings(c_N=CN, c_T=0.0))
+    c = Contact(SlaveSurface(X, dofs, seg), RigidMaster(V), method=method,
+                penalty=PenaltySettings(c_N=CN, c_T=0.0))
     n = Q @ np.array([0.0, -1.0])  # slave outward normal
     u = np.tile(G * n, XS.size)  # uniform penetration
     R = residual(c, u).reshape(-1, 2)
@@ -85,15 +87,16 @@ def test_deformable_master_mortar_exact_both_sides(theta):
     xm = np.array([0.0, 0.13, 0.41, 0.47, 0.66, 1.0])  # same span, no interior node matches
     Xm, mseg = lower_body_face(xm)
     mdofs = 2 * XS.size + np.arange(2 * xm.size).reshape(-1, 2)
-    c = Contact(SlaveSurface(X @ Q.T, dofs, seg), DeformableMaster(Xm @ Q.T, mdofs, mseg), method="mortar",
-                penalty=PenaltySettings(c_N=CN, c_T=0.0))
+    c = Contact(SlaveSurface(X @ Q.T, dofs, seg), DeformableMaster(Xm @ Q.T, mdofs, mseg),
+                method="mortar", penalty=PenaltySettings(c_N=CN, c_T=0.0))
     n = Q @ np.array([0.0, -1.0])
     u = np.zeros(2 * (XS.size + xm.size))
     u[: 2 * XS.size] = np.tile(G * n, XS.size)
     R = residual(c, u).reshape(-1, 2)
     p = CN * G
     f_slave = p * consistent_weights(XS)[:, None] * n
-    f_master = -p * consistent_weights(np.sort(xm))[::-1][:, None] * n  # master nodes run right to left
+    # master nodes run right to left
+    f_master = -p * consistent_weights(np.sort(xm))[::-1][:, None] * n
     assert np.abs(R[: XS.size] - f_slave).max() <= 1e-12 * np.abs(f_slave).max()
     assert np.abs(R[XS.size:] - f_master).max() <= 1e-12 * np.abs(f_master).max()
 
@@ -123,7 +126,8 @@ def test_partial_overlap_is_clipped_exactly():
     """A rigid master covering x in [0.2, 0.7] only: force = p x 0.5 exactly (segmentation)."""
     X, dofs, seg = slave_chain(XS)
     V = np.array([[0.2, 0.0], [0.33, 0.0], [0.61, 0.0], [0.7, 0.0]])
-    c = Contact(SlaveSurface(X, dofs, seg), RigidMaster(V), penalty=PenaltySettings(c_N=CN, c_T=0.0))
+    c = Contact(SlaveSurface(X, dofs, seg), RigidMaster(V),
+                penalty=PenaltySettings(c_N=CN, c_T=0.0))
     u = np.zeros(2 * XS.size)
     u[1::2] = -G
     R = residual(c, u)
@@ -148,10 +152,12 @@ def test_curved_slave_fully_paired_with_a_long_master_segment(method):
     """Regression: with rotating nodal normals, projecting far-away master nodes onto a slave
     segment has spurious roots; pairing must not depend on where the master segment ends."""
     R = 10.0
-    theta = np.linspace(-0.06, 0.06, 49) + 1e-3 * np.sin(np.arange(49))  # irregular arc near the bottom
+    # irregular arc near the bottom
+    theta = np.linspace(-0.06, 0.06, 49) + 1e-3 * np.sin(np.arange(49))
     X = np.column_stack([R * np.sin(theta), R - R * np.cos(theta)])
     n = X.shape[0]
-    slave = SlaveSurface(X, np.arange(2 * n).reshape(n, 2), np.column_stack([np.arange(n - 1), np.arange(1, n)]))
+    slave = SlaveSurface(X, np.arange(2 * n).reshape(n, 2),
+                         np.column_stack([np.arange(n - 1), np.arange(1, n)]))
     for half in (2.0, 20.0, 2000.0):
         c = Contact(slave, RigidMaster(np.array([[-half, 0.0], [half, 0.0]])), method=method,
                     penalty=PenaltySettings(c_N=100.0), search_radius=1.0)

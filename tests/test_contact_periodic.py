@@ -31,7 +31,8 @@ def periodic_master():
 def chain(x0, length, n, z0):
     x = x0 + np.linspace(0.0, length, n)
     X = np.column_stack([x, np.full(n, z0)])
-    return SlaveSurface(X, np.arange(2 * n).reshape(n, 2), np.column_stack([np.arange(n - 1), np.arange(1, n)]))
+    return SlaveSurface(X, np.arange(2 * n).reshape(n, 2),
+                        np.column_stack([np.arange(n - 1), np.arange(1, n)]))
 
 
 def outputs(c: Contact, u, offset=(0.0, 0.0)):
@@ -62,7 +63,8 @@ def test_wrap_is_shift_invariant_and_matches_repeated_profile():
         np.testing.assert_allclose(go, g0, rtol=0, atol=1e-12)
     # explicitly repeated profile, not periodic
     x = np.concatenate([np.arange(K) * L / K + 0.137 + j * L for j in range(-2, 3)])
-    c_open = Contact(slave, RigidMaster(np.column_stack([x, profile(x)])), penalty=pen, search_radius=0.2)
+    c_open = Contact(slave, RigidMaster(np.column_stack([x, profile(x)])), penalty=pen,
+                     search_radius=0.2)
     R1, g1, p1 = outputs(c_open, u)
     np.testing.assert_allclose(g1, g0, rtol=0, atol=1e-12)
     np.testing.assert_allclose(R1, R0, rtol=0, atol=1e-12 * np.abs(R0).max())
@@ -73,8 +75,8 @@ def test_sliding_three_periods_repeats_each_period():
     n = 33
     steps_per_period = 48
     slave = chain(0.0, L, n, 0.0)
-    c = Contact(slave, periodic_master(), friction=0.4, penalty=PenaltySettings(c_N=500.0, c_T=250.0),
-                search_radius=0.3)
+    c = Contact(slave, periodic_master(), friction=0.4,
+                penalty=PenaltySettings(c_N=500.0, c_T=250.0), search_radius=0.3)
     u = np.zeros(2 * n)
     u[1::2] = 0.02 - 0.0005 * np.arange(n) / n  # fixed vertical position: penetrates the crests
     v, dt = 10.0, L / steps_per_period / 10.0
@@ -146,7 +148,8 @@ def test_seam_of_a_periodic_cell_is_not_a_corner():
         s.periodic_seam = seam
         c = Contact(s, periodic_master(), penalty=pen, search_radius=0.2)
         R, _, p = outputs(c, np.zeros(2 * n))
-        assert p[0] > 0 and p[-1] > 0 and np.count_nonzero(p) < n  # ends in contact, partial contact
+        # ends in contact, partial contact
+        assert p[0] > 0 and p[-1] > 0 and np.count_nonzero(p) < n
         return R[0::2].sum(), R[1::2].sum()
 
     Fx0, Fz0 = forces(0.0, True)

@@ -18,7 +18,8 @@ import numpy as np
 import pytest
 from petsc4py import PETSc
 
-from rubberfriction.driver.fe.contact import Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface
+from rubberfriction.driver.fe.contact import (Contact, DeformableMaster, PenaltySettings,
+                                              RigidMaster, SlaveSurface)
 
 
 def interface(deformable=False, **kw):
@@ -30,13 +31,15 @@ def interface(deformable=False, **kw):
     if deformable:
         m = 15
         xm = np.linspace(1.4, -0.4, m)
-        master = DeformableMaster(np.column_stack([xm, -0.01 + 0.02 * np.cos(3 * xm)]), ndof + np.arange(2 * m).reshape(m, 2),
+        master = DeformableMaster(np.column_stack([xm, -0.01 + 0.02 * np.cos(3 * xm)]),
+                                  ndof + np.arange(2 * m).reshape(m, 2),
                                   np.column_stack([np.arange(m - 1), np.arange(1, m)]))
         ndof += 2 * m
     else:
         xm = np.linspace(-2.0, 3.0, 300)
         master = RigidMaster(np.column_stack([xm, -0.01 + 0.02 * np.cos(3 * xm)]))
-    c = Contact(slave, master, friction=0.3, penalty=PenaltySettings(c_N=100.0, c_T=50.0), search_radius=0.2, **kw)
+    c = Contact(slave, master, friction=0.3, penalty=PenaltySettings(c_N=100.0, c_T=50.0),
+                search_radius=0.2, **kw)
     u = np.zeros(ndof)
     u[1:2 * n:2] = -0.02
     return c, u, ndof
@@ -50,7 +53,8 @@ def preallocated(ndof, rows, cols, extra_diagonal=True):
     rr = np.array(sorted(pairs), dtype=PETSc.IntType)
     np.add.at(nnz, rr[:, 0], 1)
     indptr = np.concatenate([[0], np.cumsum(nnz)]).astype(PETSc.IntType)
-    A = PETSc.Mat().createAIJ((ndof, ndof), csr=(indptr, rr[:, 1], np.zeros(len(rr))), comm=PETSc.COMM_SELF)
+    A = PETSc.Mat().createAIJ((ndof, ndof), csr=(indptr, rr[:, 1], np.zeros(len(rr))),
+                              comm=PETSc.COMM_SELF)
     A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
     A.assemble()
     return A
@@ -166,7 +170,8 @@ def test_wrong_petsc_types_raise_type_error(via_driver):
     b = PETSc.Vec().createSeq(ndof, comm=PETSc.COMM_SELF)
     assemble = c.assemble if via_driver else c.cpp.assemble
     wrong = [
-        ((A.handle, None), r"expected a petsc4py\.PETSc\.Mat, got int \(integer handles are not accepted"),
+        ((A.handle, None),
+         r"expected a petsc4py\.PETSc\.Mat, got int \(integer handles are not accepted"),
         ((None, b.handle), r"expected a petsc4py\.PETSc\.Vec, got int"),
         ((b, None), r"expected a petsc4py\.PETSc\.Mat, got petsc4py\.PETSc\.Vec"),
         ((None, A), r"expected a petsc4py\.PETSc\.Vec, got petsc4py\.PETSc\.Mat"),
@@ -190,7 +195,9 @@ class _TwoRanks:
 
 def test_distributed_communicator_refused():
     n = 3
-    slave = SlaveSurface(np.array([[0.0, 0], [1, 0], [2, 0]]), np.arange(6).reshape(3, 2), np.array([[0, 1], [1, 2]]))
+    slave = SlaveSurface(np.array([[0.0, 0], [1, 0], [2, 0]]), np.arange(6).reshape(3, 2),
+                         np.array([[0, 1], [1, 2]]))
     with pytest.raises(ValueError, match="serially on its own communicator"):
-        Contact(slave, RigidMaster(np.array([[0.0, 0], [3, 0]])), penalty=PenaltySettings(c_N=1.0), comm=_TwoRanks())
+        Contact(slave, RigidMaster(np.array([[0.0, 0], [3, 0]])), penalty=PenaltySettings(c_N=1.0),
+                comm=_TwoRanks())
     assert n == 3

@@ -26,7 +26,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rubberfriction.driver.fe.contact import Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface
+from rubberfriction.driver.fe.contact import (Contact, DeformableMaster, PenaltySettings,
+                                              RigidMaster, SlaveSurface)
 
 Z_SLAVE, U_Z = 0.002, -0.006  # slave height and its prescribed u_z: slave at z = -0.004
 AMPLITUDE = 0.01  # master |z| <= 0.01: every gap below |z| + 0.004 < search radius 0.02
@@ -45,7 +46,8 @@ def rough_profile(n, length, seed=0):
 def slave(n, x0, length):
     x = x0 + np.linspace(0.0, length, n + 1)
     X = np.column_stack([x, np.full(x.size, Z_SLAVE)])
-    return SlaveSurface(X, np.arange(2 * x.size).reshape(-1, 2), np.column_stack([np.arange(n), np.arange(1, n + 1)]))
+    return SlaveSurface(X, np.arange(2 * x.size).reshape(-1, 2),
+                        np.column_stack([np.arange(n), np.arange(1, n + 1)]))
 
 
 def expected_pairs(slave_x: np.ndarray, master_x: np.ndarray) -> int:
@@ -53,8 +55,10 @@ def expected_pairs(slave_x: np.ndarray, master_x: np.ndarray) -> int:
     docstring); asserts that no master vertex is ambiguously close to a slave node."""
     x0, x1 = slave_x.min(), slave_x.max()
     inside = master_x[(master_x > x0) & (master_x < x1)]
-    gaps = np.abs(inside[:, None] - slave_x[None, :]).min(axis=1) if inside.size else np.array([np.inf])
-    assert gaps.min() > SEPARATION, f"test set-up: a master vertex within {gaps.min():.2e} mm of a slave node"
+    gaps = (np.abs(inside[:, None] - slave_x[None, :]).min(axis=1) if inside.size
+            else np.array([np.inf]))
+    assert gaps.min() > SEPARATION, \
+        f"test set-up: a master vertex within {gaps.min():.2e} mm of a slave node"
     return slave_x.size - 1 + inside.size
 
 
@@ -72,7 +76,8 @@ def test_pairs_do_not_depend_on_the_master_length():
     n_expected = expected_pairs(sl.X[:, 0], long[:, 0])
     states = []
     for m in (1_000, 100_000):
-        c = Contact(sl, RigidMaster(long[: m + 1]), penalty=PenaltySettings(c_N=100.0), search_radius=RADIUS)
+        c = Contact(sl, RigidMaster(long[: m + 1]), penalty=PenaltySettings(c_N=100.0),
+                    search_radius=RADIUS)
         assert c.report()["master"]["segments"] == m
         states.append(evaluate(c))
     short, full = states

@@ -100,7 +100,8 @@ def test_residual_is_the_gradient_of_the_penalty_potential():
     incremental step has an equilibrium however sharp the road is against the elements."""
     cN = 100.0
     slave = chain()
-    c = Contact(slave, master(), method="surface", penalty=PenaltySettings(c_N=cN, c_T=0.0), search_radius=0.3)
+    c = Contact(slave, master(), method="surface", penalty=PenaltySettings(c_N=cN, c_T=0.0),
+                search_radius=0.3)
     seg = np.linalg.norm(np.diff(slave.X, axis=0), axis=1)
     w = np.zeros(9)
     w[:-1] += 0.5 * seg
@@ -109,8 +110,8 @@ def test_residual_is_the_gradient_of_the_penalty_potential():
     R, J = residual_jacobian(c, u)
     assert np.count_nonzero(c.state()["status"]) >= 3
     h = 1e-7
-    grad = np.array([(penalty_energy(c, u + h * e, w, cN) - penalty_energy(c, u - h * e, w, cN)) / (2 * h)
-                     for e in np.eye(u.size)])
+    grad = np.array([(penalty_energy(c, u + h * e, w, cN) - penalty_energy(c, u - h * e, w, cN))
+                     / (2 * h) for e in np.eye(u.size)])
     assert np.abs(grad - R).max() < 1e-7 * np.abs(R).max()
     assert np.abs(J - J.T).max() < 1e-12 * np.abs(J).max()
 
@@ -125,7 +126,8 @@ CASES = [  # (friction, slide, thermal, statuses that must be present)
 @pytest.mark.parametrize("friction,slide,thermal,expect", CASES)
 def test_jacobian_matches_finite_differences(friction, slide, thermal, expect):
     nd = 3 if thermal else 2
-    th = ThermalSettings(h0=2.0, h1=0.5, beta=1.5, kappa=0.3, master_temperature=300.0) if thermal else None
+    th = (ThermalSettings(h0=2.0, h1=0.5, beta=1.5, kappa=0.3, master_temperature=300.0)
+          if thermal else None)
     c = Contact(chain(nd, thermal), master(), method="surface",
                 friction=pv_T_law() if friction == "spline" else friction,
                 penalty=PenaltySettings(c_N=100.0, c_T=60.0), thermal=th, search_radius=0.3)
@@ -146,7 +148,8 @@ def test_flat_road_gives_the_penalty_force_and_contact_length():
                          np.column_stack([np.arange(n - 1), np.arange(1, n)]))
     xm = np.linspace(0.0, 2.0, 16, endpoint=False)
     flat = RigidMaster(np.column_stack([xm, np.full_like(xm, -0.2)]), 2.0)
-    c = Contact(slave, flat, method="surface", penalty=PenaltySettings(c_N=cN, c_T=0.0), search_radius=0.5)
+    c = Contact(slave, flat, method="surface", penalty=PenaltySettings(c_N=cN, c_T=0.0),
+                search_radius=0.5)
     u = np.zeros(2 * n)
     u[1::2] = -0.2 - depth
     c.local_system(u)
@@ -165,7 +168,8 @@ def test_bad_masters_are_refused():
         Contact(slave, RigidMaster(np.column_stack([xm, road(xm)])), method="surface", penalty=pen)
     uneven = xm + 0.01 * np.sin(xm)
     with pytest.raises(ValueError, match="uniform x"):
-        Contact(slave, RigidMaster(np.column_stack([uneven, road(uneven)]), PERIOD), method="surface", penalty=pen)
+        Contact(slave, RigidMaster(np.column_stack([uneven, road(uneven)]), PERIOD),
+                method="surface", penalty=pen)
     other = DeformableMaster(slave.X + [0.0, -1.0], slave.dofs + 100, slave.segments)
     with pytest.raises(ValueError, match="rigid periodic master"):
         Contact(slave, other, method="surface", penalty=pen)

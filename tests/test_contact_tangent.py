@@ -4,8 +4,9 @@ Central finite differences of the assembled residual against the Jacobian, colum
 curved slave and master surfaces (so the projection, the segmentation points and the averaged
 normals all vary with u), for every group of terms: normal penalty, stick, slip with constant mu,
 slip with mu(p, v, T) from a spline, and the thermal blocks (conduction with h_c(p), frictional
-heating, temperature coupling of mu).  Mortar and node-to-segment, rigid and deformable master, and a chain end in contact across a
-master kink (its frame is the master normal averaged over its support).
+heating, temperature coupling of mu).  Mortar and node-to-segment, rigid and deformable master,
+and a chain end in contact across a master kink (its frame is the master normal averaged over its
+support).
 Tolerance: 1e-6 relative, per block (u-u, u-T, T-u, T-T), to the block's largest entry.
 """
 
@@ -15,7 +16,8 @@ import numpy as np
 import pytest
 
 from rubberfriction.driver.fe import friction_law as fl
-from rubberfriction.driver.fe.contact import Contact, DeformableMaster, PenaltySettings, RigidMaster, SlaveSurface, ThermalSettings
+from rubberfriction.driver.fe.contact import (Contact, DeformableMaster, PenaltySettings,
+                                              RigidMaster, SlaveSurface, ThermalSettings)
 
 RTOL = 1e-6
 
@@ -53,8 +55,8 @@ def build(method="mortar", *, friction=None, thermal=False, deformable=False):
         master = RigidMaster(np.column_stack([xm, 0.03 * np.cos(2.0 * xm)]))
     th = ThermalSettings(h0=2.0, h1=0.5, beta=1.5, kappa=0.3,
                          master_temperature=None if deformable else 300.0) if thermal else None
-    c = Contact(slave, master, method=method, friction=friction, penalty=PenaltySettings(c_N=100.0, c_T=60.0),
-                thermal=th, search_radius=0.3)
+    c = Contact(slave, master, method=method, friction=friction,
+                penalty=PenaltySettings(c_N=100.0, c_T=60.0), thermal=th, search_radius=0.3)
     return c, ndof, nd
 
 
@@ -82,22 +84,26 @@ def fd_check(c: Contact, u, nd, h=1e-7, **kw) -> tuple[dict, np.ndarray]:
         up, um = u.copy(), u.copy()
         up[j] += hj
         um[j] -= hj
-        assert np.array_equal(state_of(c, up, **kw), status), "the FD stencil crosses a stick/slip/open switch"
-        Jfd[:, j] = (residual_jacobian(c, up, **kw)[0] - residual_jacobian(c, um, **kw)[0]) / (2 * hj)
+        assert np.array_equal(state_of(c, up, **kw), status), \
+            "the FD stencil crosses a stick/slip/open switch"
+        Jfd[:, j] = ((residual_jacobian(c, up, **kw)[0] - residual_jacobian(c, um, **kw)[0])
+                     / (2 * hj))
     T = (np.arange(u.size) % nd == 2) if nd == 3 else np.zeros(u.size, bool)
     U = ~T
     errors = {}
     for name, (r, k) in {"u-u": (U, U), "u-T": (U, T), "T-u": (T, U), "T-T": (T, T)}.items():
         blk, blk_fd = J[np.ix_(r, k)], Jfd[np.ix_(r, k)]
         if blk.size == 0 or np.abs(blk_fd).max() == 0.0:
-            assert blk.size == 0 or np.abs(blk).max() == 0.0, f"{name}: tangent has entries FD does not"
+            assert blk.size == 0 or np.abs(blk).max() == 0.0, \
+                f"{name}: tangent has entries FD does not"
             continue
         errors[name] = float(np.abs(blk - blk_fd).max() / np.abs(blk_fd).max())
     return errors, status
 
 
 def configuration(ndof, nd, *, deformable, slide, thermal, seed=1):
-    """Slave pushed 0.04 into the master, random perturbation, rigid slide of the slave by `slide`."""
+    """Slave pushed 0.04 into the master, random perturbation, rigid slide of the slave by
+    `slide`."""
     rng = np.random.default_rng(seed)
     u = np.zeros(ndof)
     ns = 9
@@ -149,7 +155,8 @@ def test_thermal_blocks_are_nonzero_and_checked():
     _, J = residual_jacobian(c, u, dt=0.1)
     T = np.arange(ndof) % nd == 2
     U = ~T
-    for name, block in {"T-T": J[np.ix_(T, T)], "T-u": J[np.ix_(T, U)], "u-T": J[np.ix_(U, T)]}.items():
+    for name, block in {"T-T": J[np.ix_(T, T)], "T-u": J[np.ix_(T, U)],
+                        "u-T": J[np.ix_(U, T)]}.items():
         assert np.abs(block).max() > 1e-6 * np.abs(J).max(), f"{name} block is empty"
 
 
@@ -160,8 +167,8 @@ def test_jacobian_exact_for_a_slave_wrapped_around_a_sharp_peak():
     Such an overlap end is a slave end, a constant; it used to be linearised as a master-node
     projection at the clamped value, and Newton converged only linearly (a micro-scale sliding
     run of the default road stalled at a residual of 1e-7).  Positions from that run."""
-    xs = np.array([[-0.02275, 0.08652], [-0.01856, 0.09866], [-0.01606, 0.10826], [-0.00314, 0.11416],
-                   [7e-05, 0.10312], [0.00491, 0.0898], [0.00767, 0.07793]])
+    xs = np.array([[-0.02275, 0.08652], [-0.01856, 0.09866], [-0.01606, 0.10826],
+                   [-0.00314, 0.11416], [7e-05, 0.10312], [0.00491, 0.0898], [0.00767, 0.07793]])
     n = len(xs)
     xm = np.arange(-0.05, 0.04 + 1e-9, 0.0005)
     master = RigidMaster(np.column_stack([xm, 0.116 * np.exp(-((xm + 0.0087) / 0.0272) ** 2)]))
@@ -193,8 +200,8 @@ def corner_chain(method, *, deformable, friction):
         ndof += 2 * m
     else:
         master = RigidMaster(np.column_stack([xm, zm]))
-    c = Contact(slave, master, method=method, friction=friction, penalty=PenaltySettings(c_N=100.0, c_T=60.0),
-                search_radius=0.3)
+    c = Contact(slave, master, method=method, friction=friction,
+                penalty=PenaltySettings(c_N=100.0, c_T=60.0), search_radius=0.3)
     rng = np.random.default_rng(3)
     u = np.zeros(ndof)
     u[1:2 * n:2] = -0.03 + 0.002 * rng.standard_normal(n)
@@ -204,8 +211,10 @@ def corner_chain(method, *, deformable, friction):
     return c, u, n
 
 
-@pytest.mark.parametrize("method,deformable,friction", [("mortar", False, 0.3), ("mortar", True, 0.3),
-                                                        ("mortar", False, None), ("nts", False, 0.3),
+@pytest.mark.parametrize("method,deformable,friction", [("mortar", False, 0.3),
+                                                        ("mortar", True, 0.3),
+                                                        ("mortar", False, None),
+                                                        ("nts", False, 0.3),
                                                         ("nts", True, 0.3)])
 def test_jacobian_exact_at_a_chain_end_on_a_kinked_master(method, deformable, friction):
     """FD check of the chain-end frame: the end node is in contact, its frame is the master's
@@ -220,7 +229,8 @@ def test_jacobian_exact_at_a_chain_end_on_a_kinked_master(method, deformable, fr
     x = c.slave.X + u[c.slave.dofs]
     t_end = x[n - 1] - x[n - 2]
     one_sided = np.array([t_end[1], -t_end[0]]) / np.linalg.norm(t_end)
-    assert np.degrees(np.arccos(np.clip(nrm @ one_sided, -1.0, 1.0))) > 5.0  # the end segment is tilted
+    # the end segment is tilted
+    assert np.degrees(np.arccos(np.clip(nrm @ one_sided, -1.0, 1.0))) > 5.0
     assert nrm[1] < -0.99  # the master's normal, seen from the slave
 
 
@@ -235,7 +245,8 @@ def test_chain_end_frame_is_the_flat_masters_normal():
     c = Contact(slave, RigidMaster(np.array([[-1.0, 0.0], [1.0, 0.0]])), friction=0.5,
                 penalty=PenaltySettings(c_N=100.0, c_T=10.0), search_radius=0.2)
     u = np.zeros(2 * n)
-    u[1::2] = [-0.001, -0.001, -0.002, -0.02]  # the last node digs in: end segment tilted 10 degrees
+    # the last node digs in: end segment tilted 10 degrees
+    u[1::2] = [-0.001, -0.001, -0.002, -0.02]
     u[0::2] = 0.5  # slip everywhere: c_T x 0.5 > mu p
     st = c.evaluate(u, dt=1.0)
     assert np.all(st["status"] == 2)

@@ -7,7 +7,8 @@ import pytest
 
 from rubberfriction import _contact
 from rubberfriction.driver.fe import friction_law as fl
-from rubberfriction.driver.fe.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface, ThermalSettings
+from rubberfriction.driver.fe.contact import (Contact, PenaltySettings, RigidMaster, SlaveSurface,
+                                              ThermalSettings)
 
 PEN = PenaltySettings(c_N=10.0)
 
@@ -30,8 +31,10 @@ def flat():
     ([[0.0, 0.0], [2.0, 0.0], [1.0, 1.0], [1.0, -1.0]], 0.0, "self-intersecting"),  # crosses itself
     ([[0.0, 0.0], [1.0, 0.0], [0.5, 0.0]], 0.0, "self-intersecting"),  # folds back onto itself
     ([[0.0, 0.0], [0.5, 0.1], [1.0, 0.0]], 0.8, "does not match"),  # sample longer than the period
-    ([[0.0, 0.0], [0.1, 0.1], [0.2, 0.0], [0.3, 0.05]], 5.0, "does not match"),  # wrap segment far too long
-    ([[0.0, 0.0], [0.5, 0.1], [1.0, 0.3]], 1.0, "not periodic"),  # last vertex at x0 + L but z differs
+    # wrap segment far too long
+    ([[0.0, 0.0], [0.1, 0.1], [0.2, 0.0], [0.3, 0.05]], 5.0, "does not match"),
+    # last vertex at x0 + L but z differs
+    ([[0.0, 0.0], [0.5, 0.1], [1.0, 0.3]], 1.0, "not periodic"),
     ([[0.0, 0.0], [1.0, 0.0]], -1.0, "period must be"),
 ])
 def test_bad_polylines(vertices, period, match):
@@ -74,7 +77,8 @@ def test_bad_parameters(kwargs, match):
 
 @pytest.mark.parametrize("n", [0, 9, -1])
 def test_gauss_points_outside_the_table(n):
-    with pytest.raises(ValueError, match=f"Gauss points per segment piece: got {n}, expected 1 to 8"):
+    with pytest.raises(ValueError,
+                       match=f"Gauss points per segment piece: got {n}, expected 1 to 8"):
         Contact(slave(), flat(), penalty=PEN, gauss_points=n)
 
 
@@ -85,9 +89,11 @@ def test_every_order_of_the_gauss_table_is_accepted():
 
 def test_bad_slave_surfaces():
     with pytest.raises(ValueError, match="zero length"):
-        Contact(slave(X=np.array([[0.0, 0], [0.5, 0], [0.5, 0], [0.8, 0], [1, 0]])), flat(), penalty=PEN)
+        Contact(slave(X=np.array([[0.0, 0], [0.5, 0], [0.5, 0], [0.8, 0], [1, 0]])), flat(),
+                penalty=PEN)
     with pytest.raises(ValueError, match="non-finite"):
-        Contact(slave(X=np.array([[0.0, 0], [0.5, 0], [np.nan, 0], [0.8, 0], [1, 0]])), flat(), penalty=PEN)
+        Contact(slave(X=np.array([[0.0, 0], [0.5, 0], [np.nan, 0], [0.8, 0], [1, 0]])), flat(),
+                penalty=PEN)
     # inconsistent orientation: node 2 starts two segments
     with pytest.raises(ValueError, match="counter-clockwise"):
         Contact(slave(segments=np.array([[0, 1], [2, 1], [2, 3], [3, 4]])), flat(), penalty=PEN)
@@ -98,8 +104,9 @@ def test_bad_slave_surfaces():
     with pytest.raises(ValueError, match="refers to a node"):
         Contact(slave(segments=np.array([[0, 1], [1, 7]])), flat(), penalty=PEN)
     with pytest.raises(ValueError, match="used twice"):
-        Contact(SlaveSurface(np.array([[0.0, 0], [1, 0]]), np.array([[0, 1], [1, 2]]), np.array([[0, 1]])), flat(),
-                penalty=PEN)
+        Contact(SlaveSurface(np.array([[0.0, 0], [1, 0]]), np.array([[0, 1], [1, 2]]),
+                             np.array([[0, 1]])),
+                flat(), penalty=PEN)
 
 
 def test_bad_runtime_input():
@@ -115,9 +122,11 @@ def test_bad_runtime_input():
     with pytest.raises(ValueError, match="dt must be > 0"):
         cv.evaluate(np.zeros(10))
     with pytest.raises(ValueError, match="friction needs a tangential penalty"):
-        Contact(slave(), flat(), penalty=PenaltySettings(c_N=10.0, c_T=0.0), friction=0.3).evaluate(np.zeros(10))
+        Contact(slave(), flat(), penalty=PenaltySettings(c_N=10.0, c_T=0.0),
+                friction=0.3).evaluate(np.zeros(10))
     with pytest.raises(ValueError, match="temperature dofs"):
-        Contact(slave(), flat(), penalty=PEN, thermal=ThermalSettings(h0=1.0)).evaluate(np.zeros(10))
+        Contact(slave(), flat(), penalty=PEN,
+                thermal=ThermalSettings(h0=1.0)).evaluate(np.zeros(10))
 
 
 def test_bad_friction_laws():

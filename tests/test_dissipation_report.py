@@ -44,7 +44,8 @@ SCENE = textwrap.dedent("""
 
 
 def test_every_scale_records_its_dissipation_by_depth(tmp_path: Path):
-    scene = parse_scene(SCENE.replace('name = "diss"', f'name = "diss"\noutput = "{tmp_path / "out"}"'))
+    scene = parse_scene(SCENE.replace('name = "diss"',
+                                      f'name = "diss"\noutput = "{tmp_path / "out"}"'))
     result = run_scene(scene, quiet=True, report=True)
     assert result is not None and all(r.ok for r in result.points)
     store = Store(tmp_path / "out" / "store")

@@ -42,7 +42,8 @@ def test_bad_stabilisation_is_refused():
 
 def test_pressure_jump_hook_equals_the_mixed_form():
     """The constant hook (assembled on the pressure space, mapped to the mixed dofs) gives the
-    residual and tangent of the same integral written in the mixed form (1e-12), at a random state."""
+    residual and tangent of the same integral written in the mixed form (1e-12), at a random
+    state."""
     import numpy as np
     import ufl
     from dolfinx import fem
@@ -58,7 +59,8 @@ def test_pressure_jump_hook_equals_the_mixed_form():
                                dmesh.CellType.quadrilateral)
     m.geometry.x[:, 1] = m.geometry.x[:, 1] ** 2 / 0.5  # graded rows: thin cells at the bottom
     tags = dmesh.meshtags(m, 1, np.array([], np.int32), np.array([], np.int32))
-    mat = Compound(name="x", hyperelastic=MooneyRivlin.neo_hooke(0.7, 500.0), prony=None, wlf=None, thermal=None)
+    mat = Compound(name="x", hyperelastic=MooneyRivlin.neo_hooke(0.7, 500.0), prony=None, wlf=None,
+                   thermal=None)
     sp = SolidProblem(m, tags, mat, SolidSettings(element="Q1P0s", stabilisation=0.3))
     x = np.random.default_rng(1).normal(size=sp.w.x.array.size)
     sp.w.x.array[:] = x
@@ -70,4 +72,5 @@ def test_pressure_jump_hook_equals_the_mixed_form():
     A.assemble()
     L = sp.pressure_jump.L
     assert np.abs(L @ x - b).max() < 1e-12 * np.abs(b).max()
-    assert np.abs(L.toarray() - A.convert("dense").getDenseArray()).max() < 1e-12 * np.abs(L.data).max()
+    assert (np.abs(L.toarray() - A.convert("dense").getDenseArray()).max()
+            < 1e-12 * np.abs(L.data).max())

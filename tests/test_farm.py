@@ -136,8 +136,8 @@ def test_serial_farm_records_failures_and_runs_each_key_once(tmp_path: Path, toy
 
 
 class _StagedPlanner:
-    """Stage 2 repeats the run of stage 1 (as the separated variant's macro0 and a later run with the
-    same spec may), stage 3 is new: the repeat is answered from the campaign's own results."""
+    """Stage 2 repeats the run of stage 1 (as the separated variant's macro0 and a later run with
+    the same spec may), stage 3 is new: the repeat is answered from the campaign's own results."""
 
     def __init__(self) -> None:
         self.stages = [["a"], ["a"], ["c"]]
@@ -193,7 +193,8 @@ def test_mpi_two_ranks_store_identical_results_and_share_the_work(tmp_path: Path
         ra, rb = a.load(key), b.load(key)
         assert ra.status == rb.status and ra.label == rb.label
         assert ra.values.keys() == rb.values.keys()
-        np.testing.assert_array_equal(list(ra.values.values()), list(rb.values.values()))  # NaN = NaN
+        # NaN = NaN
+        np.testing.assert_array_equal(list(ra.values.values()), list(rb.values.values()))
         assert ra.series.keys() == rb.series.keys()
         for name in ra.series:
             np.testing.assert_array_equal(ra.series[name], rb.series[name])
@@ -322,11 +323,13 @@ def test_progress_counts_and_estimates_time_left():
     p = Progress(stream=out, min_interval=0.0, clock=lambda: now[0])
     p.start(10, 2)
     assert math.isnan(p.eta())  # nothing computed yet: unknown
-    task = SimpleNamespace(label={"point": "c/p=0.3/v=10", "branch": "up", "scale_name": "meso", "sample": 1})
+    task = SimpleNamespace(label={"point": "c/p=0.3/v=10", "branch": "up", "scale_name": "meso",
+                                  "sample": 1})
     now[0] = 10.0
     p.update(task, SimpleNamespace(status="ok", reused=False, wall_time=10.0))
     p.update(task, SimpleNamespace(status="failed", reused=False, wall_time=10.0))
-    p.update(task, SimpleNamespace(status="ok", reused=True, wall_time=99.0))  # reused: costs nothing
+    # reused: costs nothing
+    p.update(task, SimpleNamespace(status="ok", reused=True, wall_time=99.0))
     assert (p.done, p.computed, p.reused, p.failed) == (3, 2, 1, 1)
     assert p.eta() == pytest.approx(7 * 10.0 / 2)
     line = out.getvalue().splitlines()[-1]
@@ -374,8 +377,8 @@ def test_progress_counts_runs_left_out_of_the_averages():
             in end and "3 of 6 planned runs not needed" in end
 
 
-def test_a_run_stopped_at_its_time_limit_is_a_timeout_and_the_campaign_goes_on(tmp_path: Path,
-                                                                                monkeypatch):
+def test_a_run_stopped_at_its_time_limit_is_a_timeout_and_the_campaign_goes_on(
+        tmp_path: Path, monkeypatch):
     """sliding_runner(wall_limit=) hands the scene's run_timeout to run_sliding; a run that
     stopped itself there is stored as failure "timeout" without stopping the process and is
     computed again by the next campaign; the watchdog keeps a grace period."""
@@ -640,8 +643,8 @@ def test_serial_farm_routes_run_reports_to_the_progress():
 
     import tempfile
 
-    tasks = [Task(f"{i:064x}", {"i": i}, {"point": "p", "branch": "b", "scale": 0,
-                                        "sample": i}) for i in range(2)]
+    tasks = [Task(f"{i:064x}", {"i": i}, {"point": "p", "branch": "b", "scale": 0, "sample": i})
+             for i in range(2)]
     rec = Recorder()
     with tempfile.TemporaryDirectory() as d:
         ex = Executor(Store(d), runner, reports=reports)

@@ -13,7 +13,8 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.newton import (ConstrainedNonlinearProblem, NewtonSettings,
+                                             NewtonSolver)
 from rubberfriction.forms.heat import heat_residual
 from rubberfriction.forms.material_files import load_compound
 
@@ -22,7 +23,8 @@ def test_semi_infinite_constant_flux():
     th = load_compound("m1").thermal  # table C.3: rho c = 2.02 mJ/(mm^3 K), k = 0.2553 mW/(mm K)
     q, T0, L = 0.5, 293.15, 6.0  # mW/mm^2 into the body, K, mm (diffusion length at 2 s: 0.5 mm)
     n = 120
-    m = dmesh.create_rectangle(MPI.COMM_SELF, [[0.0, 0.0], [1.0, 0.1]], [n, 1], dmesh.CellType.quadrilateral)
+    m = dmesh.create_rectangle(MPI.COMM_SELF, [[0.0, 0.0], [1.0, 0.1]], [n, 1],
+                               dmesh.CellType.quadrilateral)
     m.geometry.x[:, 0] = L * m.geometry.x[:, 0] ** 2  # graded: first element 4e-4 mm
     left = dmesh.locate_entities_boundary(m, 1, lambda x: np.isclose(x[0], 0.0))
     tags = dmesh.meshtags(m, 1, left.astype(np.int32), np.full(left.size, 1, np.int32))

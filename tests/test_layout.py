@@ -36,14 +36,14 @@ ALLOWED: dict[str, set[str]] = {
     "sliding": {"root", "forms", "meshes", "fe"},
     "thermal": {"root", "forms", "meshes", "fe", "sliding", "theory", "surfaces"},
     "scenes": set(),
-    "multiscale": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces", "theory",
-                   "adhesion", "scenes"},
-    "verification": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces", "theory",
-                     "adhesion", "scenes", "multiscale"},
-    "bench": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces", "theory",
-              "adhesion", "scenes", "multiscale", "verification"},
-    "cli": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces", "theory", "adhesion",
-            "scenes", "multiscale", "verification", "bench"},
+    "multiscale": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces",
+                   "theory", "adhesion", "scenes"},
+    "verification": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces",
+                     "theory", "adhesion", "scenes", "multiscale"},
+    "bench": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces",
+              "theory", "adhesion", "scenes", "multiscale", "verification"},
+    "cli": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces", "theory",
+            "adhesion", "scenes", "multiscale", "verification", "bench"},
 }
 
 

@@ -23,7 +23,7 @@ import pytest
 from petsc4py import PETSc
 
 from rubberfriction.driver.fe.newton import (LINEAR_SOLVERS, LU_CHECK, NewtonSettings,
-                                              NewtonSolver)
+                                             NewtonSolver)
 from rubberfriction.driver.sliding.run import SlidingRun, block_mesh, sliding_contact
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.forms.material_files import load_compound

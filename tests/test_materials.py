@@ -547,7 +547,7 @@ def test_cli_fit_writes_loadable_compound(tmp_path: Path) -> None:
     E = true.complex_modulus(2 * np.pi * f, base.E_inf)
     csv = tmp_path / "dma.csv"
     csv.write_text("f,E_stor,E_loss\nHz,MPa,MPa\n" + "".join(f"{a!r},{b.real!r},{b.imag!r}\n"
-                                                           for a, b in zip(f, E)))
+                                                             for a, b in zip(f, E)))
     out, png = tmp_path / "fit.toml", tmp_path / "fit.png"
     assert _cli(["material", "fit", str(csv), "--fix-E-inf", "--toml", str(out),
                  "--plot", str(png)]) == 0
@@ -556,6 +556,7 @@ def test_cli_fit_writes_loadable_compound(tmp_path: Path) -> None:
     np.testing.assert_allclose(c.complex_modulus(2 * np.pi * f), E, rtol=1e-6)
     assert png.stat().st_size > 0
     out40 = tmp_path / "fit40.toml"
-    assert _cli(["material", "fit", str(csv), "--fix-E-inf", "--T-C", "40", "--toml", str(out40)]) == 0
+    assert _cli(["material", "fit", str(csv), "--fix-E-inf", "--T-C", "40",
+                 "--toml", str(out40)]) == 0
     np.testing.assert_allclose(load_compound(out40).prony.tau, c.prony.tau * 10**1.2295081967,
                                rtol=1e-8)

@@ -172,7 +172,8 @@ def test_samples_and_summary_say_which_fallback_attempt_gave_each_result(tmp_pat
     assert {r["attempt"] for r in rows} == {"mortar", "nts x2 mesh"}
     assert all(r["attempt"] == "nts x2 mesh" for r in rows if r["sample"] == 1)
     assert attempts_used([casc.result]) == {
-        "mortar": sum(r["sample"] == 0 for r in rows), "nts x2 mesh": sum(r["sample"] == 1 for r in rows)}
+        "mortar": sum(r["sample"] == 0 for r in rows),
+        "nts x2 mesh": sum(r["sample"] == 1 for r in rows)}
 
 
 def test_a_scale_where_every_sample_fails_fails_the_point(tmp_path: Path):

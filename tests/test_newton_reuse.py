@@ -14,7 +14,8 @@ from petsc4py import PETSc
 
 from fe_helpers import n_full, unit_square
 from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.fe.newton import ConstrainedNonlinearProblem, NewtonSettings, NewtonSolver
+from rubberfriction.driver.fe.newton import (ConstrainedNonlinearProblem, NewtonSettings,
+                                             NewtonSolver)
 from rubberfriction.driver.fe.solid import SolidProblem
 from rubberfriction.forms.compound import Compound, MooneyRivlin
 

@@ -35,7 +35,8 @@ def test_every_source_package_is_listed() -> None:
         assert (folder / "__init__.py").is_file(), f"{folders[folder]}: no {folder}/__init__.py"
     for top in ("driver", "forms", "meshes", "src/rubberfriction"):
         for init in (ROOT / top).rglob("__init__.py"):
-            assert init.parent in folders, f"{init.parent.relative_to(ROOT)} missing from pyproject.toml"
+            assert init.parent in folders, \
+                f"{init.parent.relative_to(ROOT)} missing from pyproject.toml"
 
 
 def test_console_script_is_the_cli_entry_point() -> None:
@@ -90,7 +91,8 @@ def test_wheel_installs_into_a_fresh_venv_and_runs_outside_the_checkout(tmp_path
     checks = {c["quantity"]: c["computed"] for c in result["checks"]}
     # equilibrium: the contact force carries the applied load p L exactly (solver tolerance);
     # the patch test: the contact pressure is uniform
-    assert abs(checks["total contact force F_z"] - par["pressure"] * par["length"]) <= 1e-8 * par["pressure"]
+    assert (abs(checks["total contact force F_z"] - par["pressure"] * par["length"])
+            <= 1e-8 * par["pressure"])
     p_min, p_max = checks["contact pressure min"], checks["contact pressure max"]
     assert abs(p_max - p_min) <= 1e-8 * par["pressure"]
 
@@ -109,7 +111,8 @@ def test_console_shows_no_build_chatter() -> None:
     code = ("import logging; from rubberfriction.driver.cli.main import quiet_build_logging; "
             "quiet_build_logging(); logging.root.setLevel(logging.INFO); "
             "logging.info('gcc -O2 -c libffcx_forms.c'); logging.warning('kept')")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd="/", check=True)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd="/",
+                         check=True)
     assert "gcc" not in out.stdout + out.stderr
     assert "kept" in out.stderr
 

@@ -39,8 +39,8 @@ def sinusoid_spec(**kw) -> SlidingSpec:
 
 def put(store: Store, spec: SlidingSpec, result: SlidingResult) -> str:
     key = run_key(spec)
-    store.put(key, spec, result, wall_time=1.0, label={"point": "test", "branch": "down", "scale_name": "s0",
-                                                        "sample": 0})
+    store.put(key, spec, result, wall_time=1.0,
+              label={"point": "test", "branch": "down", "scale_name": "s0", "sample": 0})
     return key
 
 
@@ -53,14 +53,15 @@ def test_a_stored_run_reruns_bit_for_bit(tmp_path: Path, capsys):
     rebuilt = stored_spec(store.load(find_key(store, key[:8])))
     assert run_key(rebuilt) == key
     out = tmp_path / "rerun.json"
-    assert main(["rerun", str(tmp_path), key[:8], "--json", str(out), "--out", str(tmp_path / "o")]) == 0
+    assert main(["rerun", str(tmp_path), key[:8], "--json", str(out),
+                 "--out", str(tmp_path / "o")]) == 0
     doc = json.loads(out.read_text())
     assert doc["rerun"]["mu_force"] == result.mu_force  # bit for bit
     assert "reproduces the stored mu_force: difference 0" in capsys.readouterr().out
     assert (tmp_path / "o" / "mu.png").is_file() and (tmp_path / "o" / "series.csv").is_file()
     # another formulation, first attempt only: that attempt ran
-    assert main(["rerun", str(tmp_path / "store"), key[:8], "--contact", "surface", "--first-attempt",
-                 "--json", str(out)]) == 0
+    assert main(["rerun", str(tmp_path / "store"), key[:8], "--contact", "surface",
+                 "--first-attempt", "--json", str(out)]) == 0
     doc = json.loads(out.read_text())
     assert doc["contact"] == "surface" and doc["rerun"]["stats"]["attempt"] == "surface"
     # the other volumetric energy: the same small-strain K, so on this 2 um sinusoid the same mu
@@ -84,7 +85,7 @@ def test_inputs_that_cannot_be_rebuilt_are_refused(tmp_path: Path, capsys):
         stored_spec(store.load(k_law))
     comp = load_compound("tread_default")
     changed = dataclasses.replace(comp, hyperelastic=dataclasses.replace(comp.hyperelastic,
-                                                                          C10=0.17574))
+                                                                         C10=0.17574))
     k_comp = put(store, sinusoid_spec(compound=changed), SlidingResult("failed", reason="not run"))
     with pytest.raises(ValueError, match="compound file changed"):
         stored_spec(store.load(k_comp))
@@ -106,13 +107,15 @@ def test_inputs_that_cannot_be_rebuilt_are_refused(tmp_path: Path, capsys):
 FAILING = Path(__file__).parent / "data" / "failing_runs"
 
 
-@pytest.mark.parametrize("prefix,pressure", [("6b9a9635", 7.647690314749106), ("f280d52c", 7.647690314749106)])
+@pytest.mark.parametrize("prefix,pressure", [("6b9a9635", 7.647690314749106),
+                                             ("f280d52c", 7.647690314749106)])
 def test_the_kept_failing_inputs_rebuild_exactly(prefix, pressure):
     """The default scene's failing micro2 runs (issue 14's regression inputs) rebuild from their
     run files: every field equal to the stored canonical image (stored_spec checks it)."""
     store = Store(FAILING)
     spec = stored_spec(store.load(find_key(store, prefix)), compound_dir=FAILING / "compounds")
-    assert spec.pressure == pressure and spec.friction is None and spec.period == pytest.approx(0.04)
+    assert (spec.pressure == pressure and spec.friction is None
+            and spec.period == pytest.approx(0.04))
     # written before the volumetric energy was a choice: rebuilt with what they computed with
     assert spec.compound.hyperelastic.volumetric == "quadratic"
 

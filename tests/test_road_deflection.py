@@ -62,8 +62,8 @@ class _Top:
 
 def _run(elastic):
     top = _Top()
-    res = run_thermal_macro(_spec(1000.0), COMPOUND.thermal, replace(SETTINGS, road_elastic=elastic),
-                            observers=(top,))
+    res = run_thermal_macro(_spec(1000.0), COMPOUND.thermal,
+                            replace(SETTINGS, road_elastic=elastic), observers=(top,))
     assert res.ok, (res.sliding.reason, res.stats)
     return res, top.uz
 

@@ -55,7 +55,7 @@ def test_criterion_admits_full_contact_over_small_slopes_only() -> None:
 @pytest.mark.slow
 @pytest.mark.parametrize("velocity,pressure", [(10.0, 0.4), (1000.0, 1.5)])
 def test_admitted_cases_match_converged_fe_runs_within_two_percent(velocity: float,
-                                                                    pressure: float) -> None:
+                                                                   pressure: float) -> None:
     """The guard of the switch: on admitted cases the closed form and the converged FE run
     (16 elements on the shortest wave, converged window, periodic steady state) agree within
     2 %, across the loss peak of the compound (10 and 1000 mm/s)."""

@@ -18,7 +18,8 @@ M1 = load_compound("m1")
 
 
 def elastic() -> Compound:
-    return Compound(name="m1-elastic", hyperelastic=M1.hyperelastic, prony=None, wlf=None, thermal=None)
+    return Compound(name="m1-elastic", hyperelastic=M1.hyperelastic, prony=None, wlf=None,
+                    thermal=None)
 
 
 def one_term(tau: float = 1.0) -> Compound:
@@ -41,14 +42,15 @@ def test_elastic_frictionless_sinusoid_has_no_friction():
     assert res.contact_fraction > 0.95  # full contact (p = 0.5 > p* = 0.12 MPa)
 
 
-@pytest.mark.parametrize("contact,element", [("mortar", "Q1P0"), ("surface", "Q1P0"), ("mortar", "Q1P0s")])
+@pytest.mark.parametrize("contact,element",
+                         [("mortar", "Q1P0"), ("surface", "Q1P0"), ("mortar", "Q1P0s")])
 def test_viscoelastic_full_contact_sinusoid_closed_form(contact, element):
     """mu = (k h0)^2 Im E*_eff(k v) / (4 p0) within 3 % (force and energy); both within 2 %.
     Mortar and node-to-surface contact (16 elements per wavelength; measured: mortar 0.5 / 0.8 %,
     node-to-surface 2.0 / 1.7 %, node-to-segment 4.5 / 1.7 %; the stabilised element with mortar
     0.06 / 0.2 %)."""
-    out = simulate(load_compound("tread_default"), amplitude=0.002, pressure=0.1, velocity=10.0, contact=contact,
-                   element=element)
+    out = simulate(load_compound("tread_default"), amplitude=0.002, pressure=0.1, velocity=10.0,
+                   contact=contact, element=element)
     res = out["result"]
     assert res.ok, res.reason
     exact = out["mu_exact"]
@@ -158,17 +160,19 @@ def test_velocity_extremes_give_elastic_westergaard(velocity, limit):
     modulus (they differ by a factor 2 here, so the limit is unambiguous)."""
     comp = one_term(tau=1.0)
     lam, h0 = 1.0, 0.01
-    E = effective_modulus(comp, 0.0).real if limit == "long-term" else effective_modulus(comp, 1e12).real
+    E = (effective_modulus(comp, 0.0).real if limit == "long-term"
+         else effective_modulus(comp, 1e12).real)
     p_star = np.pi * E * h0 / lam
     p = 0.5 * p_star  # half of the full-contact pressure: a / lambda = 1/4
     x, h = sinusoid(h0, lam, 256)
-    spec = SlidingSpec(surface_x=x, surface_h=h, period=lam, pressure=p, velocity=velocity, compound=comp,
-                       h_contact=lam / 64, slide_distance=1.0, window_start=0.5)
+    spec = SlidingSpec(surface_x=x, surface_h=h, period=lam, pressure=p, velocity=velocity,
+                       compound=comp, h_contact=lam / 64, slide_distance=1.0, window_start=0.5)
     res = run_sliding(spec)
     assert res.ok, res.reason
     a_exact = lam / np.pi * np.arcsin(np.sqrt(p / p_star))
     frac_exact = 2.0 * a_exact / lam
-    assert abs(res.contact_fraction - frac_exact) < 0.05 * frac_exact, (res.contact_fraction, frac_exact)
+    assert abs(res.contact_fraction - frac_exact) < 0.05 * frac_exact, (res.contact_fraction,
+                                                                        frac_exact)
     # eq. (6.11): the nodal pressures pooled over the window's contact; with slopes of 0.06 the
     # normal and vertical forces agree within 0.2 %, so it is the load over the contact length
     assert abs(res.mean_pressure * res.contact_fraction - p) < 0.01 * p
@@ -209,7 +213,8 @@ def test_periodic_cell_and_structured_failure():
     assert slow.status == "failed" and "wall-time limit" in slow.reason
     assert slow.stats["failure"] == "wall_limit" and slow.stats["fallback_level"] == 0
     bad_limit = run_sliding(spec, wall_limit=-1.0)  # bad input: named in the failure reason
-    assert bad_limit.status == "failed" and "wall_limit" in bad_limit.reason and "-1" in bad_limit.reason
+    assert (bad_limit.status == "failed" and "wall_limit" in bad_limit.reason
+            and "-1" in bad_limit.reason)
 
 
 def test_sawtooth_sharp_orientation_gives_more_friction():
@@ -220,8 +225,9 @@ def test_sawtooth_sharp_orientation_gives_more_friction():
     for orient in ("sharp", "smooth"):
         prof = sawtooth_profile(1.0, 1.0 / 128, wavelength=1.0, height=0.02, orientation=orient,
                                 steep_fraction=0.2)
-        spec = SlidingSpec(surface_x=prof.x, surface_h=prof.h, period=1.0, pressure=0.2, velocity=10.0,
-                           compound=load_compound("tread_default"), h_contact=1.0 / 32, slide_distance=2.0)
+        spec = SlidingSpec(surface_x=prof.x, surface_h=prof.h, period=1.0, pressure=0.2,
+                           velocity=10.0, compound=load_compound("tread_default"),
+                           h_contact=1.0 / 32, slide_distance=2.0)
         res = run_sliding(spec)
         assert res.ok, res.reason
         mus[orient] = res.mu_force
@@ -284,7 +290,7 @@ def test_default_compression_time_starts_sliding_at_the_steady_contact_area():
     assert 0.2 < c_steady < 0.6  # partial contact
     tol = 1.0 / ELEMENTS + 0.05 * c_steady
     assert abs(short.stats["compression_contact_fraction"] - c_steady) < tol
-    assert abs(short.mu_force - steady.mu_force) < 0.03 * steady.mu_force, (short.mu_force,
-                                                                             steady.mu_force)
+    assert abs(short.mu_force - steady.mu_force) < 0.03 * steady.mu_force, \
+        (short.mu_force, steady.mu_force)
     assert slow.stats["compression_contact_fraction"] > 1.3 * c_steady
     assert slow.mu_force > 1.05 * steady.mu_force

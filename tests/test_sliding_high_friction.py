@@ -4,7 +4,8 @@ The m3 block of thesis 8.5.1 (hyperelastic, 0.3 MPa, rounded leading edge), shor
 10 x 3.5 mm, slides 2 mm over a flat rigid road: far enough for full slip, where the friction force
 is F_x = mu F_z exactly (every contact node on the slip cone, t_T = mu p).  At mu = 0.9 the default
 c_T = 0.1 c_N stagnates at the first sliding step (stick/slip cycling); c_T ten times softer
-slides (a finite block tries it first).  c_T is the stick compliance only: in full slip it must not change F_x.
+slides (a finite block tries it first).  c_T is the stick compliance only: in full slip it must
+not change F_x.
 """
 
 from __future__ import annotations
@@ -23,8 +24,9 @@ from rubberfriction.forms.material_files import load_compound
 
 def m3_block(mu: float, **kw):
     comp = dataclasses.replace(load_compound("m3"), prony=None)  # hyperelastic, as thesis 8.5.1
-    return flat_road_spec(comp, pressure=0.3, velocity=10.0, friction=mu, block_length=10.0, block_height=3.5,
-                          slide_distance=2.0, h_contact=0.25, T0=293.15, edge_radius=1.0, **kw)
+    return flat_road_spec(comp, pressure=0.3, velocity=10.0, friction=mu, block_length=10.0,
+                          block_height=3.5, slide_distance=2.0, h_contact=0.25, T0=293.15,
+                          edge_radius=1.0, **kw)
 
 
 def final_mu(res) -> float:
@@ -81,7 +83,8 @@ def test_full_slip_friction_does_not_depend_on_the_tangential_penalty():
     for c_T in (0.1, 0.01):
         run = SlidingRun(m3_block(0.5, tangential_penalty=c_T), block_mesh, sliding_contact)
         # mortar with this c_T only
-        run.attempts = lambda run=run: [a for a in run.__class__.attempts(run) if a.label == "mortar"]
+        run.attempts = lambda run=run: [a for a in run.__class__.attempts(run)
+                                        if a.label == "mortar"]
         res = run.run()
         assert res.ok and res.stats["attempt"] == "mortar", res.reason
         out.append(final_mu(res))

@@ -104,8 +104,9 @@ class ScriptedAttempts(SlidingRun):
 
 def small_spec(**kw) -> SlidingSpec:
     x = np.linspace(0.0, 1.0, 64, endpoint=False)
-    return SlidingSpec(surface_x=x, surface_h=0.01 * np.sin(2 * np.pi * x), period=1.0, pressure=0.1,
-                       velocity=10.0, compound=None, h_contact=0.05, elements_per_wavelength=8, **kw)
+    return SlidingSpec(surface_x=x, surface_h=0.01 * np.sin(2 * np.pi * x), period=1.0,
+                       pressure=0.1, velocity=10.0, compound=None, h_contact=0.05,
+                       elements_per_wavelength=8, **kw)
 
 
 def test_fallback_chain_ends_with_refined_contact_elements():
@@ -130,8 +131,8 @@ def test_frictional_runs_try_a_softer_tangential_penalty_second():
     run = ScriptedAttempts(spec, lambda s, f, k: seen.append(s.tangential_penalty) or False)
     res = run.run()
     h = spec.h_contact
-    assert [entry[:2] for entry in run.log] == [("mortar", 1.0), ("mortar", 1.0), ("nts", 1.0), ("nts", 0.25),
-                                                ("mortar", 1.0), ("nts", 1.0)]
+    assert [entry[:2] for entry in run.log] == [("mortar", 1.0), ("mortar", 1.0), ("nts", 1.0),
+                                                ("nts", 0.25), ("mortar", 1.0), ("nts", 1.0)]
     assert [entry[2] for entry in run.log] == [h] * 4 + [h / MESH_REFINEMENT] * 2
     c_T = spec.tangential_penalty
     assert seen == [c_T, SOFT_TANGENT * c_T, c_T, c_T, c_T, c_T]
@@ -147,7 +148,8 @@ def test_refined_spec_keeps_the_penalty_frequency():
     spec = small_spec(step_length=0.02)
     fine = refined(spec, 2)
     assert fine.h_contact == 0.025 and fine.step_length == 0.01
-    assert fine.elements_per_wavelength * fine.h_contact == spec.elements_per_wavelength * spec.h_contact
+    assert (fine.elements_per_wavelength * fine.h_contact
+            == spec.elements_per_wavelength * spec.h_contact)
     assert refined(spec, 1) is spec
 
 

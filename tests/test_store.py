@@ -17,7 +17,8 @@ import pytest
 
 from rubberfriction.driver.runtime.farm import Executor, Task
 from rubberfriction.driver.sliding.spec import SlidingResult, SlidingSpec
-from rubberfriction.driver.runtime.store import Store, StoreError, canonical, canonical_json, run_key
+from rubberfriction.driver.runtime.store import (Store, StoreError, canonical, canonical_json,
+                                                 run_key)
 from rubberfriction.forms.material_files import load_compound
 
 
@@ -232,7 +233,8 @@ def test_unreadable_run_file_is_reported(tmp_path: Path, spec: SlidingSpec):
         store.load(key)
 
 
-def test_a_failed_result_without_run_statistics_counts_as_an_error(tmp_path: Path, spec: SlidingSpec):
+def test_a_failed_result_without_run_statistics_counts_as_an_error(tmp_path: Path,
+                                                                   spec: SlidingSpec):
     """run_sliding returns exceptions as failed results with empty stats: retried on resume."""
     store = Store(tmp_path / "store")
     t = Task(run_key(spec), spec, {})
@@ -247,7 +249,8 @@ def test_bench_store_comparison_treats_failed_runs_nan_results_as_equal():
     from rubberfriction.driver.bench.multiscale import _same_values
 
     nan = float("nan")
-    assert _same_values({"mu_force": nan, "mean_pressure": 1.5}, {"mu_force": nan, "mean_pressure": 1.5})
+    assert _same_values({"mu_force": nan, "mean_pressure": 1.5},
+                        {"mu_force": nan, "mean_pressure": 1.5})
     assert not _same_values({"mu_force": 0.5}, {"mu_force": nan})
     assert not _same_values({"mu_force": 0.5}, {"mu_force": 0.5 + 1e-15})
     assert not _same_values({"mu_force": 0.5}, {"mu_energy": 0.5})

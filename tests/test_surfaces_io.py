@@ -65,7 +65,8 @@ def test_captif_raw_read_and_embedded_copy(shared_data):
     """The package's gzip copy reads exactly as the original, uncompressed file.  The fixture's
     uncompressed file is the original byte for byte: its sha256 is the original's (recorded from
     ``../shared/data/captif_chipseal_station0.dat``)."""
-    assert sha256(shared_data / CAPTIF) == "ea097ad417d64eeb9dd7db2ad5eb7ed5f1f4410d57a00ea336ae76a7fd88f52a"
+    assert sha256(shared_data / CAPTIF) == \
+        "ea097ad417d64eeb9dd7db2ad5eb7ed5f1f4410d57a00ea336ae76a7fd88f52a"
     raw = load_profile(shared_data / CAPTIF, clean=False)
     assert raw.n == 51067 and int(np.isnan(raw.h).sum()) == 4373
     emb = load_profile(EMBEDDED_STATION0)

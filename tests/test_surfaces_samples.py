@@ -149,6 +149,7 @@ def test_top_fraction_selects_high_regions(captif_meso):
     top = extract_samples(band, 3.0, 10, seed=1, carrier=carrier, top_fraction=0.1)
     low = extract_samples(band, 3.0, 10, seed=1, carrier=-carrier.h, top_fraction=0.1)
     m = top[0].x.size - 1
+
     def c_at(ss):
         return np.array([carrier.h[int(round((s.start - band.x[0]) / band.dx)) + m // 2]
                          for s in ss])

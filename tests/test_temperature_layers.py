@@ -38,7 +38,8 @@ def test_layer_temperatures_and_levels():
     """Depth d in [0, 0.1) -> 330 K, [0.1, 0.3) -> 310 K, below -> background; bounds inside."""
     layers = ((0.1, 330.0), (0.2, 310.0))
     depth = np.array([0.0, 0.05, 0.1, 0.2999, 0.3001, 5.0])
-    assert layer_temperatures(layers, 293.0, depth).tolist() == [330.0, 330.0, 310.0, 310.0, 293.0, 293.0]
+    assert layer_temperatures(layers, 293.0, depth).tolist() == [330.0, 330.0, 310.0, 310.0,
+                                                                 293.0, 293.0]
     assert layer_levels(layers, 1.0) == pytest.approx([0.1, 0.3])
     assert layer_levels(layers, 0.3) == pytest.approx([0.1])  # the top is not a level
     assert layer_levels(layers, 0.05) == []
@@ -73,7 +74,8 @@ def test_thin_layers_on_a_coarse_cell_average_into_its_rows():
     thickness-weighted mean temperature of the layers it spans, so the heat of the partitions is
     kept: over a column of cells, sum (T - T0) dz equals sum (T_i - T0) d_i to round-off."""
     x = np.linspace(0.0, 2.0, 129)[:-1]
-    layers = ((0.0225, T_REF + 40.0), (0.0225, T_REF + 30.0), (0.0225, T_REF + 20.0), (0.0225, T_REF + 10.0))
+    layers = ((0.0225, T_REF + 40.0), (0.0225, T_REF + 30.0), (0.0225, T_REF + 20.0),
+              (0.0225, T_REF + 10.0))
     hc = 0.25
     spec = SlidingSpec(surface_x=x, surface_h=0.02 * np.cos(np.pi * x), period=2.0, pressure=0.1,
                        velocity=10.0, compound=TREAD, h_contact=hc, temperature_layers=layers,
@@ -106,7 +108,8 @@ def test_bad_layers_are_rejected_naming_the_field(layers, compound, message):
     spec = SlidingSpec(surface_x=x, surface_h=0.002 * np.cos(2 * np.pi * x), period=1.0,
                        pressure=0.1, velocity=10.0, compound=compound)
     with pytest.raises(ValueError, match=message):
-        SlidingRun(SlidingSpec(**{**spec.__dict__, "temperature_layers": layers}), block_mesh, sliding_contact)
+        SlidingRun(SlidingSpec(**{**spec.__dict__, "temperature_layers": layers}), block_mesh,
+                   sliding_contact)
 
 
 @pytest.mark.parametrize("velocity", [1.0, 1000.0])
@@ -127,8 +130,9 @@ def test_fe_cells_follow_the_layers():
     """Layer bounds are mesh lines, every cell lies in one layer and carries its temperature."""
     x = np.linspace(0.0, 1.0, 129)[:-1]
     layers = ((0.05, T_REF + 40.0), (0.1, T_REF + 20.0))
-    spec = SlidingSpec(surface_x=x, surface_h=0.002 * np.cos(2 * np.pi * x), period=1.0, pressure=0.1,
-                       velocity=10.0, compound=TREAD, h_contact=1.0 / 16, temperature_layers=layers)
+    spec = SlidingSpec(surface_x=x, surface_h=0.002 * np.cos(2 * np.pi * x), period=1.0,
+                       pressure=0.1, velocity=10.0, compound=TREAD, h_contact=1.0 / 16,
+                       temperature_layers=layers)
     run = SlidingRun(spec, block_mesh, sliding_contact)
     run.build("mortar")  # the 0.05 mm layer is thinner than h_contact: the first row follows it
     z0 = float(np.max(spec.surface_h))
@@ -136,7 +140,8 @@ def test_fe_cells_follow_the_layers():
     zc = run.mesh.geometry.x[gd, 1] - z0
     lo, hi = zc.min(axis=1), zc.max(axis=1)
     T = run.sp.history.T_cell
-    for (a, b), t in (((0.0, 0.05), T_REF + 40.0), ((0.05, 0.15), T_REF + 20.0), ((0.15, 1.0), T_REF)):
+    for (a, b), t in (((0.0, 0.05), T_REF + 40.0), ((0.05, 0.15), T_REF + 20.0),
+                      ((0.15, 1.0), T_REF)):
         inside = (lo >= a - 1e-12) & (hi <= b + 1e-12)
         assert np.all(T[inside] == t)
         assert inside.any()

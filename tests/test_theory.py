@@ -127,7 +127,7 @@ def test_closed_form_matches_background_table() -> None:
     v = 500.0
     mus = []
     for lam, h0, mu_ref, E1_ref, E2_ref in ((5.0, 0.075, 0.008892, 1.5661, 0.9010),
-                                             (0.5, 0.010, 0.005447, 2.9506, 0.3104)):
+                                            (0.5, 0.010, 0.005447, 2.9506, 0.3104)):
         k = 2 * math.pi / lam
         E = SLS.E(k * v)
         assert E.real == pytest.approx(E1_ref, abs=6e-5)
@@ -466,7 +466,7 @@ def test_kh_eq29_normalisation() -> None:
             return w * w * BROAD.E(w).imag * float(excitation_spectrum(DESC, vi, w))
 
         lit = zp / (2 * (2 * math.pi) ** 2 * p0 * vi) * quad(integrand, math.log(w0), math.log(w1),
-                                                               limit=400, epsrel=1e-10)[0]
+                                                             limit=400, epsrel=1e-10)[0]
         layer = 2 * zp / (p0 * DESC.xi_perp**2) * quad(
             lambda lq: math.exp(2 * lq) * BROAD.E(math.exp(lq) * vi).imag
             * float(DESC.psd(math.exp(lq))),
@@ -733,4 +733,5 @@ def test_cli_theory_bad_scene(tmp_path, capsys) -> None:
     scene = tmp_path / "scene.toml"
     scene.write_text("[conditions]\npressures = [-1.0]\nvelocities = [1.0]\n")
     assert main(["theory", str(scene)]) == 2
-    assert "[conditions].pressures = [-1.0]: expected a list of numbers > 0" in capsys.readouterr().err
+    assert ("[conditions].pressures = [-1.0]: expected a list of numbers > 0"
+            in capsys.readouterr().err)

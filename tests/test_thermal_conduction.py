@@ -28,9 +28,9 @@ def _assert_checks(result: dict) -> None:
 
 
 def test_flash_flux_into_a_resting_block():
-    """kappa = 1, h_c = 0, uniform q = 1 mW/mm^2 for 1 s: block surface T0 + 2 q sqrt(t/(pi k rho c))
-    within 1 % at t = 1/4, 1/2, 1 s (measured 0.45 %: implicit Euler, first order in dt); the road
-    stays at T0 (1e-9 K)."""
+    """kappa = 1, h_c = 0, uniform q = 1 mW/mm^2 for 1 s: block surface T0 + 2 q sqrt(t/(pi k rho
+    c)) within 1 % at t = 1/4, 1/2, 1 s (measured 0.45 %: implicit Euler, first order in dt); the
+    road stays at T0 (1e-9 K)."""
     res = heat_cases.flash_flux()
     _assert_checks(res)
     assert len(res["checks"]) == 4
@@ -56,11 +56,12 @@ def test_two_conducting_bodies_heated_at_the_interface():
 
 @pytest.mark.parametrize("kappa", [0.0, 0.3, 1.0])
 def test_heat_bookkeeping_and_kappa_split(kappa):
-    """Adiabatic run (no fixed temperature, road at rest), h_c = 0, a non-uniform power over 20 steps:
-    block heat = kappa W and road heat = (1 - kappa) W, W = sum_steps sum_i P_i dt, within 1e-6
-    (relative to W).  With conductance on part of the interface the total is still W (1e-6)."""
-    geo = HeatGeometry(block_length=2.0, block_height=2.0, road_depth=2.0, road_ahead=0.0, road_behind=0.0,
-                       h_x=0.1, first_layer=0.01)
+    """Adiabatic run (no fixed temperature, road at rest), h_c = 0, a non-uniform power over 20
+    steps: block heat = kappa W and road heat = (1 - kappa) W, W = sum_steps sum_i P_i dt, within
+    1e-6 (relative to W).  With conductance on part of the interface the total is still W
+    (1e-6)."""
+    geo = HeatGeometry(block_length=2.0, block_height=2.0, road_depth=2.0, road_ahead=0.0,
+                       road_behind=0.0, h_x=0.1, first_layer=0.01)
     for h_c in (0.0, 10.0):
         heat = TwoBodyHeat(geo, RUBBER, ROAD, T0=300.0, kappa=kappa, h_c=h_c, top_temperature=None)
         x = heat.interface.x
@@ -90,9 +91,9 @@ def test_moving_band_source_against_jaeger():
 
 
 def test_moving_band_oracle_tends_to_the_one_dimensional_flash_at_high_peclet():
-    """The oracle itself: at Pe = 400 lateral conduction is negligible and a surface point at distance
-    s behind the leading edge has been heated for s/v: dT = 2 q sqrt((s/v)/(pi k rho c)) (1 %).
-    Ahead of the band the surface stays cold (< 1e-3 of the peak)."""
+    """The oracle itself: at Pe = 400 lateral conduction is negligible and a surface point at
+    distance s behind the leading edge has been heated for s/v: dT = 2 q sqrt((s/v)/(pi k rho c))
+    (1 %).  Ahead of the band the surface stays cold (< 1e-3 of the peak)."""
     chi, k, length = ROAD.diffusivity, ROAD.k, 2.0
     v = 2.0 * chi * 400.0 / length
     x = np.array([0.5, 1.0, 1.5])
@@ -109,11 +110,13 @@ def test_transient_moving_road_tends_to_the_steady_state():
     chi = ROAD.diffusivity
     length, pe = 1.0, 5.0
     v = 2.0 * chi * pe / length
-    geo = HeatGeometry(block_length=length, block_height=0.5, road_depth=2.0, road_ahead=1.0, road_behind=3.0,
-                       h_x=0.05, first_layer=0.01)
-    steady = TwoBodyHeat(geo, RUBBER, ROAD, T0=300.0, kappa=0.0, h_c=0.0, road_velocity=-v, top_temperature=300.0)
+    geo = HeatGeometry(block_length=length, block_height=0.5, road_depth=2.0, road_ahead=1.0,
+                       road_behind=3.0, h_x=0.05, first_layer=0.01)
+    steady = TwoBodyHeat(geo, RUBBER, ROAD, T0=300.0, kappa=0.0, h_c=0.0, road_velocity=-v,
+                         top_temperature=300.0)
     steady.steady(steady.interface.weights, True)
-    heat = TwoBodyHeat(geo, RUBBER, ROAD, T0=300.0, kappa=0.0, h_c=0.0, road_velocity=-v, top_temperature=300.0)
+    heat = TwoBodyHeat(geo, RUBBER, ROAD, T0=300.0, kappa=0.0, h_c=0.0, road_velocity=-v,
+                       top_temperature=300.0)
     t_end = 8.0 * (length + geo.road_behind) / v
     for _ in range(200):
         heat.step(t_end / 200, heat.interface.weights, True)
@@ -123,8 +126,8 @@ def test_transient_moving_road_tends_to_the_steady_state():
 
 
 def test_bad_input_names_the_field():
-    geo = HeatGeometry(block_length=1.0, block_height=1.0, road_depth=1.0, road_ahead=0.0, road_behind=0.0,
-                       h_x=0.25)
+    geo = HeatGeometry(block_length=1.0, block_height=1.0, road_depth=1.0, road_ahead=0.0,
+                       road_behind=0.0, h_x=0.25)
     with pytest.raises(InputError, match="kappa"):
         TwoBodyHeat(geo, RUBBER, ROAD, T0=300.0, kappa=1.5)
     with pytest.raises(InputError, match="h_c"):

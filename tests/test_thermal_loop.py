@@ -24,7 +24,8 @@ from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
 from rubberfriction.driver.multiscale.scene import load_scene
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
-from rubberfriction.driver.multiscale.thermal_loop import CascadeRunner, LayeredSpecs, LoopSettings, run_thermal_loop
+from rubberfriction.driver.multiscale.thermal_loop import (CascadeRunner, LayeredSpecs,
+                                                           LoopSettings, run_thermal_loop)
 from rubberfriction.driver.runtime.farm import Executor
 from rubberfriction.driver.runtime.store import Store
 from rubberfriction.driver.sliding.run import sliding_runner
@@ -71,18 +72,22 @@ class Case:
             return inner(spec)
         return run
 
-    def loop(self, velocity: float, settings: LoopSettings, store: str = "store", cascade_cls=CascadeRunner,
-             wall_limit: float = 0.0, warm: bool = True, warm_window: int = 0):
+    def loop(self, velocity: float, settings: LoopSettings, store: str = "store",
+             cascade_cls=CascadeRunner, wall_limit: float = 0.0, warm: bool = True,
+             warm_window: int = 0):
         comp = self.compounds["tread_default"]
         executor = Executor(Store(self.folder / store), self.runner())
-        cascade = cascade_cls("two_scale_thermal", Point("tread_default", 0.3, velocity), self.scales.sets,
-                              SpecBuilder(self.scene, self.compounds), 1, 1, executor,
+        cascade = cascade_cls("two_scale_thermal", Point("tread_default", 0.3, velocity),
+                              self.scales.sets, SpecBuilder(self.scene, self.compounds), 1, 1,
+                              executor,
                               states=executor.store.load_state if warm else None,
                               warm_window=warm_window)
-        spec = flat_road_spec(comp, pressure=0.3, velocity=velocity, friction=0.5, block_length=4.0, block_height=2.0,
-                              slide_distance=8.0, h_contact=0.25, T0=T0)
-        thermal = ThermalSettings(road=load_road("r1").thermal, T0=T0, road_depth=4.0, road_behind=4.0, road_ahead=1.0)
-        return run_thermal_loop(spec, comp.thermal, thermal, settings, cascade, wall_limit=wall_limit)
+        spec = flat_road_spec(comp, pressure=0.3, velocity=velocity, friction=0.5, block_length=4.0,
+                              block_height=2.0, slide_distance=8.0, h_contact=0.25, T0=T0)
+        thermal = ThermalSettings(road=load_road("r1").thermal, T0=T0, road_depth=4.0,
+                                  road_behind=4.0, road_ahead=1.0)
+        return run_thermal_loop(spec, comp.thermal, thermal, settings, cascade,
+                                wall_limit=wall_limit)
 
     def hot(self):
         """Hot-layer mode at 1 m/s (thesis 8.5.3 layers, the default grid), mu_const = 0.6."""
@@ -106,9 +111,9 @@ def case(tmp_path_factory) -> Case:
 
 
 def test_flash_temperature_lowers_mu_at_speed_and_not_when_slow(case: Case):
-    """1 m/s: the rubber surface heats by > 5 K, the lower scales' mu falls by > 3 % (measured 4.7 %)
-    and the total mu lies below the isothermal one; 1 mm/s: heating < 1 K and the loop's mu equals
-    the isothermal mu within 2 % (measured 0.01 %)."""
+    """1 m/s: the rubber surface heats by > 5 K, the lower scales' mu falls by > 3 % (measured
+    4.7 %) and the total mu lies below the isothermal one; 1 mm/s: heating < 1 K and the loop's mu
+    equals the isothermal mu within 2 % (measured 0.01 %)."""
     settings = LoopSettings(divisions=2, mu_const=0.6)
     fast = case.loop(1000.0, settings)
     assert fast.ok, fast.notes
@@ -193,10 +198,13 @@ def test_layered_specs_and_bad_settings(case: Case):
 
     parts = Partitions(((0.01, 310.0), (0.02, 300.0)), 295.0, np.array([0.0, 0.01, 0.03]))
     make = LayeredSpecs(SpecBuilder(case.scene, case.compounds), parts)
-    spec = make(Point("tread_default", 0.3, 1000.0), 1, case.scales.sets[1].samples[0], 1.0, None, "down")
+    spec = make(Point("tread_default", 0.3, 1000.0), 1, case.scales.sets[1].samples[0], 1.0, None,
+                "down")
     assert spec.temperature_layers == parts.layers and spec.temperature == 295.0
-    for kwargs, message in [(dict(divisions=0), "divisions"), (dict(n_partitions=0), "n_partitions"),
-                            (dict(points=(3.0, 2.0)), "increasing"), (dict(mu_const=-0.1), "mu_const"),
+    for kwargs, message in [(dict(divisions=0), "divisions"),
+                            (dict(n_partitions=0), "n_partitions"),
+                            (dict(points=(3.0, 2.0)), "increasing"),
+                            (dict(mu_const=-0.1), "mu_const"),
                             (dict(partition_depth=0.0), "partition_depth")]:
         with pytest.raises(ValueError, match=message):
             LoopSettings(**kwargs)
@@ -233,8 +241,10 @@ def test_coupled_scene_writes_mu_with_and_without_flash_temperature(tmp_path: Pa
     point = folder / "tread_default_p0.3_v1000"
     intervals = list(csv.DictReader(open(point / "intervals.csv")))
     assert [float(r["s"]) for r in intervals] == pytest.approx([4.0, 8.0])
-    assert {"T_partition_1", "T_partition_3", "T_below", "mu_macro", "mu_micro"} <= set(intervals[0])
-    assert float(intervals[-1]["mu_out"]) == pytest.approx(float(rows[0]["mu_flash"]) - 0.6, rel=1e-12)
+    assert ({"T_partition_1", "T_partition_3", "T_below", "mu_macro", "mu_micro"}
+            <= set(intervals[0]))
+    assert float(intervals[-1]["mu_out"]) == pytest.approx(float(rows[0]["mu_flash"]) - 0.6,
+                                                           rel=1e-12)
     for name in ("profiles.csv", "loop.png", "series.csv", "thermal.png"):
         assert (point / name).is_file(), name
     assert (folder / "mu_v.png").is_file()  # mu(v) with and without, beside Persson's flash theory
@@ -245,7 +255,8 @@ def test_coupled_scene_writes_mu_with_and_without_flash_temperature(tmp_path: Pa
     assert len(Store(tmp_path / "out" / "store")) == n
     out = capsys.readouterr().out
     rerun = list(csv.DictReader(open(folder / "loop_results.csv")))
-    assert rerun[0]["reused_runs"] == "9" and rerun[0]["cost_vs_isothermal"] == "nan"  # times of a store
+    # times of a store
+    assert rerun[0]["reused_runs"] == "9" and rerun[0]["cost_vs_isothermal"] == "nan"
     assert rows[0]["reused_runs"] == "0"
     for i in (1, 2, 3):  # the isothermal cascade and one per homogenisation point
         assert f"cascade {i} (1000 mm/s): 3 single-scale runs" in out
@@ -261,13 +272,16 @@ def test_thermal_scene_on_two_ranks_gives_the_serial_result(tmp_path: Path, mode
     import subprocess
     import sys
 
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1")
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMP_NUM_THREADS="1")
     tables = []
     for name, prefix in (("serial", []), ("mpi", ["mpirun", "-n", "2"])):
         path = _coupled_scene(tmp_path / name)
         if mode == "hot-layer":
-            path.write_text(path.read_text().replace('mode = "coupled"', 'mode = "hot-layer"\nhot_layer_rises = [0.0, 20.0]'))
-        done = subprocess.run(prefix + [sys.executable, "-m", "rubberfriction", "run", str(path), "--quiet"],
+            path.write_text(path.read_text().replace(
+                'mode = "coupled"', 'mode = "hot-layer"\nhot_layer_rises = [0.0, 20.0]'))
+        done = subprocess.run(prefix + [sys.executable, "-m", "rubberfriction", "run", str(path),
+                                        "--quiet"],
                               env=env, capture_output=True, text=True, timeout=900)
         assert done.returncode == 0, done.stderr[-3000:]
         lines = (tmp_path / name / "out" / "thermal" / "loop_results.csv").read_text().splitlines()
@@ -281,7 +295,8 @@ def test_thermal_scene_on_two_ranks_gives_the_serial_result(tmp_path: Path, mode
 
 def _coupled_scene(folder: Path) -> Path:
     folder.mkdir(parents=True, exist_ok=True)
-    text = SCENE.replace('name = "two_scale_thermal"', 'name = "loop_scene"\noutput = "' + str(folder / "out") + '"')
+    text = SCENE.replace('name = "two_scale_thermal"',
+                         'name = "loop_scene"\noutput = "' + str(folder / "out") + '"')
     text += textwrap.dedent("""
         [physics]
         thermal = true
@@ -313,8 +328,8 @@ def test_hot_layer_mode_agrees_with_the_coupled_loop(case: Case):
     assert np.all(np.diff(hot.mu_lower) < 0), hot.mu_lower
     assert hot.mu < hot.mu_isothermal
     T_c = hot.macro.series["T_contact"][-1]
-    assert T_c > T0 + 1.0 and hot.mu == pytest.approx(0.6 + np.interp(T_c, hot.temperatures, hot.mu_lower),
-                                                      rel=1e-14)
+    assert T_c > T0 + 1.0 and hot.mu == pytest.approx(
+        0.6 + np.interp(T_c, hot.temperatures, hot.mu_lower), rel=1e-14)
     coupled = case.loop(1000.0, LoopSettings(divisions=2, mu_const=0.6))
     lower_hot, lower_coupled = hot.mu - 0.6, coupled.mu - 0.6
     assert abs(lower_hot - lower_coupled) < 0.05 * lower_coupled, (lower_hot, lower_coupled)
@@ -329,12 +344,14 @@ def test_hot_layer_scene_writes_its_law(tmp_path: Path):
     from rubberfriction.driver.cli.main import main
 
     path = _coupled_scene(tmp_path)
-    path.write_text(path.read_text().replace('mode = "coupled"', 'mode = "hot-layer"\nhot_layer_rises = [0.0, 20.0]'))
+    path.write_text(path.read_text().replace(
+        'mode = "coupled"', 'mode = "hot-layer"\nhot_layer_rises = [0.0, 20.0]'))
     assert main(["run", str(path), "--quiet"]) == 0
     rows = list(csv.DictReader(open(tmp_path / "out" / "thermal" / "loop_results.csv")))
     assert rows[0]["mode"] == "hot-layer" and rows[0]["status"] == "ok"
     assert 0 < 2 * float(rows[0]["wall_isothermal"]) < 1.5 * float(rows[0]["wall"])  # two cascades
-    law = list(csv.DictReader(open(tmp_path / "out" / "thermal" / "tread_default_p0.3_v1000" / "hot_layer.csv")))
+    law = list(csv.DictReader(open(
+        tmp_path / "out" / "thermal" / "tread_default_p0.3_v1000" / "hot_layer.csv")))
     assert [float(r["T_S"]) for r in law] == pytest.approx([T0, T0 + 20.0])
     assert float(law[1]["mu_lower"]) < float(law[0]["mu_lower"])
     assert (tmp_path / "out" / "thermal" / "tread_default_p0.3_v1000" / "hot_layer.png").is_file()
@@ -366,7 +383,8 @@ def test_adhesive_part_follows_each_cascades_contact_area(case: Case):
     on its top scale (eq. 7.6-7.8), A_r the product of that cascade's per-scale contact fractions
     (eq. 7.5): checked for the isothermal cascade and every interval's against the closed form from
     the stored fractions (1e-12), and the loop's final mu carries it (above the same loop without
-    adhesion by at least half of alpha mu_A: the friction branch above adds hysteresis, not less)."""
+    adhesion by at least half of alpha mu_A: the friction branch above adds hysteresis, not
+    less)."""
     law = BellLaw(tau0=0.5, c=0.18, v0=20.0, alpha=0.8)
     settings = LoopSettings(divisions=2, mu_const=0.0)
     plain = case.loop(1000.0, settings)

@@ -22,14 +22,16 @@ COMPOUND = load_compound("tread_default")
 ROAD = load_road("r1").thermal
 _T = np.linspace(273.0, 473.0, 11)
 LAW = fit_mu_pvT([0.0, 10.0], [1e-6, 1e5], _T,
-                 np.broadcast_to(np.clip(0.6 - 0.003 * (_T - T0), 0.1, None), (2, 2, _T.size)).copy(), degree=1)
+                 np.broadcast_to(np.clip(0.6 - 0.003 * (_T - T0), 0.1, None),
+                                 (2, 2, _T.size)).copy(), degree=1)
 SETTINGS = ThermalSettings(road=ROAD, T0=T0, road_depth=4.0, road_behind=4.0, road_ahead=1.0)
 
 
 def _spec(velocity: float, step: float = 0.125) -> SlidingSpec:
-    return SlidingSpec(surface_x=np.array([-40.0, 60.0]), surface_h=np.array([0.0, 0.0]), period=0.0,
-                       pressure=0.3, velocity=velocity, compound=COMPOUND, block_length=4.0, block_height=2.0,
-                       friction=LAW, h_contact=0.25, slide_distance=8.0, step_length=step)
+    return SlidingSpec(surface_x=np.array([-40.0, 60.0]), surface_h=np.array([0.0, 0.0]),
+                       period=0.0, pressure=0.3, velocity=velocity, compound=COMPOUND,
+                       block_length=4.0, block_height=2.0, friction=LAW, h_contact=0.25,
+                       slide_distance=8.0, step_length=step)
 
 
 @pytest.fixture(scope="module")
@@ -49,9 +51,10 @@ def _law_at_profile(res) -> float:
 
 
 def test_coupled_mu_is_the_law_at_the_computed_surface_temperature(fast):
-    """At 1 m/s the contact heats by > 5 K (measured 7.6 K); the steady contact mu (-F_x/F_z of the contact, last
-    step) equals the pressure-weighted law at the computed surface temperatures within 0.5 %
-    (the one-step lag of the staggered scheme included), and lies > 2 % below mu(T0) = 0.6."""
+    """At 1 m/s the contact heats by > 5 K (measured 7.6 K); the steady contact mu (-F_x/F_z of
+    the contact, last step) equals the pressure-weighted law at the computed surface temperatures
+    within 0.5 % (the one-step lag of the staggered scheme included), and lies > 2 % below mu(T0)
+    = 0.6."""
     s = fast.series
     assert s["T_contact"][-1] > T0 + 5.0
     assert abs(s["mu"][-1] - _law_at_profile(fast)) <= 0.005 * _law_at_profile(fast)

@@ -29,7 +29,8 @@ def test_profile_is_the_mean_over_active_columns_with_its_std():
     cols = field(x[active], Z)
     assert prof.n_active == active.sum()
     np.testing.assert_allclose(prof.mean, cols.mean(axis=0), rtol=0, atol=1e-12)
-    np.testing.assert_allclose(prof.std, np.sqrt(((cols - cols.mean(axis=0)) ** 2).mean(axis=0)), atol=1e-12)
+    np.testing.assert_allclose(prof.std, np.sqrt(((cols - cols.mean(axis=0)) ** 2).mean(axis=0)),
+                               atol=1e-12)
     with pytest.raises(ValueError, match="no active contact node"):
         average_profile(Z, T, np.zeros_like(active))
 
@@ -42,7 +43,8 @@ def test_partitions_average_their_bound_values_on_macro_levels():
         part = partition_profile(prof, n_p, depth=0.09)
         assert len(part.layers) == n_p
         assert set(np.round(part.bounds, 12)) <= set(np.round(Z, 12))  # macro levels only
-        assert part.bounds[0] == 0.0 and part.bounds[-1] == pytest.approx(0.0744)  # last level <= 0.09
+        # last level <= 0.09
+        assert part.bounds[0] == 0.0 and part.bounds[-1] == pytest.approx(0.0744)
         top = np.concatenate([[0.0], np.cumsum([d for d, _ in part.layers])])
         for (d, t), a, b in zip(part.layers, top[:-1], top[1:]):
             assert d == pytest.approx(b - a)
@@ -61,8 +63,8 @@ def test_block_grid_of_the_heat_model_reads_the_nodal_field():
     from rubberfriction.driver.thermal.conduction import HeatGeometry, TwoBodyHeat
     from rubberfriction.forms.material_files import load_compound, load_road
 
-    geo = HeatGeometry(block_length=4.0, block_height=2.0, road_depth=2.0, road_ahead=1.0, road_behind=1.0,
-                       h_x=0.5, first_layer=0.05)
+    geo = HeatGeometry(block_length=4.0, block_height=2.0, road_depth=2.0, road_ahead=1.0,
+                       road_behind=1.0, h_x=0.5, first_layer=0.05)
     heat = TwoBodyHeat(geo, load_compound("m3").thermal, load_road("r1").thermal, T0=293.15)
     X = heat.X
     heat.T.x.array[:] = 300.0 + X[:, 0] + 10.0 * X[:, 1] ** 2

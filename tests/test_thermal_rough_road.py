@@ -53,7 +53,8 @@ def test_macro_road_is_the_first_band_of_the_surface():
     x, h = np.asarray(spec.surface_x), np.asarray(spec.surface_h)
     span = 2.0 + 4.0
     np.testing.assert_allclose(h, 0.05 * np.sin(2 * np.pi * (x + span + 0.3) / 2.0), atol=1e-12)
-    assert x[0] == pytest.approx(-span) and x[-1] >= 2 * span - 1e-9 and np.diff(x).max() <= 0.125 + 1e-12
+    assert (x[0] == pytest.approx(-span) and x[-1] >= 2 * span - 1e-9
+            and np.diff(x).max() <= 0.125 + 1e-12)
     assert settings.road_elastic is None
     _, _, (_, elastic) = _inputs(SCENE + 'road_mechanics = "elastic"\n')
     assert (elastic.road_elastic.E, elastic.road_elastic.nu) == (40000.0, 0.15)
@@ -76,7 +77,8 @@ def test_macro_road_of_the_default_road_is_its_macro_band():
 
 
 def test_rough_macro_road_needs_a_given_mu():
-    """A coupled thermal loop already holds the macro band in its cascade: refused, naming the key."""
+    """A coupled thermal loop already holds the macro band in its cascade: refused, naming the
+    key."""
     text = SCENE.replace("mu = 0.3\n", 'mode = "coupled"\n')
     with pytest.raises(SceneError, match="road_surface = 'macro'"):
         parse_scene(text, "rough.toml", Path("."))
@@ -95,7 +97,8 @@ def test_block_on_the_rough_road_heats_and_keeps_the_heat_balance():
     contact = np.asarray(res.sliding.series["contact_length"]) / 4.0
     assert contact[-1] < 0.6
     np.testing.assert_allclose(s["friction_energy"], s["contact_dissipation"], rtol=1e-10)
-    np.testing.assert_allclose(s["heat_block"][-1] + s["heat_road"][-1], s["friction_energy"][-1], rtol=1e-5)
+    np.testing.assert_allclose(s["heat_block"][-1] + s["heat_road"][-1], s["friction_energy"][-1],
+                               rtol=1e-5)
     assert s["T_contact"][-1] > T0 + 1.0
     assert np.mean(s["mu"][len(s["mu"]) // 2:]) > 1.02 * 0.3
     assert np.all(s["road_sink"] < 0.0)

@@ -25,8 +25,9 @@ velocities = [1000.0]
 thermal = true
 [thermal]
 """
-SMALL = ("mu = 0.5\nblock_length = 4.0\nblock_height = 2.0\nslide_distance = 4.0\nroad_depth = 3.0\n"
-         "road_ahead = 1.0\nroad_behind = 3.0\nprobes_x = [2.0]\nprobes_z = [-0.05]\n")
+SMALL = ("mu = 0.5\nblock_length = 4.0\nblock_height = 2.0\nslide_distance = 4.0\n"
+         "road_depth = 3.0\nroad_ahead = 1.0\nroad_behind = 3.0\nprobes_x = [2.0]\n"
+         "probes_z = [-0.05]\n")
 
 
 def _parse(extra: str, base: Path = Path(".")):
@@ -39,7 +40,8 @@ def _parse(extra: str, base: Path = Path(".")):
     ("mu = 0.5\npauses = [10.0]\n", r"\[thermal\]\.pauses.*a pause without a slide"),
     ("mu = 0.5\nslides = 3\npauses = [10.0]\n", r"slides without pauses"),
     ("mu = 0.5\nslides = 2\npauses = [-1.0]\n", r"\[thermal\]\.pauses"),
-    ("mu = 0.5\nedge_radius = 0.3\n", r"\[thermal\]\.edge_radius = 0.3 mm: expected 0 \(square\) or a whole"),
+    ("mu = 0.5\nedge_radius = 0.3\n",
+     r"\[thermal\]\.edge_radius = 0.3 mm: expected 0 \(square\) or a whole"),
     ("mu = 0.5\nedge_radius = 0.5\n", r"at least 3 of them"),
     ("mu = 0.5\nmu_curve_T = [300.0, 400.0]\nmu_curve_mu = [0.5, 0.4]\n", r"exactly one of mu"),
     ("", r"exactly one of mu"),
@@ -88,8 +90,8 @@ def test_mu_curve_becomes_a_law_linear_in_temperature():
     scene = _parse("mu_curve_T = [300.0, 400.0, 500.0]\nmu_curve_mu = [0.9, 0.5, 0.4]\n")
     law = friction_of(scene)
     T = np.array([250.0, 300.0, 350.0, 450.0, 600.0])
-    np.testing.assert_allclose(law(np.full(5, 0.3), np.full(5, 100.0), T), [0.9, 0.9, 0.7, 0.45, 0.4],
-                               atol=1e-12)
+    np.testing.assert_allclose(law(np.full(5, 0.3), np.full(5, 100.0), T),
+                               [0.9, 0.9, 0.7, 0.45, 0.4], atol=1e-12)
 
 
 def test_shipped_thermal_scene_loads():
@@ -103,16 +105,18 @@ def test_default_road_flash_scenes_differ_only_where_they_say():
     and branch (thesis 8.5.3), twice the slide periods and wall clock per run, and the thermal
     tables; the two differ only in the thermal mode."""
     # captif_stress: the default scene up to 0.16.0 (four scales of the default road, three speeds)
-    default, coupled, hot = (load_scene(n) for n in ("captif_stress", "thermal_road", "thermal_road_hot_layer"))
+    default, coupled, hot = (load_scene(n)
+                             for n in ("captif_stress", "thermal_road", "thermal_road_hot_layer"))
     assert coupled.surface.edges == default.surface.edges[:-1] == (20.0, 3.0, 0.3, 0.04)
-    assert (coupled.surface.source, coupled.surface.seed) == (default.surface.source, default.surface.seed)
+    assert ((coupled.surface.source, coupled.surface.seed)
+            == (default.surface.source, default.surface.seed))
     assert coupled.conditions == default.conditions
     assert (coupled.samples.pressure, coupled.samples.friction) == (1, 1)
     assert coupled.numerics.max_slide_periods == 2 * default.numerics.max_slide_periods
     assert coupled.numerics.run_timeout == 2 * default.numerics.run_timeout
     assert dataclasses.replace(coupled.numerics, scales=default.numerics.scales,
-                              max_slide_periods=default.numerics.max_slide_periods,
-                              run_timeout=default.numerics.run_timeout) == default.numerics
+                               max_slide_periods=default.numerics.max_slide_periods,
+                               run_timeout=default.numerics.run_timeout) == default.numerics
     assert coupled.thermal.mode == "coupled" and hot.thermal.mode == "hot-layer"
     assert (coupled.thermal.kappa, coupled.thermal.h_c, coupled.thermal.mu_const) == (0.8, 1.6, 0.0)
     assert dataclasses.replace(hot.thermal, mode="coupled") == coupled.thermal
@@ -128,8 +132,9 @@ def test_missing_thermal_data_of_the_compound_or_road(tmp_path):
     with pytest.raises(SceneError, match=r"compound 'c1' has no \[thermal\]"):
         run_thermal_scene(no_thermal.with_output(tmp_path), quiet=True)
     road = tmp_path / "bare_road.toml"
-    road.write_text('kind = "road"\nname = "bare"\nsource = "test"\n[units]\nlength = "mm"\ntime = "s"\n'
-                    'mass = "t"\nforce = "N"\nstress = "MPa"\nenergy = "mJ"\ntemperature = "degC"\n'
+    road.write_text('kind = "road"\nname = "bare"\nsource = "test"\n[units]\nlength = "mm"\n'
+                    'time = "s"\nmass = "t"\nforce = "N"\nstress = "MPa"\nenergy = "mJ"\n'
+                    'temperature = "degC"\n'
                     '[elastic]\nE = 1000.0\nnu = 0.2\n')
     bare = _parse(SMALL + f'road = "{road}"\n').with_output(tmp_path)
     with pytest.raises(SceneError, match=r"\[thermal\]\.road"):
@@ -146,7 +151,8 @@ def test_small_thermal_scene_end_to_end(tmp_path):
     scene = tmp_path / "hot.toml"
     scene.write_text(BASE + SMALL)
     out = tmp_path / "out"
-    proc = subprocess.run([sys.executable, "-m", "rubberfriction", "run", str(scene), "--out", str(out)],
+    proc = subprocess.run([sys.executable, "-m", "rubberfriction", "run", str(scene),
+                           "--out", str(out)],
                           capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert "[thermal] run 1/1" in proc.stdout
@@ -165,10 +171,12 @@ def test_small_thermal_scene_end_to_end(tmp_path):
     np.testing.assert_allclose(series["heat_block"][early] + series["heat_road"][early],
                                series["friction_energy"][early], rtol=1e-5)
     assert series["probe_0"][-1] > T0 + 0.1
-    for name in ("interface.csv", "temperature.xdmf", "temperature.h5", "thermal.png", "surface_history.png"):
+    for name in ("interface.csv", "temperature.xdmf", "temperature.h5", "thermal.png",
+                 "surface_history.png"):
         assert (run / name).is_file(), name
     # the surface history's last row is the final interface profile (1e-7 K: printed digits)
-    hist = np.genfromtxt(run / "surface_history.csv", delimiter=",", names=True, dtype=None, encoding=None)
+    hist = np.genfromtxt(run / "surface_history.csv", delimiter=",", names=True, dtype=None,
+                         encoding=None)
     itf = np.genfromtxt(run / "interface.csv", delimiter=",", names=True)
     last = (hist["s"] == hist["s"].max()) & (hist["body"] == "block")
     np.testing.assert_allclose(hist["x"][last], itf["x"], atol=1e-7)
@@ -182,14 +190,16 @@ def test_thermal_runs_farmed_over_two_ranks_give_the_serial_table(tmp_path):
     but for the wall times (two velocities, one per rank)."""
     import os
 
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1")
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMP_NUM_THREADS="1")
     scene = tmp_path / "hot.toml"
-    scene.write_text((BASE + SMALL).replace("velocities = [1000.0]", "velocities = [500.0, 1000.0]"))
+    scene.write_text((BASE + SMALL).replace("velocities = [1000.0]",
+                                            "velocities = [500.0, 1000.0]"))
     tables = []
     for name, prefix in (("serial", []), ("mpi", ["mpirun", "-n", "2"])):
-        proc = subprocess.run(prefix + [sys.executable, "-m", "rubberfriction", "run", str(scene), "--out",
-                                        str(tmp_path / name), "--quiet"], env=env, capture_output=True, text=True,
-                              timeout=900)
+        proc = subprocess.run(prefix + [sys.executable, "-m", "rubberfriction", "run", str(scene),
+                                        "--out", str(tmp_path / name), "--quiet"],
+                              env=env, capture_output=True, text=True, timeout=900)
         assert proc.returncode == 0, proc.stdout + proc.stderr
         rows = list(csv.DictReader(open(tmp_path / name / "thermal" / "thermal_results.csv")))
         for r in rows:
