@@ -26,6 +26,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "rubberfriction.driver.cli.theory",
     "rubberfriction.driver.cli.adhesion",
     "rubberfriction.driver.cli.bench",
+    "rubberfriction.driver.cli.scene",
 )
 
 

@@ -66,6 +66,7 @@ class Key:
     above: float | None = None  # value > above
     maximum: float | None = None  # value <= maximum
     nonempty: bool = False
+    unit: str = ""  # of a number or its list elements, "1": dimensionless (from UNITS below)
 
 
 SCHEMA: dict[str, dict[str, Key]] = {
@@ -383,6 +384,52 @@ SCHEMA: dict[str, dict[str, Key]] = {
                          minimum=0.0),
     },
 }
+
+#: Units of the real-valued keys, "[section].key" -> unit ("1": dimensionless); every key of kind
+#: float, floats, opt_float or cutoff has one (tests/test_docs_reference.py), and they go into
+#: the keys' ``unit`` here, so ``docs/scene-reference.md`` (generated from SCHEMA) shows them.
+UNITS: dict[str, str] = {
+    "[surface].cutoff": "mm", "[surface].max_slope": "1", "[surface].edges": "mm",
+    "[surface].block_lengths": "mm", "[surface].top_fraction": "1", "[surface].amplitudes": "mm",
+    "[surface].wavelengths": "mm",
+    "[samples].max_failed_fraction": "1",
+    "[conditions].pressures": "MPa", "[conditions].velocities": "mm/s",
+    "[conditions].T0": "K or degC (T0_unit)",
+    "[adhesion].tau0": "MPa", "[adhesion].c": "decades of v", "[adhesion].v0": "mm/s",
+    "[adhesion].alpha": "1",
+    "[numerics].grading": "1", "[numerics].convergence_tol": "1",
+    "[numerics].max_slide_periods": "block lengths",
+    "[numerics].pressure_slide_periods": "block lengths",
+    "[numerics].slide_periods": "block lengths", "[numerics].window_start": "1",
+    "[numerics].step_per_element": "contact elements", "[numerics].stabilisation": "1",
+    "[numerics].min_jacobian": "1", "[numerics].penalty_alpha": "1",
+    "[numerics].tangential_penalty": "1", "[numerics].run_timeout": "s",
+    "[thermal].mu": "1", "[thermal].mu_curve_T": "K", "[thermal].mu_curve_mu": "1",
+    "[thermal].kappa": "1", "[thermal].h_c": "mW/(mm^2 K)", "[thermal].block_length": "mm",
+    "[thermal].block_height": "mm", "[thermal].edge_radius": "mm",
+    "[thermal].slide_distance": "mm", "[thermal].h_contact": "mm",
+    "[thermal].step_per_element": "h_contact", "[thermal].road_depth": "mm",
+    "[thermal].road_start": "mm", "[thermal].road_ahead": "mm", "[thermal].road_behind": "mm",
+    "[thermal].first_layer": "mm", "[thermal].grading": "1", "[thermal].probes_x": "mm",
+    "[thermal].probes_z": "mm", "[thermal].pauses": "s", "[thermal].points": "mm",
+    "[thermal].auto_dT": "K", "[thermal].partition_depth": "mm", "[thermal].mu_const": "1",
+    "[thermal].hot_layer_rises": "K", "[thermal].hot_layer": "mm",
+    "[thermal].hot_transition": "mm",
+    "[separated].pressures": "MPa", "[separated].pressure_factors": "1",
+    "[separated].velocities": "mm/s", "[separated].velocity_factors": "1",
+    "[separated].micro_window_start": "1", "[separated].micro_slide_periods": "block lengths",
+    "[separated].smoothing": "1",
+}
+
+
+def _attach_units() -> None:
+    """Write :data:`UNITS` into the keys of :data:`SCHEMA` (a unit of no key fails here)."""
+    for where, unit in UNITS.items():
+        section, name = where[1:].split("].")
+        SCHEMA[section][name] = replace(SCHEMA[section][name], unit=unit)
+
+
+_attach_units()
 
 SECTIONS = tuple(k for k in SCHEMA if k)
 
