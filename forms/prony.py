@@ -28,7 +28,7 @@ from typing import Any, Sequence
 import numpy as np
 from scipy.optimize import linprog, nnls
 
-from rubberfriction.forms.compound import PronySeries
+from rubberfriction.forms.compound import ZERO_CELSIUS, Compound, PronySeries
 
 FREQ_UNITS = {"Hz": 2.0 * math.pi, "rad/s": 1.0}
 MODULUS_UNITS = {"Pa": 1e-6, "kPa": 1e-3, "MPa": 1.0, "GPa": 1e3}
@@ -290,6 +290,23 @@ def fit_prony(omega: Any, E_storage: Any, E_loss: Any, n_terms: int | None = Non
                     rel_error_storage=ErrorStats.of(series.storage(w, E_inf_value), E1),
                     rel_error_loss=ErrorStats.of(series.loss(w, E_inf_value), E2),
                     n_data=int(w.size), E_inf_fitted=E_inf is None)
+
+
+def series_at_reference(fit: PronyFit, base: Compound, T: float | None = None
+                        ) -> tuple[PronySeries, str]:
+    """The fitted series (zero terms pruned) as a compound based on ``base`` uses it: relaxation
+    times at base's WLF reference temperature, tau_ref = tau(T) / a(T) (eq. 3.37) for a master
+    curve measured at ``T`` (K; None: already at T_ref, not shifted).  Returns the series and a
+    one-line note of the shift ("" when none was asked for)."""
+    series = fit.series.pruned()
+    if T is None:
+        return series, ""
+    T_C = T - ZERO_CELSIUS
+    if base.wlf is None:
+        return series, f"data temperature {T_C:g} degC: {base.name} has no WLF, not shifted"
+    aT = float(base.wlf.aT(T))
+    note = f"tau shifted from {T_C:g} degC to T_ref by 1/a(T) = {1 / aT:.6g} (eq. 3.37)"
+    return series.shifted(1.0 / aT), note
 
 
 def _given_E_inf(E_inf: Any) -> float:

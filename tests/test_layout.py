@@ -10,6 +10,10 @@ Command line and benchmarks on top, physics at the bottom; dependencies point on
 Nothing imports ``cli``; only ``cli`` imports ``bench``; production code never imports
 ``verification``; ``forms`` and ``meshes`` import nothing from ``driver``.  Function-local
 imports count like module-level ones.
+
+The Python API ``rubberfriction.api`` sits beside ``cli`` on top (a facade: it may import every
+layer but ``cli`` and ``bench``); the package's ``__init__`` imports it only lazily, inside its
+PEP 562 ``__getattr__`` (the one import of a higher layer the root may make).
 """
 
 from __future__ import annotations
@@ -45,6 +49,9 @@ ALLOWED: dict[str, set[str]] = {
     "cli": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces", "theory",
             "adhesion", "scenes", "multiscale", "verification", "bench"},
 }
+ALLOWED["api"] = ALLOWED["cli"] - {"bench"}
+#: module -> layers it may import besides ALLOWED (lazily: the package exposes the API, PEP 562)
+FACADE: dict[str, set[str]] = {"rubberfriction": {"api"}}
 
 
 def layer_of(module: str) -> str | None:
@@ -54,6 +61,8 @@ def layer_of(module: str) -> str | None:
         return None
     if module in ("rubberfriction.__main__", "rubberfriction.driver"):
         return "cli" if parts[1] == "__main__" else "root"  # the command; an empty package
+    if len(parts) > 1 and parts[1] == "api":
+        return "api"
     if len(parts) == 1 or parts[1] in ("validation", "_contact"):
         return "root"
     if parts[1] in ("forms", "meshes"):
@@ -93,7 +102,7 @@ def imported_modules(module: str, path: Path) -> list[tuple[int, str]]:
 
 def test_the_rule_covers_every_driver_folder() -> None:
     folders = {p.name for p in (ROOT / "driver").iterdir() if (p / "__init__.py").is_file()}
-    assert folders == set(ALLOWED) - {"root", "forms", "meshes"}
+    assert folders == set(ALLOWED) - {"root", "forms", "meshes", "api"}
 
 
 @pytest.mark.parametrize("module,path", modules(), ids=[m for m, _ in modules()])
@@ -102,7 +111,8 @@ def test_imports_follow_the_dependency_rule(module: str, path: Path) -> None:
     bad = []
     for line, name in imported_modules(module, path):
         target = layer_of(name)
-        if target is None or target == own or target in ALLOWED[own]:
+        if target is None or target == own or target in ALLOWED[own] \
+                or target in FACADE.get(module, set()):
             continue
         bad.append(f"{path.relative_to(ROOT)}:{line}: {own} imports {name} ({target})")
     assert not bad, "\n".join(bad)
@@ -115,3 +125,13 @@ def test_the_checker_sees_a_violation(tmp_path: Path) -> None:
     names = [m for _, m in imported_modules("rubberfriction.driver.fe.x", bad)]
     assert "rubberfriction.driver.cli" in names and layer_of(names[0]) == "cli"
     assert "cli" not in ALLOWED["fe"]
+
+
+def test_the_api_is_a_facade_beside_cli() -> None:
+    """The API module is its own layer: it may not import cli or bench, nothing but the
+    package's __init__ (lazily) may import it, and that __init__ does import it."""
+    assert layer_of("rubberfriction.api") == "api"
+    assert not {"cli", "bench"} & ALLOWED["api"]
+    assert all("api" not in allowed for allowed in ALLOWED.values())
+    init = ROOT / "src" / "rubberfriction" / "__init__.py"
+    assert ("rubberfriction.api" in [m for _, m in imported_modules("rubberfriction", init)])

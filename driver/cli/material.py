@@ -169,14 +169,12 @@ def run_fit(args: argparse.Namespace) -> int:
 
 
 def _shifted_series(fit, base: M.Compound, T_C: float | None) -> tuple[M.PronySeries, str]:
-    series = fit.series.pruned()
-    if T_C is None:
-        return series, ""
-    if base.wlf is None:
-        return series, f"# data temperature {T_C:g} degC: {base.name} has no WLF, not shifted\n"
-    aT = float(base.wlf.aT(T_C + M.ZERO_CELSIUS))
-    note = f"# tau shifted from {T_C:g} degC to T_ref by 1/a(T) = {1 / aT:.6g} (eq. 3.37)\n"
-    return series.shifted(1.0 / aT), note
+    """The series at base's T_ref (``prony.series_at_reference``) and its note as a comment."""
+    from rubberfriction.forms.prony import series_at_reference
+
+    T = None if T_C is None else T_C + M.ZERO_CELSIUS
+    series, note = series_at_reference(fit, base, T)
+    return series, f"# {note}\n" if note else ""
 
 
 def write_compound_toml(args: argparse.Namespace, fit, base: M.Compound) -> Path:

@@ -33,7 +33,6 @@ from rubberfriction.driver.multiscale.scene import (
     load_scene,
     schema_text,
     shipped_scenes,
-    surface_scale_names,
 )
 
 
@@ -99,28 +98,6 @@ def _error(msg: str) -> int:
     return 2
 
 
-def _plan(scene: Scene) -> str:
-    from rubberfriction.driver.multiscale.campaign import points, runs_per_point
-
-    n = scene.n_scales
-    pts = points(scene)
-    per, how = runs_per_point(scene)
-    extra = ""
-    if scene.adhesion_fit is not None:
-        j = scene.samples.friction
-        extra = (f"  [adhesion] fit_from: then {len(pts)} x j={j} = {len(pts) * j} macro friction "
-                 "runs per alpha (alpha = 1 and each fitted alpha in (0, 1); lower scales "
-                 "reused)\n")
-    per_scale = dict(scene.numerics.scales)
-    scales = ", ".join(nm + (" (" + ", ".join(f"{k} = {v!r}" for k, v in per_scale[nm]) + ")"
-                             if nm in per_scale else "")
-                       for nm in surface_scale_names(scene.surface))
-    return (f"scene {scene.name!r} ({scene.variant}, {n} scales) from {scene.source}\n"
-            f"  scales: {scales}\n"
-            f"  {len(pts)} point(s) x {per} runs ({how}) = {len(pts) * per} single-scale runs\n"
-            + extra + f"  output: {scene.output}")
-
-
 def _run(args: argparse.Namespace) -> int:
     if args.schema:
         print(schema_text(), end="")
@@ -144,20 +121,17 @@ def _run(args: argparse.Namespace) -> int:
     if _rank() == 0:
         for w in scene.warnings:
             print(f"rubberfriction: warning: {w}", file=sys.stderr)
-    from rubberfriction.driver.multiscale.campaign import check_scene, run_scene
-    from rubberfriction.driver.multiscale.scales import surface_lines
+    from rubberfriction.driver.multiscale.campaign import check_summary, run_scene
 
     if scene.physics.thermal:
         return _run_thermal(scene, args)
     if args.check:
         try:  # every compound and surface file the scene names is read, samples are cut
-            scales = check_scene(scene)
+            summary = check_summary(scene)
         except SceneError as err:
             return _error(str(err))
         if _rank() == 0:
-            print(_plan(scene))
-            for line in surface_lines(scene, scales):
-                print(line)
+            print(summary)
         return 0
 
     try:

@@ -35,8 +35,8 @@ from rubberfriction.driver.multiscale.report import (
     write_report,
 )
 from rubberfriction.driver.multiscale.results import Point, PointResult
-from rubberfriction.driver.multiscale.scales import Scales, build_scales
-from rubberfriction.driver.multiscale.scene import Scene, SceneError
+from rubberfriction.driver.multiscale.scales import Scales, build_scales, surface_lines
+from rubberfriction.driver.multiscale.scene import Scene, SceneError, surface_scale_names
 from rubberfriction.driver.multiscale.separated import SeparatedTwoScale
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
 from rubberfriction.driver.multiscale.statistics import (
@@ -91,6 +91,36 @@ def check_scene(scene: Scene) -> Scales:
     field).  Returns the scales."""
     load_compounds(scene)
     return build_scales(scene, max(scene.samples.pressure, scene.samples.friction))
+
+
+def plan_text(scene: Scene) -> str:
+    """The plan of a scene as ``run --check`` prints it: variant, scales (with their
+    ``[numerics.<scale>]`` changes), points x runs per point = single-scale runs, output."""
+    n = scene.n_scales
+    pts = points(scene)
+    per, how = runs_per_point(scene)
+    extra = ""
+    if scene.adhesion_fit is not None:
+        j = scene.samples.friction
+        extra = (f"  [adhesion] fit_from: then {len(pts)} x j={j} = {len(pts) * j} macro friction "
+                 "runs per alpha (alpha = 1 and each fitted alpha in (0, 1); lower scales "
+                 "reused)\n")
+    per_scale = dict(scene.numerics.scales)
+    scales = ", ".join(nm + (" (" + ", ".join(f"{k} = {v!r}" for k, v in per_scale[nm]) + ")"
+                             if nm in per_scale else "")
+                       for nm in surface_scale_names(scene.surface))
+    return (f"scene {scene.name!r} ({scene.variant}, {n} scales) from {scene.source}\n"
+            f"  scales: {scales}\n"
+            f"  {len(pts)} point(s) x {per} runs ({how}) = {len(pts) * per} single-scale runs\n"
+            + extra + f"  output: {scene.output}")
+
+
+def check_summary(scene: Scene) -> str:
+    """What ``run --check`` prints for a (non-thermal) scene: :func:`check_scene` (reads every
+    compound and surface file, cuts the samples; a SceneError names a bad one), then the plan
+    (:func:`plan_text`) and the resolution lines of the samples (``scales.surface_lines``)."""
+    scales = check_scene(scene)
+    return "\n".join([plan_text(scene), *surface_lines(scene, scales)])
 
 
 def make_planner(scene: Scene, scales: Scales, make_spec: Callable[..., Any],
