@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import math
+import os
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -38,7 +39,8 @@ from rubberfriction.driver.multiscale.results import Point, PointResult
 from rubberfriction.driver.multiscale.scales import Scales, build_scales, surface_lines
 from rubberfriction.driver.multiscale.scene import Scene, SceneError, surface_scale_names
 from rubberfriction.driver.multiscale.separated import SeparatedTwoScale
-from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
+from rubberfriction.driver.multiscale.estimate import estimate_wall_time
+from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds, points
 from rubberfriction.driver.multiscale.statistics import (
     sample_count_study,
     usable,
@@ -58,11 +60,6 @@ from rubberfriction.driver.sliding.run import sliding_runner
 from rubberfriction.driver.surfaces.multiscale import scale_names
 from rubberfriction.driver.theory.adhesion import BellLaw
 from rubberfriction.validation import InputError
-
-
-def points(scene: Scene) -> list[Point]:
-    c = scene.conditions
-    return [Point(name, p, v) for name in c.compounds for p in c.pressures for v in c.velocities]
 
 
 def runs_per_point(scene: Scene) -> tuple[int, str]:
@@ -118,9 +115,17 @@ def plan_text(scene: Scene) -> str:
 def check_summary(scene: Scene) -> str:
     """What ``run --check`` prints for a (non-thermal) scene: :func:`check_scene` (reads every
     compound and surface file, cuts the samples; a SceneError names a bad one), then the plan
-    (:func:`plan_text`) and the resolution lines of the samples (``scales.surface_lines``)."""
+    (:func:`plan_text`), the resolution lines of the samples (``scales.surface_lines``) and, for
+    a rough-surface scene, the estimated wall time on 1 rank and on one rank per core
+    (:mod:`.estimate`, from stored runs of the scene's output folder where there are any)."""
     scales = check_scene(scene)
-    return "\n".join([plan_text(scene), *surface_lines(scene, scales)])
+    lines = [plan_text(scene), *surface_lines(scene, scales)]
+    if scene.variant == "rough":
+        folder = scene.output / "store"
+        store = Store(folder) if folder.is_dir() else None
+        ranks = sorted({1, os.cpu_count() or 1})
+        lines += ["  " + estimate_wall_time(scene, scales, r, store).line() for r in ranks]
+    return "\n".join(lines)
 
 
 def make_planner(scene: Scene, scales: Scales, make_spec: Callable[..., Any],

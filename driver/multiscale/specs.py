@@ -45,6 +45,12 @@ def refined_master(x: np.ndarray, h: np.ndarray, period: float, lam_min: float,
     return x[0] + np.arange(n * factor) * (dx / factor), refine_periodic(h, factor)
 
 
+def points(scene: Scene) -> list[Point]:
+    """The (compound, p, v) points of a scene, in the order campaigns run and report them."""
+    c = scene.conditions
+    return [Point(name, p, v) for name in c.compounds for p in c.pressures for v in c.velocities]
+
+
 class SpecBuilder:
     """SlidingSpec of one run from the scene's settings (the ``make_spec`` of the planners)."""
 
