@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from rubberfriction.driver.theory.errors import TheoryInputError
+from rubberfriction.forms.compound import prony_complex_modulus
 
 #: Frequencies (rad/s) at which a modulus callable is checked when a Rubber is built.
 PROBE_OMEGA = np.logspace(-8.0, 14.0, 45)
@@ -133,12 +134,7 @@ def prony_modulus(E_inf: float, E_i: np.ndarray,
         raise TheoryInputError("Prony series needs E_inf > 0, E_i >= 0, tau_i > 0")
 
     def modulus(omega: np.ndarray) -> np.ndarray:
-        w = np.asarray(omega, dtype=float)
-        x = w.reshape(-1, 1) * tau_i                   # omega tau_i, real arithmetic is faster
-        d = 1.0 / (1.0 + x * x)
-        loss = (x * d) @ E_i
-        storage = E_inf + (x * x * d) @ E_i
-        return (storage + 1j * loss).reshape(w.shape)
+        return prony_complex_modulus(omega, E_inf, E_i, tau_i)
 
     return modulus
 
@@ -168,8 +164,8 @@ def rubber_from_compound(compound: Any, T_ref: float | None = None) -> Rubber:
 
     prony = getattr(compound, "prony", None)
     if prony is not None and hasattr(prony, "moduli") and hasattr(compound, "E_inf"):
-        # the compound's eq. (3.34) with its own E_inf, E_k, tau_k, in real arithmetic (faster
-        # than the complex evaluation; equality is tested)
+        # the compound's eq. (3.34) with its own E_inf, E_k, tau_k, checked once here rather
+        # than on every call of compound.complex_modulus
         E_inf = float(compound.E_inf)
         modulus = prony_modulus(E_inf, np.asarray(prony.moduli(E_inf), dtype=float),
                                 np.asarray(prony.tau, dtype=float))
