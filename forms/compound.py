@@ -257,10 +257,11 @@ class PronySeries:
         return self.gamma * self.E0(E_inf)
 
     def complex_modulus(self, omega: Any, E_inf: float) -> complex | np.ndarray:
-        """E*(omega) = E' + i E'' (eq. 3.34); omega in rad/s (>= 0), result in MPa."""
-        wt = np.multiply.outer(_omega(omega), self.tau)
-        Ek = self.moduli(E_inf)
-        value = E_inf + (wt**2 / (1 + wt**2)) @ Ek + 1j * ((wt / (1 + wt**2)) @ Ek)
+        """E*(omega) = E' + i E'' (eq. 3.34); omega in rad/s (>= 0), result in MPa.
+
+        With the shear modulus G_inf in place of E_inf it gives G*(omega) (gamma_k = G_k/G0).
+        """
+        value = prony_complex_modulus(_omega(omega), E_inf, self.moduli(E_inf), self.tau)
         return complex(value) if np.ndim(value) == 0 else value
 
     def storage(self, omega: Any, E_inf: float) -> float | np.ndarray:
@@ -288,6 +289,21 @@ class PronySeries:
         """Drop terms with gamma_k == 0 (they carry no stress but cost internal variables)."""
         keep = self.gamma > 0
         return PronySeries(self.gamma[keep], self.tau[keep])
+
+
+def prony_complex_modulus(omega: Any, M_inf: float, M_k: Any, tau: Any) -> np.ndarray:
+    """M*(omega) = M_inf + sum_k M_k i omega tau_k / (1 + i omega tau_k) (eq. 3.34), complex.
+
+    The one evaluation of a Prony series in the frequency domain: Young's (E_inf, E_k) or shear
+    (G_inf, G_k) moduli alike, MPa; omega (rad/s, >= 0, any shape), tau_k in s.  Written in real
+    arithmetic, M' = M_inf + sum M_k x^2 d and M'' = sum M_k x d with x = omega tau_k and
+    d = 1 / (1 + x^2) (faster than complex division).  No input checks: callers validate once.
+    """
+    w = np.asarray(omega, dtype=float)
+    x = w.reshape(-1, 1) * np.asarray(tau, dtype=float)
+    d = 1.0 / (1.0 + x * x)
+    M_k = np.asarray(M_k, dtype=float)
+    return (M_inf + (x * x * d) @ M_k + 1j * ((x * d) @ M_k)).reshape(w.shape)
 
 
 def _omega(omega: Any) -> np.ndarray:

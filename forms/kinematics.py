@@ -25,16 +25,6 @@ def embed_gradient(v) -> ufl.core.expr.Expr:
     return ufl.as_matrix([[g[0, 0], g[0, 1], 0.0], [g[1, 0], g[1, 1], 0.0], [0.0, 0.0, 0.0]])
 
 
-def plane_part(T) -> ufl.core.expr.Expr:
-    """In-plane 2x2 block of a 3x3 tensor."""
-    return ufl.as_matrix([[T[0, 0], T[0, 1]], [T[1, 0], T[1, 1]]])
-
-
-def sym3_from_vector(v) -> ufl.core.expr.Expr:
-    """3x3 tensor from a 9-component (row-major) vector, e.g. a quadrature history field."""
-    return ufl.as_matrix([[v[3 * i + j] for j in range(3)] for i in range(3)])
-
-
 def vector_from_tensor3(T) -> ufl.core.expr.Expr:
     """9-component row-major vector of a 3x3 tensor (for evaluation at quadrature points)."""
     return ufl.as_vector([T[i, j] for i in range(3) for j in range(3)])

@@ -340,12 +340,6 @@ class ViscoelasticHistory:
             self._wq = (dj * self.rule.weights[None, :]).ravel()
         return self._wq
 
-    def point_coordinates(self) -> np.ndarray:
-        """Reference coordinates of every quadrature point, shape (n_points, 2)."""
-        x = ufl.SpatialCoordinate(self.mesh)
-        expr = jit.expression(x, self.rule.points)
-        return expr.eval(self.cells).reshape(-1, 2)
-
 
 def _unless_identity(dofs: np.ndarray) -> np.ndarray | None:
     """The dofs of a row-major (cell, point) block, or None if they are 0, 1, 2, ..."""

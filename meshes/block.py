@@ -74,6 +74,29 @@ def contact_element_size(shortest_wavelength: float,
     return master / ratio
 
 
+def polyline_element_size(x: np.ndarray, h: np.ndarray, period: float,
+                          elements_per_wavelength: float) -> float:
+    """Contact-face element size for a road polyline (x, h), mm: its shortest resolved
+    wavelength / elements_per_wavelength.
+
+    The shortest wavelength is estimated from the zero crossings of the slope (twice the mean
+    spacing of slope sign changes), bounded below by 4 segments; ``period`` > 0 closes the
+    polyline periodically, 0 leaves it open.  One rule for the sliding run and the scene's specs.
+    """
+    x, h = np.asarray(x), np.asarray(h)
+    dx = np.diff(x).mean()
+    L = period if period > 0 else x[-1] - x[0]
+    if period > 0:  # close the period so the wrap-around slope change counts
+        x, h = np.append(x, x[0] + L), np.append(h, h[0])
+    slope = np.sign(np.diff(h) / np.diff(x))
+    slope = slope[slope != 0]
+    turns = slope[1:] != slope[:-1]
+    changes = np.count_nonzero(turns) + (period > 0 and slope.size > 0 and slope[0] != slope[-1])
+    lam = 2.0 * L / max(changes, 1)
+    lam = max(lam, 4.0 * dx)
+    return lam / elements_per_wavelength
+
+
 def rubber_block(length: float, height: float, *, nx_contact: int | None = None,
                  h_contact: float | None = None, grading: float = 1.1,
                  first_layer: float | None = None, partitions: Sequence[float] | None = None,

@@ -65,9 +65,9 @@ def test_periodic_fold_back_across_the_boundary():
     ({"penalty": PenaltySettings(), "E_eff": -3.0}, "E_eff = -3"),
     ({"penalty": PenaltySettings()}, "E_eff"),
     ({"penalty": PEN, "search_radius": -0.1}, "search radius"),
-    ({"penalty": PEN, "thermal": ThermalSettings(h0=-1.0)}, "h0 = -1"),
+    ({"penalty": PEN, "thermal": ThermalSettings(h0=-1.0, kappa=0.5)}, "h0 = -1"),
     ({"penalty": PEN, "thermal": ThermalSettings(h0=1.0, kappa=1.5)}, "kappa = 1.5"),
-    ({"penalty": PEN, "thermal": ThermalSettings(h0=1.0, beta=0.5)}, "beta = 0.5"),
+    ({"penalty": PEN, "thermal": ThermalSettings(h0=1.0, kappa=0.5, beta=0.5)}, "beta = 0.5"),
     ({"penalty": PEN, "method": "lagrange"}, "method"),
 ])
 def test_bad_parameters(kwargs, match):
@@ -126,7 +126,7 @@ def test_bad_runtime_input():
                 friction=0.3).evaluate(np.zeros(10))
     with pytest.raises(ValueError, match="temperature dofs"):
         Contact(slave(), flat(), penalty=PEN,
-                thermal=ThermalSettings(h0=1.0)).evaluate(np.zeros(10))
+                thermal=ThermalSettings(h0=1.0, kappa=0.5)).evaluate(np.zeros(10))
 
 
 def test_bad_friction_laws():

@@ -29,6 +29,7 @@ from conftest import missing
 from rubberfriction.meshes import (
     CONTACT, LEFT, OPPOSITE, RIGHT, contact_element_size, geometric_sizes, graded_nodes,
     hertz_cylinder, patch_test_pair, road_body, rubber_block)
+from rubberfriction.meshes.block import polyline_element_size
 
 REL = 1e-12
 
@@ -360,6 +361,19 @@ def test_contact_element_size_rule():
     assert_rel(contact_element_size(0.2, elements_per_wavelength=5), 0.02)
     assert_rel(contact_element_size(0.2, master_segment_length=0.019), 0.0095)
     assert_rel(contact_element_size(0.2, slave_to_master_ratio=4.0), 0.005)
+
+
+def test_polyline_element_size_from_slope_sign_changes():
+    """Two slope sign changes per wavelength: lambda = 2 L / changes, over elements_per_wavelength;
+    the periodic closure counts the wrap-around change; the estimate is bounded below by 4 dx."""
+    lam, n = 0.8, 5  # five wavelengths, sampled off the extrema
+    x = np.linspace(0.0, n * lam, 401)[:-1] + 0.3e-3
+    h = np.cos(2 * np.pi * x / lam)
+    assert_rel(polyline_element_size(x, h, n * lam, 10.0), lam / 10.0)  # 2 n changes
+    x1 = np.linspace(0.0, lam, 81)[:-1] + 0.3e-3  # one period: 1 inside, 1 across the closure
+    assert_rel(polyline_element_size(x1, np.cos(2 * np.pi * x1 / lam), lam, 4.0), lam / 4.0)
+    zigzag = np.arange(20) % 2 * 0.01  # a sign change at every vertex: lambda -> 4 dx = 0.4
+    assert_rel(polyline_element_size(np.arange(20) * 0.1, zigzag, 2.0, 10.0), 0.04)
 
 
 # ----------------------------------------------------------------------------- bad input

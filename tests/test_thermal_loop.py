@@ -30,7 +30,7 @@ from rubberfriction.driver.runtime.farm import Executor
 from rubberfriction.driver.runtime.store import Store
 from rubberfriction.driver.sliding.run import sliding_runner
 from rubberfriction.driver.theory.adhesion import BellLaw, mu_adhesion
-from rubberfriction.driver.thermal.macro import ThermalSettings, flat_road_spec
+from rubberfriction.driver.thermal.macro import MacroSettings, flat_road_spec
 from rubberfriction.forms.material_files import load_road
 
 T0 = 293.15
@@ -82,10 +82,11 @@ class Case:
                               executor,
                               states=executor.store.load_state if warm else None,
                               warm_window=warm_window)
-        spec = flat_road_spec(comp, pressure=0.3, velocity=velocity, friction=0.5, block_length=4.0,
-                              block_height=2.0, slide_distance=8.0, h_contact=0.25, T0=T0)
-        thermal = ThermalSettings(road=load_road("r1").thermal, T0=T0, road_depth=4.0,
-                                  road_behind=4.0, road_ahead=1.0)
+        spec = flat_road_spec(comp, pressure=0.3, velocity=velocity, friction=0.5,
+                              block_length=4.0, block_height=2.0, slide_distance=8.0,
+                              h_contact=0.25, T0=T0)
+        thermal = MacroSettings(road=load_road("r1").thermal, T0=T0, road_depth=4.0,
+                                road_behind=4.0, road_ahead=1.0)
         return run_thermal_loop(spec, comp.thermal, thermal, settings, cascade,
                                 wall_limit=wall_limit)
 
@@ -100,8 +101,8 @@ class Case:
                                 executor)
         spec = flat_road_spec(comp, pressure=0.3, velocity=1000.0, friction=0.5, block_length=4.0,
                               block_height=2.0, slide_distance=8.0, h_contact=0.25, T0=T0)
-        thermal = ThermalSettings(road=load_road("r1").thermal, T0=T0, road_depth=4.0,
-                                  road_behind=4.0, road_ahead=1.0)
+        thermal = MacroSettings(road=load_road("r1").thermal, T0=T0, road_depth=4.0,
+                                road_behind=4.0, road_ahead=1.0)
         return run_hot_layer(spec, comp.thermal, thermal, HotLayerSettings(mu_const=0.6), cascade)
 
 

@@ -13,7 +13,8 @@ import pytest
 from rubberfriction.driver.fe.friction_law import fit_mu_pvT
 from rubberfriction.driver.sliding.run import run_sliding
 from rubberfriction.driver.sliding.spec import SlidingSpec
-from rubberfriction.driver.thermal.macro import ThermalSettings, run_thermal_macro
+from rubberfriction.driver.fe.contact import ThermalSettings
+from rubberfriction.driver.thermal.macro import THESIS_INTERFACE, MacroSettings, run_thermal_macro
 from rubberfriction.forms.material_files import load_compound, load_road
 from rubberfriction.validation import InputError
 
@@ -24,7 +25,7 @@ _T = np.linspace(273.0, 473.0, 11)
 LAW = fit_mu_pvT([0.0, 10.0], [1e-6, 1e5], _T,
                  np.broadcast_to(np.clip(0.6 - 0.003 * (_T - T0), 0.1, None),
                                  (2, 2, _T.size)).copy(), degree=1)
-SETTINGS = ThermalSettings(road=ROAD, T0=T0, road_depth=4.0, road_behind=4.0, road_ahead=1.0)
+SETTINGS = MacroSettings(road=ROAD, T0=T0, road_depth=4.0, road_behind=4.0, road_ahead=1.0)
 
 
 def _spec(velocity: float, step: float = 0.125) -> SlidingSpec:
@@ -97,17 +98,28 @@ def test_slow_sliding_reproduces_the_isothermal_run():
     assert abs(hot.sliding.mu_force - iso.mu_force) <= 1e-4 * iso.mu_force
 
 
+def test_one_interface_type_with_the_thesis_default():
+    """The macro scale's interface is the contact's ThermalSettings; its default is thesis 8.3.1
+    (kappa = 1, h_c = 1e6 mW/(mm^2 K)), and the type itself has no default heat share."""
+    assert MacroSettings(road=ROAD).interface == THESIS_INTERFACE
+    assert (THESIS_INTERFACE.kappa, THESIS_INTERFACE.h0, THESIS_INTERFACE.h1) == (1.0, 1.0e6, 0.0)
+    with pytest.raises(TypeError, match="kappa"):
+        ThermalSettings(h0=1.0)
+
+
 def test_bad_thermal_input_names_the_field():
-    with pytest.raises(InputError, match="thermal.kappa"):
-        ThermalSettings(road=ROAD, kappa=1.2)
-    with pytest.raises(InputError, match="thermal.h_c"):
-        ThermalSettings(road=ROAD, h_c=-1.0)
+    with pytest.raises(InputError, match=r"thermal\.interface\.kappa"):
+        MacroSettings(road=ROAD, interface=ThermalSettings(h0=1.0e6, kappa=1.2))
+    with pytest.raises(InputError, match=r"thermal\.interface\.h0"):
+        MacroSettings(road=ROAD, interface=ThermalSettings(h0=-1.0, kappa=1.0))
+    with pytest.raises(InputError, match=r"thermal\.interface: h1 = 2"):
+        MacroSettings(road=ROAD, interface=ThermalSettings(h0=1.0, kappa=1.0, h1=2.0))
     with pytest.raises(InputError, match="thermal.road_depth"):
-        ThermalSettings(road=ROAD, road_depth=0.0)
+        MacroSettings(road=ROAD, road_depth=0.0)
     with pytest.raises(InputError, match="period"):
         run_thermal_macro(replace(_spec(1.0), period=4.0), COMPOUND.thermal, SETTINGS)
     with pytest.raises(ValueError, match="thermal.road"):
-        ThermalSettings(road=None)
+        MacroSettings(road=None)
 
 
 def test_repeated_slides_carry_the_block_temperature_through_pauses():

@@ -43,8 +43,8 @@ import numpy as np
 
 from rubberfriction.driver.multiscale.scene import load_scene
 from rubberfriction.driver.multiscale.thermal_scene import friction_of
-from rubberfriction.driver.thermal.macro import (ThermalSettings, flat_road_spec, run_thermal_macro,
-                                                 run_thermal_slides)
+from rubberfriction.driver.thermal.macro import (THESIS_INTERFACE, MacroSettings, flat_road_spec,
+                                                 run_thermal_macro, run_thermal_slides)
 from rubberfriction.forms.material_files import load_compound, load_road
 
 #: mu per velocity (mm/s) for the 8.5.1 set-up: the magnitude of thesis fig. 8.11 a (stated values)
@@ -68,9 +68,9 @@ def _macro(compound, road, *, length, height, pressure, velocity, friction, slid
     spec = flat_road_spec(compound, pressure=pressure, velocity=velocity, friction=friction,
                           block_length=length, block_height=height, slide_distance=slide,
                           h_contact=h_contact, T0=T0, edge_radius=edge_radius)
-    settings = ThermalSettings(road=road, T0=T0, kappa=1.0, h_c=1.0e6, road_depth=10.0,
-                               road_ahead=2.0, road_behind=20.0, first_layer=first_layer,
-                               road_elastic=road_elastic)
+    settings = MacroSettings(road=road, T0=T0, interface=THESIS_INTERFACE, road_depth=10.0,
+                             road_ahead=2.0, road_behind=20.0, first_layer=first_layer,
+                             road_elastic=road_elastic)
     wall = time.perf_counter()
     res = run_thermal_macro(spec, compound.thermal, settings)
     wall = time.perf_counter() - wall
@@ -210,8 +210,8 @@ def _bulk_study(args: argparse.Namespace) -> bool:
     spec = flat_road_spec(comp, pressure=0.3, velocity=v, friction=mu, block_length=20.0,
                           block_height=7.0, slide_distance=args.slide, h_contact=0.25, T0=T0,
                           edge_radius=1.0)
-    settings = ThermalSettings(road=road, T0=T0, kappa=1.0, h_c=1.0e6, road_depth=10.0,
-                               road_ahead=2.0, road_behind=20.0, first_layer=0.01, probes=probes)
+    settings = MacroSettings(road=road, T0=T0, interface=THESIS_INTERFACE, road_depth=10.0,
+                             road_ahead=2.0, road_behind=20.0, first_layer=0.01, probes=probes)
     print(f"thesis 8.5.2 set-up: m2 (hyperelastic), 20 x 7 mm, edge radius 1 mm, p 0.3 MPa, "
           f"v {v / 1e3:g} m/s, mu {mu} (stated), {args.slides} slides of {args.slide:g} mm, "
           f"35 s pauses; thermocouples at x = 2 mm, "

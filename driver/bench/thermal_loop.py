@@ -44,7 +44,8 @@ from rubberfriction.driver.runtime.store import Store
 from rubberfriction.driver.sliding.run import run_sliding, sliding_runner
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.thermal.conduction import block_levels
-from rubberfriction.driver.thermal.macro import ThermalSettings, flat_road_spec
+from rubberfriction.driver.fe.contact import ThermalSettings
+from rubberfriction.driver.thermal.macro import MacroSettings, flat_road_spec
 from rubberfriction.driver.thermal.profile import TemperatureProfile, partition_profile
 from rubberfriction.forms.material_files import load_compound, load_road
 
@@ -106,10 +107,11 @@ def _divisions(store_dir: str | None) -> bool:
     spec = flat_road_spec(comp, pressure=p, velocity=v, friction=0.0, block_length=t.block_length,
                           block_height=t.block_height, slide_distance=t.slide_distance,
                           h_contact=t.h_contact, T0=T0)
-    thermal = ThermalSettings(road=load_road(t.road).thermal, T0=T0, kappa=t.kappa, h_c=t.h_c,
-                              road_depth=t.road_depth, road_ahead=t.road_ahead,
-                              road_behind=t.road_behind, first_layer=t.first_layer,
-                              grading=t.grading)
+    thermal = MacroSettings(road=load_road(t.road).thermal, T0=T0,
+                            interface=ThermalSettings(h0=t.h_c, kappa=t.kappa),
+                            road_depth=t.road_depth, road_ahead=t.road_ahead,
+                            road_behind=t.road_behind, first_layer=t.first_layer,
+                            grading=t.grading)
     print(f"thermal loop division study (thesis 8.4.3): scene thermal_loop at v = {v:g} mm/s, "
           f"p = {p:g} MPa, slide {t.slide_distance} mm, mu_const {t.mu_const}; stores in {folder}")
 

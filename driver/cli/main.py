@@ -1,8 +1,7 @@
 """The ``rubberfriction`` command.
 
 Each feature owns a small command module exposing ``register(subparsers)``; this file only
-collects them, so features can be added without touching each other.  A module whose optional
-dependency is missing does not break the other commands.
+collects them, so features can be added without touching each other.
 """
 
 from __future__ import annotations
@@ -16,7 +15,7 @@ from typing import NoReturn
 import rubberfriction
 from rubberfriction.validation import InputError
 
-# (module, what it adds) -- kept in the order shown by --help.
+# the command modules, in the order shown by --help
 COMMAND_MODULES: tuple[str, ...] = (
     "rubberfriction.driver.cli.run",
     "rubberfriction.driver.cli.rerun",
@@ -50,13 +49,7 @@ def build_parser() -> argparse.ArgumentParser:
                         version=f"rubberfriction {rubberfriction.__version__} ({units})")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in COMMAND_MODULES:
-        try:
-            module = importlib.import_module(name)
-        except ModuleNotFoundError as err:
-            if err.name == name:  # command not built yet in this checkout
-                continue
-            raise
-        module.register(sub)
+        importlib.import_module(name).register(sub)
     return parser
 
 

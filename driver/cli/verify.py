@@ -102,12 +102,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("verify", help="run an analytical verification case with your parameters")
     cases = p.add_subparsers(dest="case", metavar="CASE")
     for name, (module_name, help_text) in CASES.items():
-        try:
-            module = importlib.import_module(module_name)
-        except ModuleNotFoundError as err:
-            if err.name == module_name:
-                continue
-            raise
+        module = importlib.import_module(module_name)
         cp = cases.add_parser(name, help=help_text, description=help_text)
         module.add_arguments(cp)
         cp.add_argument("--json", metavar="FILE", help="write the result as JSON")

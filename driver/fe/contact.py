@@ -81,12 +81,17 @@ class PenaltySettings:
 
 @dataclass(frozen=True)
 class ThermalSettings:
-    """Thermal contact: h_c(p) = h0 + h1 p^beta [mW/(mm^2 K)], heat share kappa to the slave."""
+    """The thermal interface (eqs. 4.24-4.26): conductance h_c(p) = h0 + h1 p^beta
+    [mW/(mm^2 K)] where in contact, frictional heat share kappa to the slave (the rubber).
+
+    One type for the contact here and the thermal macro scale (``thermal.macro.MacroSettings``,
+    constant h_c = h0).  kappa has no default: every caller states its heat share.
+    """
 
     h0: float
+    kappa: float
     h1: float = 0.0
     beta: float = 1.0
-    kappa: float = 0.5
     master_temperature: float | None = None  # K, rigid master only (None: no conduction)
 
 

@@ -495,8 +495,8 @@ def run_sample_study(scene: Scene, *, scale: str | int | None = None, n: int = 3
 
     Runs go through the same store as the scene's campaign (same output folder), so a study
     reuses runs a campaign already did and vice versa.  Returns (on rank 0) a dict with the
-    study (:class:`~rubberfriction.driver.multiscale.cascade.SampleCountStudy`), the outcomes and
-    the files written.
+    study (:class:`~rubberfriction.driver.multiscale.statistics.SampleCountStudy`), the
+    outcomes and the files written.
     """
     comm = _comm() if comm is None else comm
     rank = comm.Get_rank()

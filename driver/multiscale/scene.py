@@ -154,8 +154,9 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                        "[adhesion] table"),
         "thermal": Key("bool", False, "thermomechanical macro scale (thesis ch. 8): a block "
                                       "sliding over the road with frictional heating, with the "
-                                      "friction of [thermal].mu or mu_curve (the thermal loop "
-                                      "over lower scales is not built yet)"),
+                                      "friction of [thermal].mu or mu_curve, or from the lower "
+                                      "scales ([thermal].mode = coupled or hot-layer: the thermal "
+                                      "multiscale loop, thesis 8.4)"),
     },
     "adhesion": {
         "tau0": Key("float", 3.0, "peak adhesive shear stress in MPa (eq. 7.6)", minimum=0.0),

@@ -18,10 +18,11 @@ import numpy as np
 from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scene import Scene, SceneError, surface_scale_names
 from rubberfriction.driver.runtime.store import Store, StoredRun, canonical
-from rubberfriction.driver.sliding.spec import InitialState, SlidingSpec, default_h_contact
+from rubberfriction.driver.sliding.spec import InitialState, SlidingSpec
 from rubberfriction.driver.surfaces.profile import UNIFORM_RTOL
 from rubberfriction.driver.surfaces.samples import refine_periodic
 from rubberfriction.forms.material_files import load_compound
+from rubberfriction.meshes.block import polyline_element_size
 
 
 def refined_master(x: np.ndarray, h: np.ndarray, period: float, lam_min: float,
@@ -107,7 +108,8 @@ class SpecBuilder:
         # contact element size: the shortest wavelength of the sample / elements_per_wavelength;
         # the shortest wavelength is the band's short edge (thesis 6.5.1), else (or if shorter)
         # the run's estimate from slope sign changes
-        hc = float(default_h_contact(base))
+        hc = float(polyline_element_size(base.surface_x, base.surface_h, base.period,
+                                         base.elements_per_wavelength))
         if lam_band is not None:
             hc = min(hc, lam_band / num.elements_per_wavelength)
         return dataclasses.replace(base, h_contact=hc, step_length=num.step_per_element * hc,

@@ -56,9 +56,9 @@ from rubberfriction.driver.sliding.spec import InitialState, SlidingSpec
 from rubberfriction.driver.theory.adhesion import BellLaw
 from rubberfriction.driver.thermal.conduction import block_levels
 from rubberfriction.driver.thermal.macro import (
+    MacroSettings,
     ThermalCoupler,
     ThermalMacroResult,
-    ThermalSettings,
     run_thermal_macro,
 )
 from rubberfriction.driver.thermal.profile import (
@@ -361,7 +361,7 @@ class LoopObserver:
             run.contact.set_friction(self.settings.mu_const + mu_out)
 
 
-def isothermal_partitions(spec: SlidingSpec, thermal: ThermalSettings, loop: LoopSettings
+def isothermal_partitions(spec: SlidingSpec, thermal: MacroSettings, loop: LoopSettings
                           ) -> Partitions:
     """The isothermal cascade's layers: T0 on the partition bounds of the later cascades (layer
     bounds are mesh lines of the lower-scale blocks: the same meshes in every cascade, only
@@ -370,7 +370,7 @@ def isothermal_partitions(spec: SlidingSpec, thermal: ThermalSettings, loop: Loo
     return uniform_partitions(levels, loop.n_partitions, loop.partition_depth, thermal.T0)
 
 
-def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings,
+def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
                      loop: LoopSettings, cascade: CascadeRunner, *, wall_limit: float = 0.0,
                      log: Callable[[str], None] | None = None) -> ThermalLoopResult:
     """The loop of the module docstring for one point on rank 0 (``spec``: the macro run; its
@@ -475,7 +475,7 @@ class HotLayerResult:
         return np.isfinite(self.mu)
 
 
-def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: ThermalSettings,
+def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
                   hot: HotLayerSettings, cascade: CascadeRunner, *, wall_limit: float = 0.0,
                   log: Callable[[str], None] | None = None) -> HotLayerResult:
     """Hot-layer mode: one cascade per surface temperature (independent: farmed together over all

@@ -38,13 +38,14 @@ from pathlib import Path
 
 import numpy as np
 
+from rubberfriction.driver.fe.contact import ThermalSettings
 from rubberfriction.driver.fe.friction_law import fit_mu_pvT
 from rubberfriction.driver.multiscale.scales import macro_road
 from rubberfriction.driver.multiscale.scene import Scene, SceneError
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.thermal.macro import (
+    MacroSettings,
     ThermalMacroResult,
-    ThermalSettings,
     flat_road_spec,
     run_thermal_macro,
     run_thermal_slides,
@@ -113,7 +114,7 @@ def _materials(scene: Scene):
 
 
 def macro_inputs(scene: Scene, compound, road: Road, pressure: float, velocity: float, T0: float,
-                 friction) -> tuple[SlidingSpec, ThermalSettings]:
+                 friction) -> tuple[SlidingSpec, MacroSettings]:
     """The macro run's mechanical spec and thermal settings from a thermal scene's tables: a flat
     road, or the macro band of the scene's surface (``road_surface = "macro"``); the road rigid or
     elastic with the road material's E and nu (``road_mechanics``)."""
@@ -134,12 +135,12 @@ def macro_inputs(scene: Scene, compound, road: Road, pressure: float, velocity: 
         short = scene.surface.edges[1] if scene.surface.edges else scene.surface.wavelengths[0]
         x, h = macro_road(scene, t.road_start, 3.0 * span, min(0.5 * t.h_contact, short / 16.0))
         spec = replace(spec, surface_x=x - span, surface_h=h)
-    settings = ThermalSettings(road=road.thermal, T0=T0, kappa=t.kappa, h_c=t.h_c,
-                               road_depth=t.road_depth,
-                               road_ahead=t.road_ahead, road_behind=t.road_behind,
-                               first_layer=t.first_layer,
-                               grading=t.grading, probes=t.probes, bulk_wlf=t.bulk_wlf,
-                               road_elastic=road if t.road_mechanics == "elastic" else None)
+    settings = MacroSettings(road=road.thermal, T0=T0,
+                             interface=ThermalSettings(h0=t.h_c, kappa=t.kappa),
+                             road_depth=t.road_depth, road_ahead=t.road_ahead,
+                             road_behind=t.road_behind, first_layer=t.first_layer,
+                             grading=t.grading, probes=t.probes, bulk_wlf=t.bulk_wlf,
+                             road_elastic=road if t.road_mechanics == "elastic" else None)
     return spec, settings
 
 

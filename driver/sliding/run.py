@@ -48,7 +48,6 @@ import math
 import time
 import warnings
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -101,20 +100,6 @@ from rubberfriction.forms import jit
 from rubberfriction.forms.kinematics import deformation_gradient
 
 
-class ContactLike:
-    """What a sliding run needs from its contact (``rubberfriction.driver.fe.contact.Contact``,
-    built by ``contact.sliding_contact``)."""
-
-    def hook(self, x, A, b) -> None: ...  # assemble into the full-space system
-    def set_master_offset(self, dx: float, dz: float) -> None: ...
-    def set_time_step(self, dt: float) -> None: ...
-    def commit(self) -> None: ...
-    def state(self) -> dict: ...  # pressure, active, weight, Fx, Fz, contact_length, dissipation
-    def couplings(self) -> list: ...  # (rows, cols) the contact may write
-    def reset_history(self, u, offset, elastic_gap=None) -> None: ...  # warm start
-    def elastic_gap(self) -> np.ndarray: ...  # stick history (spec.keep_state)
-
-
 #: a sub-step converging in at most this many Newton iterations counts as easy; EASY_STREAK easy
 #: sub-steps in a row double the sub-step length (one would make it oscillate: double, fail, halve)
 EASY_ITERATIONS = 6
@@ -143,13 +128,6 @@ class Attempt(NamedTuple):
                 + (f" x{self.step_factor:g} step" if self.step_factor != 1.0 else "")
                 + (f" x{self.refine} mesh" if self.refine != 1 else "")
                 + (f" c_T x{self.tangent:g}" if self.tangent != 1.0 else ""))
-
-
-@dataclass
-class _Phase:
-    name: str
-    t_end: float
-    dt: float
 
 
 class _WallLimit(Exception):

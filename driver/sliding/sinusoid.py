@@ -28,11 +28,9 @@ def shear_modulus(compound: Compound, omega: float, temperature: float | None = 
     hyp, prony = compound.hyperelastic, compound.prony
     if prony is None:
         return complex(hyp.mu)
-    tau = np.asarray(prony.tau, float)
-    if temperature is not None and compound.wlf is not None:
-        tau = tau * compound.wlf.aT(temperature)
-    g = np.asarray(prony.gamma, float) / prony.gamma_inf
-    return complex(hyp.mu * (1.0 + np.sum(g * 1j * omega * tau / (1.0 + 1j * omega * tau))))
+    if temperature is not None and compound.wlf is not None:  # tau(T) = a(T) tau (eq. 3.37)
+        omega = omega * compound.wlf.aT(temperature)
+    return complex(prony.complex_modulus(omega, hyp.mu))  # G_k = g_k G_inf = gamma_k G0
 
 
 def effective_modulus(compound: Compound, omega: float,

@@ -16,6 +16,7 @@ import numpy as np
 
 from rubberfriction.driver.sliding.sinusoid import effective_modulus
 from rubberfriction.driver.sliding.temperature import surface_temperature
+from rubberfriction.meshes.block import polyline_element_size
 from rubberfriction.meshes.common import contact_divisions
 from rubberfriction.meshes.grading import geometric_sizes
 
@@ -177,24 +178,9 @@ class SlidingResult:
 
 
 def default_h_contact(spec: SlidingSpec) -> float:
-    """Contact-face element size: shortest resolved wavelength / elements_per_wavelength.
-
-    The shortest wavelength is estimated from the sample's zero crossings of the slope (twice the
-    mean spacing of slope sign changes), bounded below by 4 master segments.
-    """
-    x, h = np.asarray(spec.surface_x), np.asarray(spec.surface_h)
-    dx = np.diff(x).mean()
-    L = spec.period if spec.period > 0 else x[-1] - x[0]
-    if spec.period > 0:  # close the period so the wrap-around slope change counts
-        x, h = np.append(x, x[0] + L), np.append(h, h[0])
-    slope = np.sign(np.diff(h) / np.diff(x))
-    slope = slope[slope != 0]
-    turns = slope[1:] != slope[:-1]
-    changes = np.count_nonzero(turns) + (spec.period > 0 and slope.size > 0
-                                         and slope[0] != slope[-1])
-    lam = 2.0 * L / max(changes, 1)
-    lam = max(lam, 4.0 * dx)
-    return lam / spec.elements_per_wavelength
+    """Contact-face element size of the spec's road (``meshes.block.polyline_element_size``)."""
+    return polyline_element_size(spec.surface_x, spec.surface_h, spec.period,
+                                 spec.elements_per_wavelength)
 
 
 def rms_slope(spec: SlidingSpec) -> float:

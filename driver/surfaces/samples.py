@@ -76,11 +76,6 @@ class SurfaceSample:
         """rms slope of the sample / rms slope of its band."""
         return self.rms_slope / self.band_rms_slope
 
-    @property
-    def closure_fraction(self) -> float:
-        """closure_length / period."""
-        return self.closure_length / self.period
-
     def polyline(self) -> np.ndarray:
         """(N, 2) array of (x, h) vertices, first and last vertex one period apart."""
         return np.column_stack([self.x, self.h])

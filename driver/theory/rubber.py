@@ -23,11 +23,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from rubberfriction.driver.theory.errors import TheoryInputError
+from rubberfriction.forms.compound import Compound, prony_complex_modulus
 
 #: Frequencies (rad/s) at which a modulus callable is checked when a Rubber is built.
 PROBE_OMEGA = np.logspace(-8.0, 14.0, 45)
@@ -133,43 +133,21 @@ def prony_modulus(E_inf: float, E_i: np.ndarray,
         raise TheoryInputError("Prony series needs E_inf > 0, E_i >= 0, tau_i > 0")
 
     def modulus(omega: np.ndarray) -> np.ndarray:
-        w = np.asarray(omega, dtype=float)
-        x = w.reshape(-1, 1) * tau_i                   # omega tau_i, real arithmetic is faster
-        d = 1.0 / (1.0 + x * x)
-        loss = (x * d) @ E_i
-        storage = E_inf + (x * x * d) @ E_i
-        return (storage + 1j * loss).reshape(w.shape)
+        return prony_complex_modulus(omega, E_inf, E_i, tau_i)
 
     return modulus
 
 
-def rubber_from_compound(compound: Any, T_ref: float | None = None) -> Rubber:
-    """A :class:`Rubber` from a ``forms.compound.Compound`` (duck-typed).
-
-    Uses ``compound.complex_modulus(omega)`` (Young's modulus E* in MPa at the WLF reference
-    temperature), ``compound.hyperelastic.nu``, ``compound.wlf.log10_aT`` and
-    ``compound.thermal`` (rho, c, k) where present.
-    """
-    nu = 0.5
-    hyper = getattr(compound, "hyperelastic", None)
-    if hyper is not None and getattr(hyper, "nu", None) is not None:
-        nu = float(hyper.nu)
-    wlf = getattr(compound, "wlf", None)
-    log10_aT = getattr(wlf, "log10_aT", None) if wlf is not None else None
+def rubber_from_compound(compound: Compound, T_ref: float | None = None) -> Rubber:
+    """A :class:`Rubber` from a ``forms.compound.Compound``: its Young's modulus E* (eq. 3.34) at
+    the WLF reference temperature (``T_ref`` unless given), Poisson ratio, WLF shift and thermal
+    data (rho, c, k) where it has them."""
+    wlf, thermal, prony = compound.wlf, compound.thermal, compound.prony
     if T_ref is None and wlf is not None:
-        for attr in ("T_ref", "Tref", "T0"):
-            if getattr(wlf, attr, None) is not None:
-                T_ref = float(getattr(wlf, attr))
-                break
-    thermal = getattr(compound, "thermal", None)
-    rho = getattr(thermal, "rho", None) if thermal is not None else None
-    c = getattr(thermal, "c", None) if thermal is not None else None
-    k = getattr(thermal, "k", None) if thermal is not None else None
-
-    prony = getattr(compound, "prony", None)
-    if prony is not None and hasattr(prony, "moduli") and hasattr(compound, "E_inf"):
-        # the compound's eq. (3.34) with its own E_inf, E_k, tau_k, in real arithmetic (faster
-        # than the complex evaluation; equality is tested)
+        T_ref = float(wlf.T_ref)
+    if prony is not None:
+        # the compound's eq. (3.34) with its own E_inf, E_k, tau_k, checked once here rather
+        # than on every call of compound.complex_modulus
         E_inf = float(compound.E_inf)
         modulus = prony_modulus(E_inf, np.asarray(prony.moduli(E_inf), dtype=float),
                                 np.asarray(prony.tau, dtype=float))
@@ -180,11 +158,11 @@ def rubber_from_compound(compound: Any, T_ref: float | None = None) -> Rubber:
 
     return Rubber(
         modulus=modulus,
-        nu=nu,
-        log10_aT=log10_aT,
-        rho=None if rho is None else float(rho),
-        c=None if c is None else float(c),
-        k=None if k is None else float(k),
-        name=str(getattr(compound, "name", "")),
+        nu=float(compound.hyperelastic.nu),
+        log10_aT=None if wlf is None else wlf.log10_aT,
+        rho=None if thermal is None else float(thermal.rho),
+        c=None if thermal is None else float(thermal.c),
+        k=None if thermal is None else float(thermal.k),
+        name=str(compound.name),
         T_ref=T_ref,
     )

@@ -18,12 +18,12 @@ step (stats ``max_step_dT``), and halving the sliding step shows it
 
 Thermo-viscoelastic bulk: after each heat step the temperature of every cell of the mechanical
 block (bilinear from the heat block's grid at the cell centroid) shifts its relaxation times by
-WLF (``SolidProblem.set_temperature``, ``ThermalSettings.bulk_wlf``), for the next step: the same
+WLF (``SolidProblem.set_temperature``, ``MacroSettings.bulk_wlf``), for the next step: the same
 one-step lag.  The bulk's own viscous dissipation is not a heat source (thesis 8.3.2: negligible
 on the macro scale against the frictional heat).
 
 Repeated slides with pauses (thesis 8.5.2): ``run_thermal_slides``.  An elastic road instead of
-the rigid one: ``ThermalSettings.road_elastic`` (``road_deflection``: its surface deflection under
+the rigid one: ``MacroSettings.road_elastic`` (``road_deflection``: its surface deflection under
 the contact forces moves the road polyline, staggered like the heat).
 
 Rough road (a spec whose surface is the macro band of a road, ``thermal_scene.macro_inputs``): the
@@ -46,7 +46,7 @@ import numpy as np
 import scipy.sparse as sps
 
 from rubberfriction import validation as V
-from rubberfriction.driver.fe.contact import RigidMaster
+from rubberfriction.driver.fe.contact import RigidMaster, ThermalSettings
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
 from rubberfriction.driver.sliding.run import SlidingRun
 from rubberfriction.driver.sliding.spec import SlidingResult, SlidingSpec
@@ -60,23 +60,26 @@ from rubberfriction.driver.thermal.road_deflection import ElasticRoad
 from rubberfriction.forms.compound import Road, Thermal
 
 
+#: the interface of thesis 8.3.1: all frictional heat to the rubber, h_c = 1e6 mW/(mm^2 K)
+THESIS_INTERFACE = ThermalSettings(h0=1.0e6, kappa=1.0)
+
+
 @dataclass(frozen=True)
-class ThermalSettings:
-    """Thermal part of a macro run: heat share kappa to the rubber, conductance h_c
-    (mW/(mm^2 K)) where in contact, initial and block-top temperature T0 (K), the road's thermal
-    data, road extents in the block frame (mm: depth, ahead of and behind the block), first
+class MacroSettings:
+    """Thermal part of a macro run: the interface (heat share kappa to the rubber, constant
+    conductance h_c = h0 where in contact), initial and block-top temperature T0 (K), the road's
+    thermal data, road extents in the block frame (mm: depth, ahead of and behind the block), first
     element height and growth ratio, and probe points (x, z) in the block frame (mm).
     bulk_wlf: the rubber's relaxation times follow the current temperature cell by cell (WLF,
     eqs. 3.33, 3.37) where the compound is viscoelastic with WLF data; False keeps the bulk at T0.
     road_elastic: the road material (its E and nu) of a linear elastic road whose deflection under
     the contact forces moves the road surface each step (``road_deflection``); None: a rigid road
     (thesis 8.4.1).
-    Defaults: thesis 8.3.1 (kappa = 1, h_c = 1e6)."""
+    Defaults: thesis 8.3.1 (``THESIS_INTERFACE``: kappa = 1, h_c = 1e6)."""
 
     road: Thermal
     T0: float = 293.15
-    kappa: float = 1.0
-    h_c: float = 1.0e6
+    interface: ThermalSettings = THESIS_INTERFACE
     road_depth: float = 10.0
     road_ahead: float = 2.0
     road_behind: float = 10.0
@@ -89,10 +92,17 @@ class ThermalSettings:
     def __post_init__(self) -> None:
         V.instance("thermal.road", self.road, Thermal)
         V.positive("thermal.T0", self.T0, "K")
-        k = V.real("thermal.kappa", self.kappa)
+        V.instance("thermal.interface", self.interface, ThermalSettings)
+        i = self.interface
+        k = V.real("thermal.interface.kappa", i.kappa)
         if not 0.0 <= k <= 1.0:
-            raise V.InputError(f"thermal.kappa = {self.kappa!r}: expected a heat share in [0, 1]")
-        V.nonnegative("thermal.h_c", self.h_c, "mW/(mm^2 K)")
+            raise V.InputError(f"thermal.interface.kappa = {i.kappa!r}: expected a heat share in "
+                               "[0, 1]")
+        V.nonnegative("thermal.interface.h0", i.h0, "mW/(mm^2 K)")
+        if i.h1 != 0.0 or i.master_temperature is not None:
+            raise V.InputError(f"thermal.interface: h1 = {i.h1!r}, master_temperature = "
+                               f"{i.master_temperature!r}: the macro scale takes a constant "
+                               "conductance h0 between block and road (expected h1 = 0, None)")
         for name in ("road_depth", "first_layer"):
             V.positive(f"thermal.{name}", getattr(self, name), "mm")
         for name in ("road_ahead", "road_behind"):
@@ -130,7 +140,7 @@ class ThermalMacroResult:
 class ThermalCoupler:
     """Observer of a SlidingRun that carries the heat problem along (see the module doc)."""
 
-    def __init__(self, rubber: Thermal, settings: ThermalSettings,
+    def __init__(self, rubber: Thermal, settings: MacroSettings,
                  initial_block: np.ndarray | None = None) -> None:
         self.rubber, self.settings = rubber, settings
         # block temperatures carried from an earlier slide (or None: T0)
@@ -165,8 +175,9 @@ class ThermalCoupler:
                            road_depth=s.road_depth, road_ahead=whole(s.road_ahead),
                            road_behind=whole(s.road_behind), h_x=h_x, first_layer=s.first_layer,
                            grading=s.grading)
-        self.heat = TwoBodyHeat(geo, self.rubber, s.road, T0=s.T0, kappa=s.kappa, h_c=s.h_c,
-                                road_velocity=-float(run.spec.velocity), top_temperature=s.T0)
+        self.heat = TwoBodyHeat(geo, self.rubber, s.road, T0=s.T0, kappa=s.interface.kappa,
+                                h_c=s.interface.h0, road_velocity=-float(run.spec.velocity),
+                                top_temperature=s.T0)
         itf = self.heat.interface
         # slave node a -> interface node node_of[a] (nearest in x): one to one on a square block;
         # nodes of a rounded edge share the interface node below them (the heat block is square)
@@ -334,7 +345,7 @@ def _bilinear_map(xs: np.ndarray, zs: np.ndarray, x: np.ndarray, z: np.ndarray) 
     return sps.csr_matrix((w, (rows, cols)), shape=(n, len(xs) * nz))
 
 
-def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: ThermalSettings, *,
+def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: MacroSettings, *,
                       observers=(), wall_limit: float = 0.0,
                       initial_block: np.ndarray | None = None,
                       coupler: ThermalCoupler | None = None, progress=None) -> ThermalMacroResult:
@@ -398,7 +409,7 @@ class ThermalSlidesResult:
         return len(self.slides) > 0 and all(r.ok for r in self.slides)
 
 
-def run_thermal_slides(spec: SlidingSpec, rubber: Thermal, settings: ThermalSettings,
+def run_thermal_slides(spec: SlidingSpec, rubber: Thermal, settings: MacroSettings,
                        pauses: tuple[float, ...] = (), *, pause_steps: int = 40,
                        wall_limit: float = 0.0, progress=None) -> ThermalSlidesResult:
     """Slides of ``spec`` one after another with a pause (s) between two (len(pauses) + 1 slides),

@@ -112,8 +112,7 @@ def newton_settings(**kw) -> NewtonSettings:
     slip state a full Newton step can jump over the narrow stick cone (width 2 mu p / c_T) into
     reverse slip and back, a 2-cycle that a monotone line search breaks."""
     s = NewtonSettings(**kw)
-    if hasattr(s, "backtrack_growth"):
-        s.backtrack_growth = 1.0
+    s.backtrack_growth = 1.0
     return s
 
 

@@ -28,7 +28,7 @@ from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.verification import check
 from rubberfriction.forms import jit
 from rubberfriction.forms.kinematics import deformation_gradient
-from rubberfriction.forms.compound import Compound, MooneyRivlin, PronySeries
+from rubberfriction.forms.compound import Compound, MooneyRivlin, PronySeries, prony_complex_modulus
 
 
 class ShearCell:
@@ -105,9 +105,8 @@ def harmonic_shear(hyperelastic: MooneyRivlin, gamma, tau, *, omega: float, per_
     G_inf = hyperelastic.mu
     g = np.asarray(gamma, float) / (1.0 - np.sum(gamma))
     tau = np.asarray(tau, float)
-    wt = omega * tau
-    G_storage = G_inf * (1.0 + np.sum(g * wt**2 / (1.0 + wt**2)))
-    G_loss = G_inf * np.sum(g * wt / (1.0 + wt**2))
+    G = complex(prony_complex_modulus(omega, G_inf, G_inf * g, tau))
+    G_storage, G_loss = G.real, G.imag
     t, stress, energy = _drive(hyperelastic, gamma, tau, scheme, omega, gamma0, per_cycle,
                                cycles)
     A = np.column_stack([np.sin(omega * t), np.cos(omega * t)] + [np.exp(-t / tk) for tk in tau])
