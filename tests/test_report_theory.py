@@ -212,9 +212,8 @@ def test_bench_theory_json(tmp_path: Path, capsys) -> None:
     fig = json.loads(out.read_text())
     assert fig["n_speeds"] == 5 and "fe_single_run" not in fig
     t1 = fig["theory"][REFERENCE_CASE]["time_s"]
-    # a measured time: no bound on the speed
-    # == {"command": None, "status": "given", "time_s": 60.0}
-    assert 0 < t1 < math.inf and fig["fe_point"]
+    assert 0 < t1 < math.inf  # a measured time: no bound on the speed
+    assert fig["fe_point"] == {"command": None, "status": "given", "time_s": 60.0}
     assert f"{REFERENCE_CASE}: 5-speed curve" in text
     assert f"costs {60.0 / t1:.3g} x the whole 5-speed 1D curve" in text
 
