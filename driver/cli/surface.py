@@ -244,8 +244,12 @@ def _cmd_analyse(args: argparse.Namespace) -> int:
             "defects": prof.meta.get("defects"),
             "psd": {"convention": "Persson 1D, two-sided, h_rms^2 = 2 Int_0^inf C1D dq",
                     "window": args.window, "detrend": args.detrend,
+                    # the arrays the plot shows: q_k = 2 pi k / L, k = 1 .. N/2 (uniform)
+                    "q_1_per_mm": q, "C1D_mm3": c,
                     "power_law_fit": {"H": pfit.H, "K": pfit.K,
                                       "lambda_range_mm": [lam_long, lam_short]}},
+            "hdc": {"definition": "eq. (2.4): C_HDC(lambda) = <(h(x + lambda) - h(x))^2>",
+                    "lambda_mm": lam, "C_HDC_mm2": ch},
             "hdc_fit": hfit.to_dict(),
             "bands": bands_out,
         })
@@ -368,7 +372,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="cumulative 2D rms slope of the slope cut-off (default 1.3), reported "
                         "with --edges")
     a.add_argument("--plot", help="PNG with profile, PSD and HDC")
-    a.add_argument("--json", help="write the results as JSON")
+    a.add_argument("--json", help="write the results as JSON, with the arrays the plot shows: "
+                   "psd.q_1_per_mm, psd.C1D_mm3, hdc.lambda_mm, hdc.C_HDC_mm2")
     a.set_defaults(func=_options_in_errors(_cmd_analyse))
 
     s = sub.add_parser("split", help="band-pass scales and periodic samples")

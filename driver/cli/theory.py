@@ -133,6 +133,8 @@ def _print_table(result: TheoryResult) -> None:
         print(f"  {c.model}: {c.label}" + (f" ({info})" if info else ""))
         for note in c.notes:
             print(f"    note: {note}")
+        for flag in c.flags:  # driver/theory/validity.py; docs/theory-baselines.md
+            print(f"    outside validity: {flag.message}")
     head = ["v (mm/s)"]
     for c in curves:
         head.append(f"mu {c.model}")

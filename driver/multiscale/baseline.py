@@ -9,10 +9,11 @@ Used by ``rubberfriction theory`` and by the multiscale report (theory curves be
 
 Surface: a profile file is read with ``driver.surfaces.load_profile`` (cleaned), its PSD is
 ``psd_1d`` (Hann window); the default range is wavelengths from a quarter of the record length
-down to the Nyquist wavelength.  ``"default"`` is the four-scale default road (CAPTIF + generated
-fine extension); several ``files`` are combined like the multiscale driver does
-(``driver.surfaces.multiscale_from_measurements``): the PSD of each band profile within its
-band.  Sines give a line spectrum: only the line-roughness Persson model applies (in full contact
+down to the Nyquist wavelength.  ``"default"`` is the default road (CAPTIF + generated
+fine extension) at the scene's edges as its cut-off rule keeps them (without a scene: the thesis
+edges down to 0.003 mm, no rule; the label says which); several ``files`` are combined like
+the multiscale driver does (``driver.surfaces.multiscale_from_measurements``): the PSD of each
+band profile within its band.  Sines give a line spectrum: only the line-roughness Persson model applies (in full contact
 it is the exact viscoelastic result).  Units: speeds mm/s, pressure MPa, temperature K,
 wavelengths mm.
 """
@@ -77,6 +78,8 @@ class TheoryRequest:
     flash: bool = False
     adhesion: BellLaw | None = None
     notes: tuple[str, ...] = ()
+    #: how the shipped road's lowest scale was chosen (a scene's cut-off rule), for the label
+    cutoff: str | None = None
 
 
 def request_from_scene(scene: Scene, **overrides: Any) -> TheoryRequest:
@@ -102,7 +105,8 @@ def request_from_scene(scene: Scene, **overrides: Any) -> TheoryRequest:
         files=tuple(str(f) for f in surf.files) if surf.source == "files" else (),
         sines=tuple(zip(surf.amplitudes, surf.wavelengths)) if surf.source == "sines" else (),
         edges=edges, lambda_max=edges[0] if edges else None,
-        lambda_min=edges[-1] if edges else None, adhesion=scene.adhesion, notes=tuple(notes))
+        lambda_min=edges[-1] if edges else None, adhesion=scene.adhesion, notes=tuple(notes),
+        cutoff=str(surf.cutoff_report.rule) if surf.cutoff_report is not None else None)
     return replace(req, **{k: v for k, v in overrides.items() if v is not None})
 
 
@@ -134,15 +138,33 @@ def _band_psd(road: Any) -> tuple[np.ndarray, np.ndarray]:
     return q[keep], C[keep]
 
 
+def road_label(road: Any, cutoff: str | None = None) -> str:
+    """What a shipped road is and where it stops: its name without the builder's description,
+    which part is measured and which generated, the shortest wavelength and the rule that chose
+    it (``cutoff``, a scene's ``CutoffRule`` as text; None: the edges as given)."""
+    base = (road.name or "road").split(" (")[0]
+    kinds = []
+    for kind in ("measured", "generated"):
+        bands = [s.band for s in road.scales if s.kind == kind]
+        if bands:
+            what = "CAPTIF chipseal, measured" if kind == "measured" and "CAPTIF" in road.name \
+                else kind
+            what = "self-affine extension" if kind == "generated" and "default" in base else what
+            kinds.append(f"{what} {bands[0][0]:g}-{bands[-1][1]:g} mm")
+    rule = f"by {cutoff}" if cutoff else "(the edges as given, no cut-off rule)"
+    return f"{base} ({'; '.join(kinds)}), cut at {road.edges[-1]:g} mm {rule}"
+
+
 def surface_psd(surface: str | None = "default", lambda_max: float | None = None,
                 lambda_min: float | None = None, *, files: Sequence[str] = (),
-                edges: tuple[float, ...] | None = None) -> SurfacePSD:
+                edges: tuple[float, ...] | None = None, cutoff: str | None = None) -> SurfacePSD:
     """Profile PSD (Persson convention) of a profile file, several files or a shipped road.
 
     ``surface="default"``: the default road (with ``edges`` if given); ``"four_scale"``: the
     four-scale road (driver.surfaces.four_scale); ``files``: profiles of one
     road at several resolutions, decomposed at ``edges`` like the multiscale driver; otherwise
-    ``surface`` is one profile file.
+    ``surface`` is one profile file.  ``cutoff`` (a scene's cut-off rule as text) goes into the
+    shipped road's label (:func:`road_label`), which states the road and where it stops.
     """
     if files:
         profiles = [load_profile(f) for f in files]
@@ -157,7 +179,7 @@ def surface_psd(surface: str | None = "default", lambda_max: float | None = None
         road = make() if edges is None else make(edges=edges)
         q, C = _band_psd(road)
         lam_hi, lam_lo = road.edges[0], road.edges[-1]
-        source = road.name or str(surface)
+        source = road_label(road, cutoff)
     else:
         prof = load_profile(surface)
         q, C = psd_1d(prof)
@@ -229,7 +251,7 @@ def evaluate(req: TheoryRequest) -> TheoryResult:
                      "lambda_min_mm": min(lam for _, lam in req.sines)}
     else:
         psd = surface_psd(req.surface, req.lambda_max, req.lambda_min, files=req.files,
-                          edges=req.edges)
+                          edges=req.edges, cutoff=req.cutoff)
         curves = theory_curves(psd.q, psd.C1D, rubber, p, v, T0=req.T0, models=req.models,
                                qmin=psd.qmin, qmax=psd.qmax, flash=req.flash, adhesion=law,
                                alpha=alpha, options=options)
@@ -256,7 +278,8 @@ def draw_beside_fe(ax_mu: Any, scene: Scene, *, v_fe: Any, compound: str | None 
     The curves span the FE speeds ``v_fe`` (mm/s) with a factor 3 margin on a log grid of ``n``
     speeds, for the FE's compound, pressure and temperature.  A failure (e.g. a profile file gone
     since the scene was loaded) never breaks the report: it is returned as a note and nothing is
-    drawn.  Returns (curves, notes).
+    drawn.  Returns (curves, notes); the notes end with the curves' validity flags
+    ("persson-2d outside validity: ..."), which the report writes into summary.txt.
     """
     v = np.asarray(v_fe, dtype=float).ravel()
     v = v[np.isfinite(v) & (v > 0)]
@@ -270,4 +293,6 @@ def draw_beside_fe(ax_mu: Any, scene: Scene, *, v_fe: Any, compound: str | None 
     except (TheoryInputError, ValueError, OSError) as err:
         return [], [f"theory curves not drawn: {err}"]
     add_to_axes(result.curves, ax_mu, ax_area)
-    return result.curves, list(result.info["notes"]) + [m for c in result.curves for m in c.notes]
+    flags = [f"{c.model} outside validity: {f.message}" for c in result.curves for f in c.flags]
+    return (result.curves,
+            list(result.info["notes"]) + [m for c in result.curves for m in c.notes] + flags)

@@ -14,7 +14,10 @@ one :class:`TheoryCurve` per model:
   (:mod:`.kluppel`).
 
 With a bell law (eq. 7.6) the Persson curves add ``alpha mu_A`` with ``A/A0 = P(q_max)``
-(eqs. 2.11, 7.3).  All speeds in mm/s, pressure in MPa, temperatures in K.
+(eqs. 2.11, 7.3).  Every curve carries its plausibility flags (:mod:`.validity`: mu above 3,
+a contact fraction outside [0, 1], an assumption of the theory broken), computed where the curve
+is made; the plots draw a flagged curve faded with "(outside validity)" in its label.  All
+speeds in mm/s, pressure in MPa, temperatures in K.
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ from rubberfriction.driver.theory.kluppel import descriptors_from_psd, kluppel_h
 from rubberfriction.driver.theory.persson import PerssonOptions, persson_friction
 from rubberfriction.driver.theory.rubber import Rubber
 from rubberfriction.driver.theory.spectrum import DEFAULT_NODES, Spectrum, spectrum_from_psd
+from rubberfriction.driver.theory.validity import ValidityFlag, validity_flags
 
 MODELS: tuple[str, ...] = ("persson-1d", "persson-2d", "kluppel-heinrich")
 LABELS = {
@@ -41,6 +45,9 @@ LABELS = {
     "persson-2d": "Persson eq. (2.10), isotropic",
     "kluppel-heinrich": "Klüppel-Heinrich eq. (2.9)",
 }
+#: Legend suffix and line opacity of a curve with validity flags.
+OUTSIDE_LABEL = " (outside validity)"
+OUTSIDE_ALPHA = 0.35
 
 
 @dataclass
@@ -57,6 +64,18 @@ class TheoryCurve:
     flash_dT: np.ndarray | None = None      #: T(q_max) - T0 (K), with flash temperature
     extra: dict[str, Any] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    #: the theory's assumptions this curve violates (:func:`.validity.validity_flags`)
+    flags: list[ValidityFlag] = field(default_factory=list)
+
+    def flagged(self) -> "TheoryCurve":
+        """This curve with its validity flags computed (replacing any held); returns self."""
+        self.flags = validity_flags(self)
+        return self
+
+    @property
+    def plot_label(self) -> str:
+        """The legend label: ``label``, plus "(outside validity)" when flagged."""
+        return self.label + (OUTSIDE_LABEL if self.flags else "")
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary (lists instead of arrays)."""
@@ -70,6 +89,7 @@ class TheoryCurve:
             "extra": {k: (arr(v) if isinstance(v, np.ndarray) else v)
                       for k, v in self.extra.items()},
             "notes": list(self.notes),
+            "flags": [f.to_dict() for f in self.flags],
         }
 
 
@@ -161,7 +181,7 @@ def theory_curves(
                 mu_adhesion=mu_a, area=None,
                 extra={"xi_par_mm": desc.xi_par, "xi_perp_mm": desc.xi_perp, "H": desc.H,
                        "lambda_min_mm": kh.lambda_min, "z_p_mm": kh.z_p},
-                notes=notes))
+                notes=notes).flagged())
     return curves
 
 
@@ -192,7 +212,7 @@ def persson_curve(
         mu_adhesion=res.mu_adhesion, area=res.area, flash_dT=res.flash_temperature,
         extra={"q_range_1_mm": [spec.q_min, spec.q_max], "h_rms_mm": spec.h_rms,
                "slope_rms": spec.slope_rms, "gamma": res.options.gamma},
-        notes=notes)
+        notes=notes).flagged()
 
 
 def plot_curves(curves: Sequence[TheoryCurve], path: str | Path, *, title: str = "",
@@ -212,7 +232,8 @@ def plot_curves(curves: Sequence[TheoryCurve], path: str | Path, *, title: str =
     add_to_axes(curves, axes[0], axes[1], fe=fe)
     if hot:
         for c in hot:
-            axes[2].semilogx(c.v, c.flash_dT, label=c.label)
+            axes[2].semilogx(c.v, c.flash_dT, label=c.plot_label,
+                             alpha=OUTSIDE_ALPHA if c.flags else 1.0)
         axes[2].set_xlabel("sliding speed v (mm/s)")
         axes[2].set_ylabel("flash temperature T(q1) - T0 (K)")
         axes[2].grid(True, which="both", alpha=0.3)
@@ -228,16 +249,20 @@ def plot_curves(curves: Sequence[TheoryCurve], path: str | Path, *, title: str =
 
 def add_to_axes(curves: Sequence[TheoryCurve], ax_mu: Any, ax_area: Any | None = None,
                 fe: dict[str, Any] | None = None) -> None:
-    """Draw theory curves (and optionally FE points) on existing axes: for the multiscale report."""
+    """Draw theory curves (and optionally FE points) on existing axes: for the multiscale report.
+
+    A curve with validity flags is drawn faded (alpha :data:`OUTSIDE_ALPHA`) and labelled
+    "... (outside validity)"."""
     styles = {"persson-1d": "-", "persson-2d": "--", "kluppel-heinrich": ":"}
     for c in curves:
         ls = styles.get(c.model, "-")
-        line, = ax_mu.semilogx(c.v, c.mu, ls, label=c.label)
+        a = OUTSIDE_ALPHA if c.flags else 1.0
+        line, = ax_mu.semilogx(c.v, c.mu, ls, label=c.plot_label, alpha=a)
         if c.mu_adhesion is not None:
-            ax_mu.semilogx(c.v, c.mu_hysteresis, ls, color=line.get_color(), alpha=0.4,
-                           label=f"{c.label}: hysteresis only")
+            ax_mu.semilogx(c.v, c.mu_hysteresis, ls, color=line.get_color(), alpha=0.4 * a,
+                           label=f"{c.plot_label}: hysteresis only")
         if ax_area is not None and c.area is not None:
-            ax_area.loglog(c.v, c.area, ls, color=line.get_color(), label=c.label)
+            ax_area.loglog(c.v, c.area, ls, color=line.get_color(), label=c.plot_label, alpha=a)
     if fe is not None:
         fv = np.asarray(fe["v"], dtype=float)
         err = fe.get("mu_err")
