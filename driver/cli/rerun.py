@@ -15,6 +15,13 @@ a look.  For reproducing a result, or diagnosing a failed run without the campai
     rubberfriction rerun tests/data/failing_runs f280d52c --set newton=trust-region
     rubberfriction rerun rf-results/default 6b9a9635 --volumetric logarithmic
     rubberfriction rerun rf-results/thermal_road 3f0c11 --from-rest --set slide_distance=600
+    rubberfriction rerun rf-results/default 6b9a9635 --fields fields/ --fields-every 5
+
+``--fields DIR`` adds the field writer (``driver.sliding.outputs.FieldWriter``): DIR/fields.xdmf
+(+ fields.h5: displacement, hydrostatic pressure, von Mises stress, viscous dissipation,
+dissipation rate; open the .xdmf in ParaView, warp by displacement) and
+DIR/contact_pressure.csv, every ``--fields-every`` sliding steps.  ``rubberfriction run SCENE
+--fields SELECT`` does the same for chosen runs of a campaign.
 
 The compound is loaded again by its name; a folder of kept runs whose compound file has changed
 since holds the file as it was in ``FOLDER/compounds/<name>.toml``, which is taken first (the
@@ -62,23 +69,23 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", metavar="DIR", help="write series.csv, mu.png, summary.json and the "
                    "dissipation by depth of the rerun into DIR")
     p.add_argument("--json", metavar="FILE", help="write the stored and the new result as JSON")
+    p.add_argument("--fields", metavar="DIR", help="write XDMF fields (+ .h5) for ParaView and "
+                   "contact_pressure.csv of the rerun into DIR")
+    p.add_argument("--fields-every", type=int, default=1, metavar="N",
+                   help="with --fields: the fields of every N-th sliding step (default 1)")
     p.set_defaults(func=_rerun)
 
 
-def _store_root(folder: Path) -> Path:
-    return folder / "store" if (folder / "store" / "runs").is_dir() else folder
-
-
 def _rerun(args: argparse.Namespace) -> int:
-    from rubberfriction.driver.multiscale.specs import find_key, stored_spec
+    from rubberfriction.driver.multiscale.rerun import (load_stored, rerun_spec,
+                                                        shortcut_admits, store_root)
     from rubberfriction.driver.runtime.store import Store
-    from rubberfriction.driver.sliding.outputs import DissipationByDepth, write_run_outputs
+    from rubberfriction.driver.sliding.outputs import (DissipationByDepth, FieldWriter,
+                                                       write_run_outputs)
     from rubberfriction.driver.sliding.progress import StepReporter
-    from rubberfriction.driver.sliding.run import (SlidingRun, block_mesh, run_sliding,
-                                                   sliding_contact)
     from rubberfriction.driver.sliding.spec import refined
 
-    root = _store_root(Path(args.folder))
+    root = store_root(args.folder)
     if not (root / "runs").is_dir():
         print(f"rerun: {args.folder}: no campaign store here (expected {root}/runs)",
               file=sys.stderr)
@@ -86,15 +93,17 @@ def _rerun(args: argparse.Namespace) -> int:
     if args.refine < 1:
         print(f"rerun: --refine {args.refine}: expected a whole number >= 1", file=sys.stderr)
         return 2
+    if args.fields_every < 1:
+        print(f"rerun: --fields-every {args.fields_every}: expected a whole number >= 1",
+              file=sys.stderr)
+        return 2
     store = Store(root)
     try:
-        key = find_key(store, args.key)
-        stored = store.load(key)
-        spec = stored_spec(stored, compound_dir=Path(args.folder) / "compounds",
-                           states=store.load_state)
+        loaded = load_stored(store, args.key, compound_dir=Path(args.folder) / "compounds")
     except ValueError as err:
         print(f"rerun: {err}", file=sys.stderr)
         return 2
+    key, stored, spec = loaded.key, loaded.stored, loaded.spec
     lab = stored.label
     print(f"run {key[:12]}: {lab.get('point', '?')} {lab.get('branch', '')} "
           f"{lab.get('scale_name', '')} sample {lab.get('sample', '?')}; "
@@ -121,15 +130,16 @@ def _rerun(args: argparse.Namespace) -> int:
         spec = refined(spec, args.refine)
     progress = _Progress()
     observers = [DissipationByDepth(), StepReporter(progress)]
-    t0 = time.perf_counter()
-    if args.first_attempt:
-        run = SlidingRun(spec, block_mesh, sliding_contact, observers=observers)
-        first = run.attempts()[0]
-        run.attempts = lambda: [first]  # noqa: E731 (this run only)
-        result = run.run()
-    else:  # the campaign's path: the closed-form shortcut where admitted, failures as results
-        result = run_sliding(spec, observers=observers)
-    wall = time.perf_counter() - t0
+    fe_instead = False
+    if args.fields:
+        observers.append(FieldWriter(args.fields, every=args.fields_every))
+        if shortcut_admits(spec):  # the closed form has no fields: the FE run instead
+            spec = dataclasses.replace(spec, shortcut=False)
+            fe_instead = True
+            print("  the stored run is the closed form (shortcut); --fields runs the FE instead")
+    # the campaign's path (the closed-form shortcut where admitted, failures as results), or
+    # only the first attempt of the fallback chain
+    result, wall = rerun_spec(spec, observers, first_attempt=args.first_attempt)
     progress.done()
     st = result.stats
     print(f"  rerun:  {result.status}, mu_force {result.mu_force:.6g}, "
@@ -151,13 +161,18 @@ def _rerun(args: argparse.Namespace) -> int:
               + (f"; trust region refused {st['rejected_steps']:.0f} trial steps"
                  if st.get("rejected_steps") else ""))
     same = (not args.contact and args.refine == 1 and not args.first_attempt and not args.set
-            and not args.volumetric and math.isfinite(stored.values.get("mu_force", math.nan)))
+            and not args.volumetric and not fe_instead
+            and math.isfinite(stored.values.get("mu_force", math.nan)))
     if same:
         diff = result.mu_force - stored.values["mu_force"]
         print(f"  reproduces the stored mu_force: difference {diff:.3g}")
     if args.out:
         written = write_run_outputs(result, spec, args.out)
         print("  written: " + ", ".join(str(p) for p in written.values()))
+    if args.fields:
+        fw = observers[-1]
+        print(f"  fields: {fw.xdmf_path} (+ .h5, {len(fw.times)} steps)"
+              + (f", {fw.contact_path}" if fw.contact_csv else ""))
     if args.json:
         doc = {"key": key, "label": lab, "stored": {"status": stored.status, **stored.values},
                "rerun": {"status": result.status, "reason": result.reason,

@@ -7,12 +7,24 @@
     rubberfriction run --show default          # print a shipped scene to start your own from
     rubberfriction run SCENE --check           # validate and count the runs, compute nothing
     mpirun -n 8 rubberfriction run SCENE       # farm the runs over 8 ranks (same results)
+    rubberfriction run SCENE --fields up:meso:0  # + XDMF fields of one run for ParaView
     rubberfriction samples-study --scale micro2 --n 30 --pressure 3 --velocity 10
 
 A campaign resumes by default: runs already in ``<output>/store`` are reused (``--fresh`` moves
 the store aside and starts again; ``--retry-failed`` recomputes runs stored as physics failures;
 runs that raised or that the wall clock stopped are always computed again).  Exit
 status: 0 all points ok, 1 some point failed, 2 bad scene or command line.
+
+Fields (``--fields SELECT``): after the campaign the selected runs are recomputed from their
+stored inputs (the same deterministic runs, see ``rubberfriction rerun``) with the field writer,
+into ``<output>/fields/<point>_<branch>_<scale>_s<sample>/``: ``fields.xdmf`` + ``fields.h5``
+(displacement, hydrostatic pressure, von Mises stress, viscous dissipation; open in ParaView)
+and ``contact_pressure.csv``.  Serial, on rank 0 only, after the campaign.  SELECT is a
+comma-separated list of items: ``all``; a branch (``down`` pressure, ``up`` friction; separated
+scenes: ``macro0``, ``reference``, ``micro``, ``macro``); ``[BRANCH:]SCALE[:SAMPLE]`` with a
+scale name of the scene (``run --check`` lists them) and a sample index from 0.  An omitted
+branch or sample means all: ``meso`` every run on meso, ``meso:0`` sample 0 on both branches,
+``up:micro1:1`` one run.  A run the closed-form shortcut computed gets the FE run instead.
 """
 
 from __future__ import annotations
@@ -59,6 +71,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="validate the scene, print the plan, compute nothing")
     p.add_argument("--no-theory", dest="theory", action="store_false",
                    help="leave the analytical mu(v) baselines (Persson 1D/2D) out of the report")
+    p.add_argument("--fields", metavar="SELECT",
+                   help="after the campaign, rerun the selected runs with XDMF fields for "
+                        "ParaView into <output>/fields/ (serial, rank 0): all, BRANCH, or "
+                        "[BRANCH:]SCALE[:SAMPLE], comma-separated, e.g. meso, meso:0, "
+                        "up:micro1:1 (see above)")
+    p.add_argument("--fields-every", type=int, default=1, metavar="N",
+                   help="with --fields: the fields of every N-th sliding step (default 1)")
     p.add_argument("--schema", action="store_true",
                    help="print every scene key with default and meaning")
     p.add_argument("--show", metavar="NAME", nargs="?", const="default",
@@ -116,6 +135,7 @@ def _run(args: argparse.Namespace) -> int:
             scene = scene.with_samples(k, j)
         if args.out:
             scene = scene.with_output(args.out)
+        fields = _field_selection(scene, args)
     except SceneError as err:
         return _error(str(err))
     if _rank() == 0:
@@ -147,6 +167,11 @@ def _run(args: argparse.Namespace) -> int:
         from rubberfriction.driver.multiscale.report import write_report
 
         write_report(result, quiet=args.quiet, theory=False)
+    if fields:
+        from rubberfriction.driver.multiscale.fields import write_fields
+
+        write_fields(result, fields, every=args.fields_every,
+                     progress=None if args.quiet else print)
     if args.quiet:
         print(result.output / "results.csv")
     failed = [r for r in result.points if not r.ok]
@@ -154,6 +179,23 @@ def _run(args: argparse.Namespace) -> int:
         print(f"rubberfriction: {failed_line(failed, len(result.points))}; see "
               f"{result.output / 'results.csv'}", file=sys.stderr)
     return 0 if not failed else 1
+
+
+def _field_selection(scene: Scene, args: argparse.Namespace) -> list:
+    """The parsed ``--fields`` selection (empty without it); a SceneError naming the option."""
+    if args.fields is None:
+        return []
+    if args.fields_every < 1:
+        raise SceneError(f"--fields-every {args.fields_every}: expected a whole number >= 1")
+    if scene.physics.thermal:
+        raise SceneError("--fields: not for thermal scenes (their runs write "
+                         "thermal/<run>/temperature.xdmf themselves)")
+    if scene.adhesion_fit is not None:
+        raise SceneError("--fields: not for an adhesion fit ([adhesion] fit_from); run its "
+                         "campaigns' runs with rubberfriction rerun FOLDER KEY --fields DIR")
+    from rubberfriction.driver.multiscale.fields import parse_selection
+
+    return parse_selection(args.fields, scene)
 
 
 def failed_line(failed: list, total: int) -> str:

@@ -11,7 +11,7 @@ import dataclasses
 import json
 import math
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Mapping
 
 import numpy as np
 
@@ -167,11 +167,13 @@ def _before_fields(compound: Any, image: dict) -> Any:
 
 
 def stored_spec(stored: StoredRun, compound_dir: Path | None = None,
-                states: Callable[[str], dict | None] | None = None) -> SlidingSpec:
+                states: Callable[[str], dict | None] | None = None,
+                compound_files: Mapping[str, str | Path] | None = None) -> SlidingSpec:
     """The SlidingSpec of a stored run, rebuilt from its run file: the surface arrays, the scalar
     inputs, the compound loaded again by its name (from ``compound_dir/<name>.toml`` where that
     file exists: a folder of kept runs holds the compound files as they were when it ran; else
-    the shipped file), a constant (or no) friction coefficient.
+    ``compound_files[name]``, a scene's compound file by the compound's name; else the shipped
+    file), a constant (or no) friction coefficient.
 
     The rebuilt spec is checked against the canonical image the run file holds (every field,
     arrays by their sha256, the compound by all its values), so a rerun computes exactly the
@@ -197,7 +199,8 @@ def stored_spec(stored: StoredRun, compound_dir: Path | None = None,
             name = str(stored.inputs.get("compound"))
             try:
                 kept = compound_dir / f"{name}.toml" if compound_dir is not None else None
-                source = kept if kept is not None and kept.is_file() else name
+                source = kept if kept is not None and kept.is_file() else \
+                    (compound_files or {}).get(name, name)
                 kw["compound"] = _before_fields(load_compound(source), v)
             except ValueError as err:
                 raise ValueError(f"run {key[:12]}: compound {name!r}: {err}") from None
