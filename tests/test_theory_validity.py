@@ -65,3 +65,77 @@ def test_the_theories_are_flagged_where_their_assumptions_fail() -> None:
     (curve,) = road.curves
     assert curve.extra["slope_rms"] > SLOPE_PERSSON
     assert "slope" in [f.quantity for f in validity_flags(curve)]
+
+
+def test_flags_are_computed_where_curves_are_made_and_written() -> None:
+    # the default road without a cut-off (--surface default): Persson 2D's cumulative rms slope
+    # is far above 1.3, so the curve made by theory_curves carries the slope flag
+    road = evaluate(TheoryRequest(surface="default", velocities=(1.0, 100.0),
+                                  models=("persson-2d",)))
+    (curve,) = road.curves
+    assert [f.to_dict() for f in curve.flags] == [f.to_dict() for f in validity_flags(curve)]
+    doc = curve.to_dict()
+    assert "slope" in [f["quantity"] for f in doc["flags"]]
+    assert all(f["model"] == "persson-2d" and f["message"] for f in doc["flags"])
+    assert road.to_dict()["curves"][0]["flags"] == doc["flags"]
+    # an unflagged curve writes an empty list
+    sine = evaluate(TheoryRequest(sines=((0.01, 1.0),), velocities=(1.0, 100.0)))
+    assert sine.curves[0].to_dict()["flags"] == []
+
+
+def test_theory_command_prints_each_flag_under_its_model(capsys) -> None:
+    from rubberfriction.driver.cli.main import main
+
+    assert main(["theory", "--surface", "default", "--velocities", "1", "100"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    start = next(i for i, line in enumerate(out) if line.startswith("  persson-2d:"))
+    below = []
+    for line in out[start + 1:]:
+        if not line.startswith("    "):
+            break
+        below.append(line)
+    assert any(line.startswith("    outside validity: cumulative rms slope") for line in below)
+    # the surface line states the road and where it stops
+    (surface,) = [line for line in out if line.startswith("surface: ")]
+    assert "cut at 0.003 mm" in surface and "no cut-off rule" in surface
+
+
+def test_a_flagged_curve_is_faded_and_labelled_in_plots() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rubberfriction.driver.theory.curves import OUTSIDE_ALPHA, add_to_axes
+
+    ok = _curve("persson-1d", [0.1, 0.2, 0.3], [0.5, 0.4, 0.3], slope_rms=0.5).flagged()
+    bad = _curve("persson-2d", [0.1, 0.2, 0.3], [0.5, 0.4, 0.3], slope_rms=2.1).flagged()
+    assert ok.flags == [] and [f.quantity for f in bad.flags] == ["slope"]
+    fig, (ax_mu, ax_area) = plt.subplots(1, 2)
+    add_to_axes([ok, bad], ax_mu, ax_area)
+    labels = {line.get_label(): line.get_alpha() for line in ax_mu.lines}
+    assert labels == {"persson-1d": 1.0, "persson-2d (outside validity)": OUTSIDE_ALPHA}
+    legend = [t.get_text() for t in ax_mu.get_legend().get_texts()]
+    assert "persson-2d (outside validity)" in legend
+    assert [line.get_label() for line in ax_area.lines] == ["persson-1d",
+                                                            "persson-2d (outside validity)"]
+    plt.close(fig)
+
+
+def test_report_notes_carry_the_flags() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rubberfriction.driver.multiscale.baseline import draw_beside_fe
+    from rubberfriction.driver.multiscale.scene import load_scene
+
+    fig, ax = plt.subplots()
+    curves, notes = draw_beside_fe(ax, load_scene("default"), v_fe=[1.0, 100.0],
+                                   models=("persson-2d",), n=5)
+    (curve,) = curves
+    assert curve.flags  # the default scene's measured bands: cumulative 2D slope about 2
+    assert [n for n in notes if "outside validity" in n] == [
+        f"persson-2d outside validity: {f.message}" for f in curve.flags]
+    plt.close(fig)
