@@ -13,9 +13,9 @@ down to the Nyquist wavelength.  ``"default"`` is the default road (CAPTIF + gen
 fine extension) at the scene's edges as its cut-off rule keeps them (without a scene: the thesis
 edges down to 0.003 mm, no rule; the label says which); several ``files`` are combined like
 the multiscale driver does (``driver.surfaces.multiscale_from_measurements``): the PSD of each
-band profile within its band.  Sines give a line spectrum: only the line-roughness Persson model applies (in full contact
-it is the exact viscoelastic result).  Units: speeds mm/s, pressure MPa, temperature K,
-wavelengths mm.
+band profile within its band.  Sines give a line spectrum: only the line-roughness Persson
+model applies (in full contact it is the exact viscoelastic result).  Units: speeds mm/s,
+pressure MPa, temperature K, wavelengths mm.
 """
 
 from __future__ import annotations
