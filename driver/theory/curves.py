@@ -23,6 +23,7 @@ speeds in mm/s, pressure in MPa, temperatures in K.
 from __future__ import annotations
 
 import math
+import textwrap
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
@@ -238,9 +239,10 @@ def plot_curves(curves: Sequence[TheoryCurve], path: str | Path, *, title: str =
         axes[2].set_ylabel("flash temperature T(q1) - T0 (K)")
         axes[2].grid(True, which="both", alpha=0.3)
         axes[2].legend(fontsize=7)
-    if title:
-        fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
+    lines = textwrap.wrap(title, 130 if hot else 95)  # a long surface label: two lines
+    if lines:
+        fig.suptitle("\n".join(lines), fontsize=10)
+    fig.tight_layout(rect=(0.0, 0.0, 1.0, 1.0 - 0.045 * max(len(lines) - 1, 0)))
     path = Path(path)
     fig.savefig(path, dpi=130)
     plt.close(fig)
