@@ -479,10 +479,10 @@ def fit_wlf(T: Any, log_aT: Any, T_ref: float | None = None) -> WLFFit:
     sol = least_squares(resid, x0, bounds=([1e-9, lower], [np.inf, np.inf]), xtol=1e-15,
                         ftol=1e-15, gtol=1e-15, x_scale="jac")
     c1, c2 = (float(v) for v in sol.x)
-    if not (c1 > 0 and c2 > 0):
-        raise V.InputError(f"fit_wlf: c1 = {c1:g}, c2 = {c2:g} K: expected both > 0 (the table "
-                           "is not WLF-shaped)")
-    if T_ref - c2 >= TT.min():
+    if not (c1 > 1e-6 and c2 > 0):  # c1 at its bound: log10 aT does not fall with T
+        raise V.InputError(f"fit_wlf: c1 = {c1:g}, c2 = {c2:g} K: expected both > 0 (log10 aT "
+                           "must fall with temperature; the table is not WLF-shaped)")
+    if T_ref - c2 >= TT.min() * (1 - 1e-6):
         raise V.InputError(f"fit_wlf: the WLF singularity T_ref - c2 = {T_ref - c2:g} K is at or "
                            f"above the table's lowest temperature {TT.min():g} K")
     r = resid(sol.x)

@@ -245,6 +245,9 @@ def reference_of(args: argparse.Namespace):
     try:
         T, log_aT = P.read_shift_factors(args.shift_factors)
         fit = P.fit_wlf(T, log_aT)
+    except OSError as err:
+        raise V.InputError(f"--shift-factors {args.shift_factors}: "
+                           f"{err.strerror or err}") from None
     except ValueError as err:
         raise V.InputError(f"--shift-factors {args.shift_factors}: {err}") from None
     if T_opt is not None and abs(T_opt - fit.wlf.T_ref) > 0.005:
