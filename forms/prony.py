@@ -28,7 +28,8 @@ from typing import Any, Sequence
 import numpy as np
 from scipy.optimize import linprog, nnls
 
-from rubberfriction.forms.compound import ZERO_CELSIUS, Compound, PronySeries
+from rubberfriction import validation as V
+from rubberfriction.forms.compound import WLF, ZERO_CELSIUS, Compound, PronySeries
 
 FREQ_UNITS = {"Hz": 2.0 * math.pi, "rad/s": 1.0}
 MODULUS_UNITS = {"Pa": 1e-6, "kPa": 1e-3, "MPa": 1.0, "GPa": 1e3}
@@ -292,20 +293,26 @@ def fit_prony(omega: Any, E_storage: Any, E_loss: Any, n_terms: int | None = Non
                     n_data=int(w.size), E_inf_fitted=E_inf is None)
 
 
-def series_at_reference(fit: PronyFit, base: Compound, T: float | None = None
-                        ) -> tuple[PronySeries, str]:
-    """The fitted series (zero terms pruned) as a compound based on ``base`` uses it: relaxation
-    times at base's WLF reference temperature, tau_ref = tau(T) / a(T) (eq. 3.37) for a master
-    curve measured at ``T`` (K; None: already at T_ref, not shifted).  Returns the series and a
-    one-line note of the shift ("" when none was asked for)."""
+def series_at_reference(fit: Any, base: Compound, T: float | None = None,
+                        wlf: WLF | None = None) -> tuple[PronySeries, str]:
+    """The fitted series (zero terms pruned) as a compound uses it: relaxation times at its WLF
+    reference temperature, tau_ref = tau(T) / a(T) (eq. 3.37) for a master curve referenced to
+    ``T`` (K; None: already at T_ref, not shifted).  The WLF is ``wlf`` (e.g. fitted to the
+    data's own shift factors) or else base's.  ``fit`` is any result with a ``series`` (a
+    :class:`PronyFit`, :class:`PronyTimeFit`).  Returns the series and a one-line note of the
+    shift ("" when no temperature was given)."""
     series = fit.series.pruned()
     if T is None:
         return series, ""
     T_C = T - ZERO_CELSIUS
-    if base.wlf is None:
-        return series, f"data temperature {T_C:g} degC: {base.name} has no WLF, not shifted"
-    aT = float(base.wlf.aT(T))
-    note = f"tau shifted from {T_C:g} degC to T_ref by 1/a(T) = {1 / aT:.6g} (eq. 3.37)"
+    wlf = base.wlf if wlf is None else wlf
+    if wlf is None:
+        return series, f"master curve at {T_C:g} degC: {base.name} has no WLF, not shifted"
+    if abs(T - wlf.T_ref) < 1e-9:
+        return series, f"master curve at {T_C:g} degC = the WLF T_ref: tau not shifted"
+    aT = float(wlf.aT(T))
+    note = (f"tau shifted from the master curve's {T_C:g} degC to T_ref = "
+            f"{wlf.T_ref - ZERO_CELSIUS:g} degC by 1/a(T) = {1 / aT:.6g} (eq. 3.37)")
     return series.shifted(1.0 / aT), note
 
 
@@ -356,6 +363,348 @@ def minimax_rel_error_bound(omega: Any, E_storage: Any, E_loss: Any, tau: Any,
     if res.status != 0:
         raise RuntimeError(f"minimax_rel_error_bound: linear programme failed: {res.message}")
     return float(res.fun)
+
+
+# --------------------------------------------------------------------------------------------
+# the master curve's temperature: shift-factor tables and the WLF fit (eq. 3.33)
+# --------------------------------------------------------------------------------------------
+
+TEMPERATURE_UNITS = {"C": ZERO_CELSIUS, "degC": ZERO_CELSIUS, "°C": ZERO_CELSIUS, "K": 0.0}
+
+
+def read_shift_factors(path: str | Path, columns: Sequence[str | int] = ("T", "log_aT"),
+                       T_unit: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Read a shift-factor table (pyvisco ``shift_factors.csv``); return (T in K, log10 aT).
+
+    Format: a header row (``T, log_aT``), a units row (``C, -``) or ``T_unit`` ("C", "degC" or
+    "K"), then one row per temperature.  The temperature unit must be stated by one of the two:
+    a table of bare numbers is refused, not read as degC.  log10 aT is the decimal logarithm of
+    the shift factor that moved the curve measured at T onto the master curve (0 at the
+    reference temperature).  Rows are sorted by temperature; repeated temperatures are refused.
+    """
+    path = Path(path)
+    rows = _read_rows(path)
+    if len(rows) < 3 or all(_is_number(c) for c in rows[0]):
+        raise V.InputError(f"{path}: expected a header row (T, log_aT) and data rows")
+    header, rows = rows[0], rows[1:]
+    idx = [_column_index(header, c, path) for c in columns]
+    units = rows.pop(0) if not _is_number(rows[0][idx[0]]) else None
+    unit = units[idx[0]] if units is not None else T_unit
+    if units is not None and T_unit is not None and unit != T_unit:
+        raise V.InputError(f"{path}: the units row gives T in {unit!r} but T_unit = {T_unit!r}")
+    if unit not in TEMPERATURE_UNITS:
+        raise V.InputError(f"{path}: temperature unit {unit!r}: expected a units row or T_unit "
+                           f"of {' or '.join(map(repr, TEMPERATURE_UNITS))}")
+    try:
+        data = np.array([[float(r[i]) for i in idx] for r in rows])
+    except (ValueError, IndexError) as err:
+        raise V.InputError(f"{path}: non-numeric or missing value in the data rows "
+                           f"({err})") from None
+    if len(data) < 3 or not np.isfinite(data).all():
+        raise V.InputError(f"{path}: expected at least 3 rows of finite numbers")
+    T, log_aT = data[:, 0] + TEMPERATURE_UNITS[unit], data[:, 1]
+    order = np.argsort(T, kind="stable")
+    T, log_aT = T[order], log_aT[order]
+    if (np.diff(T) == 0).any():
+        raise V.InputError(f"{path}: temperature {T[np.argmax(np.diff(T) == 0)] - ZERO_CELSIUS:g}"
+                           " degC repeats; expected one shift factor per temperature")
+    if (T <= 0).any():
+        raise V.InputError(f"{path}: temperature {T.min():g} K: expected > 0 K")
+    return T, log_aT
+
+
+def reference_temperature(T: np.ndarray, log_aT: np.ndarray) -> float:
+    """The temperature (K) where log10 aT = 0: a row of the table, or the linear interpolation
+    between the two rows where log10 aT changes sign.  A table without a zero is refused."""
+    T, log_aT = np.asarray(T, float), np.asarray(log_aT, float)
+    zero = np.flatnonzero(log_aT == 0.0)
+    if zero.size == 1:
+        return float(T[zero[0]])
+    change = np.flatnonzero(np.sign(log_aT[:-1]) * np.sign(log_aT[1:]) < 0)
+    if zero.size > 1 or change.size != 1:
+        raise V.InputError(f"shift factors: log10 aT is 0 at {zero.size} temperature(s) and "
+                           f"changes sign {change.size} time(s); expected one reference "
+                           "temperature (give it with --T-ref-C)")
+    i = int(change[0])
+    return float(T[i] - log_aT[i] * (T[i + 1] - T[i]) / (log_aT[i + 1] - log_aT[i]))
+
+
+@dataclass(frozen=True)
+class WLFFit:
+    """Result of :func:`fit_wlf`: the WLF law and the residual of log10 aT (data - law)."""
+
+    wlf: WLF
+    rms_residual: float
+    max_residual: float
+    n_data: int
+    T_range: tuple[float, float]  # K
+
+    def report(self) -> str:
+        w = self.wlf
+        lo, hi = (t - ZERO_CELSIUS for t in self.T_range)
+        return (f"WLF fit (eq. 3.33) to {self.n_data} shift factors, {lo:g} .. {hi:g} degC: "
+                f"c1 = {w.c1:.6g}, c2 = {w.c2:.6g} K, T_ref = {w.T_ref - ZERO_CELSIUS:g} degC; "
+                f"residual of log10 aT: rms {self.rms_residual:.3g}, max {self.max_residual:.3g}")
+
+
+def fit_wlf(T: Any, log_aT: Any, T_ref: float | None = None) -> WLFFit:
+    """Fit WLF c1, c2 (eq. 3.33, log10 aT = -c1 (T - T_ref) / (c2 + T - T_ref)) to a shift-factor
+    table by least squares on log10 aT.
+
+    T in K; ``T_ref`` (K) defaults to :func:`reference_temperature` of the table.  Start: the
+    linearised form -(T - T_ref) / log10 aT = c2/c1 + (T - T_ref)/c1, a straight line through the
+    rows with T != T_ref; then scipy.optimize.least_squares on log10 aT itself (exact data give
+    c1, c2 to rounding).  Impossible results (c1 or c2 <= 0, or the WLF singularity T_ref - c2 at
+    or above a tabulated temperature) raise an InputError.
+    """
+    from scipy.optimize import least_squares
+
+    TT, la = np.asarray(T, float), np.asarray(log_aT, float)
+    if TT.shape != la.shape or TT.ndim != 1 or TT.size < 3:
+        raise V.InputError(f"fit_wlf: {TT.size} temperatures and {la.size} shift factors; "
+                           "expected at least 3 pairs")
+    T_ref = reference_temperature(TT, la) if T_ref is None else float(T_ref)
+    dT = TT - T_ref
+    use = np.abs(dT) > 1e-9 * max(1.0, abs(T_ref))
+    if use.sum() < 2 or (la[use] == 0).any():
+        raise V.InputError("fit_wlf: log10 aT = 0 away from T_ref; expected a WLF-shaped table")
+    slope, intercept = np.polyfit(dT[use], -dT[use] / la[use], 1)
+    c1, c2 = (1.0 / slope, intercept / slope) if slope > 0 else (10.0, 50.0)
+
+    def resid(x: np.ndarray) -> np.ndarray:
+        return -x[0] * dT / (x[1] + dT) - la
+
+    lower = max(1e-9, float(-dT.min()) * (1 + 1e-9))  # c2 + dT > 0 at every row
+    x0 = np.array([max(c1, 1e-6), max(c2, lower * 1.01)])
+    sol = least_squares(resid, x0, bounds=([1e-9, lower], [np.inf, np.inf]), xtol=1e-15,
+                        ftol=1e-15, gtol=1e-15, x_scale="jac")
+    c1, c2 = (float(v) for v in sol.x)
+    if not (c1 > 1e-6 and c2 > 0):  # c1 at its bound: log10 aT does not fall with T
+        raise V.InputError(f"fit_wlf: c1 = {c1:g}, c2 = {c2:g} K: expected both > 0 (log10 aT "
+                           "must fall with temperature; the table is not WLF-shaped)")
+    if T_ref - c2 >= TT.min() * (1 - 1e-6):
+        raise V.InputError(f"fit_wlf: the WLF singularity T_ref - c2 = {T_ref - c2:g} K is at or "
+                           f"above the table's lowest temperature {TT.min():g} K")
+    r = resid(sol.x)
+    return WLFFit(WLF(c1, c2, T_ref), float(np.sqrt(np.mean(r**2))), float(np.abs(r).max()),
+                  int(TT.size), (float(TT.min()), float(TT.max())))
+
+
+# --------------------------------------------------------------------------------------------
+# time domain: relaxation curves E(t) and published Prony terms
+# --------------------------------------------------------------------------------------------
+
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0}
+
+
+def read_relaxation_csv(path: str | Path, columns: Sequence[str | int] = ("t", "E_relax"),
+                        modulus_unit: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Read a relaxation master curve E(t) (pyvisco ``time_user_master.csv``); return (t in s,
+    E in MPa).  A header row (``t, E_relax``), optionally a units row (``s, MPa``), then numbers;
+    times > 0 strictly increasing, moduli > 0."""
+    path = Path(path)
+    if len(columns) != 2:
+        raise V.InputError(f"read_relaxation_csv.columns = {columns!r}: expected two (time, E)")
+    rows = _read_rows(path)
+    if len(rows) < 3 or all(_is_number(c) for c in rows[0]):
+        raise V.InputError(f"{path}: expected a header row of column names and data rows")
+    header, rows = rows[0], rows[1:]
+    idx = [_column_index(header, c, path) for c in columns]
+    units = rows.pop(0) if not _is_number(rows[0][idx[0]]) else None
+    tu, mu = (units[idx[0]], units[idx[1]]) if units is not None else ("s", modulus_unit or "MPa")
+    if tu not in TIME_UNITS or mu not in MODULUS_UNITS:
+        raise V.InputError(f"{path}: units {tu!r}, {mu!r}: expected time in {list(TIME_UNITS)} "
+                           f"and modulus in {list(MODULUS_UNITS)}")
+    try:
+        data = np.array([[float(r[i]) for i in idx] for r in rows])
+    except (ValueError, IndexError) as err:
+        raise V.InputError(f"{path}: non-numeric or missing value in the data rows "
+                           f"({err})") from None
+    t, E = data[:, 0] * TIME_UNITS[tu], data[:, 1] * MODULUS_UNITS[mu]
+    _check_relaxation(t, E, str(path))
+    return t, E
+
+
+def _check_relaxation(t: np.ndarray, E: np.ndarray, where: str) -> None:
+    for name, arr in (("t", t), ("E", E)):
+        bad = ~np.isfinite(arr) | (arr <= 0)
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise V.InputError(f"{where}: {name}[{i}] = {arr[i]!r}: expected a finite value > 0")
+    if t.size < 2 or (np.diff(t) <= 0).any():
+        raise V.InputError(f"{where}: expected at least 2 strictly increasing times")
+
+
+@dataclass(frozen=True)
+class PronyTimeFit:
+    """Result of :func:`fit_prony_time` (or the terms read by :func:`read_prony_csv`, with
+    ``n_data = 0``): series, E_inf (MPa) and the relative error of E(t)."""
+
+    series: PronySeries
+    E_inf: float
+    rel_error: ErrorStats | None
+    n_data: int
+    E_inf_fitted: bool
+    source: str = "fit"
+
+    @property
+    def E0(self) -> float:
+        return self.series.E0(self.E_inf)
+
+    def report(self) -> str:
+        s, nz = self.series, int((self.series.gamma > 0).sum())
+        head = (f"Prony terms read from {self.source}" if self.n_data == 0 else
+                f"Prony fit to {self.n_data} points of E(t) = E_inf + sum E_k exp(-t/tau_k)")
+        lines = [f"{head}: {len(s)} relaxation times {s.tau.min():.3g} .. {s.tau.max():.3g} s, "
+                 f"{nz} non-zero terms",
+                 f"  E_inf = {self.E_inf:.6g} MPa ({'fitted' if self.E_inf_fitted else 'given'}), "
+                 f"E0 = {self.E0:.6g} MPa, gamma_inf = {s.gamma_inf:.6g}"]
+        if self.rel_error is not None:
+            lines.append(f"  relative error E(t): max {self.rel_error.max:.3%}, rms "
+                         f"{self.rel_error.rms:.3%}")
+        return "\n".join(lines)
+
+
+def default_tau_time(t: np.ndarray, per_decade: int = 1) -> np.ndarray:
+    """Relaxation times for a fit of E(t) over t: ``per_decade`` per decade at powers of ten from
+    10^floor(log10 t_min) to 10^ceil(log10 t_max) (the data range rounded outwards)."""
+    e0 = math.floor(math.log10(float(np.min(t))) + 1e-9)
+    e1 = math.ceil(math.log10(float(np.max(t))) - 1e-9)
+    return np.logspace(e0, e1, (e1 - e0) * int(per_decade) + 1)
+
+
+def fit_prony_time(t: Any, E: Any, tau: Any = None, per_decade: int = 1,
+                   E_inf: float | None = None, weights: str = "relative") -> PronyTimeFit:
+    """Fit E(t) = E_inf + sum_k E_k exp(-t / tau_k) (the relaxation form of eq. 3.34) to a
+    relaxation curve: non-negative least squares (scipy.optimize.nnls) on a log-spaced tau grid
+    (:func:`default_tau_time` unless ``tau`` is given), relative weights by default.  t in s,
+    E in MPa; ``E_inf`` given fixes the long-term modulus."""
+    if weights not in WEIGHTS:
+        raise V.InputError(f"fit_prony_time.weights = {weights!r}: expected one of {WEIGHTS}")
+    tt, EE = (np.array(a, dtype=float, ndmin=1) for a in (t, E))
+    if tt.shape != EE.shape or tt.ndim != 1:
+        raise V.InputError(f"fit_prony_time: t has {tt.size} values and E {EE.size}; expected "
+                           "equal lengths")
+    _check_relaxation(tt, EE, "fit_prony_time")
+    if isinstance(per_decade, bool) or not isinstance(per_decade, (int, np.integer)) \
+            or per_decade < 1:
+        raise V.InputError(f"fit_prony_time.per_decade = {per_decade!r}: expected an integer "
+                           ">= 1")
+    tau = default_tau_time(tt, per_decade) if tau is None else _check_tau(tau)
+    A = np.hstack([np.ones((tt.size, 1)), np.exp(-np.divide.outer(tt, tau))])
+    b = EE.copy()
+    if E_inf is not None:
+        E_inf = _given_E_inf(E_inf)
+        A, b = A[:, 1:], EE - E_inf
+    if weights == "relative":
+        A, b = A / EE[:, None], b / EE
+    norm = np.linalg.norm(A, axis=0)
+    norm[norm == 0] = 1.0
+    x, _ = nnls(A / norm, b, maxiter=50 * A.shape[1] + 1000)
+    x = x / norm
+    E_inf_value = float(E_inf) if E_inf is not None else float(x[0])
+    E_k = x if E_inf is not None else x[1:]
+    if E_inf_value <= 0:
+        raise V.InputError("fit_prony_time: the fitted E_inf is 0 (no equilibrium spring); give "
+                           "E_inf or relaxation times not beyond the longest data time")
+    series = PronySeries.from_moduli(E_inf_value, E_k, tau)
+    return PronyTimeFit(series, E_inf_value, ErrorStats.of(series.relaxation(tt, E_inf_value), EE),
+                        int(tt.size), E_inf is None)
+
+
+def read_prony_csv(path: str | Path, E0: float | None = None) -> PronyTimeFit:
+    """Read published Prony terms (pyvisco ``prony_terms``): a comment ``# E0 = <value> MPa``
+    (or ``E0`` given), then rows ``rel_mod, rel_time`` (gamma_k = E_k / E0, tau_k in s).  The
+    terms are taken as given (no fit): E_inf = E0 gamma_inf (eq. 3.35, 3.36).  Negative moduli,
+    sum(gamma) >= 1 or non-positive times raise an InputError."""
+    path = Path(path)
+    E0_file = None
+    rows = []
+    with path.open(newline="", encoding="utf-8-sig") as fh:
+        for line in fh:
+            text = line.strip()
+            if text.startswith("#"):
+                key, _, value = text.lstrip("#").partition("=")
+                if key.strip() == "E0":
+                    unit = (value.split() + ["MPa", "MPa"])[1]
+                    if unit not in MODULUS_UNITS:
+                        raise V.InputError(f"{path}: E0 unit {unit!r}: expected one of "
+                                           f"{list(MODULUS_UNITS)}")
+                    E0_file = float(value.split()[0]) * MODULUS_UNITS[unit]
+                continue
+            cells = [c.strip() for c in text.split(",")]
+            if text and all(_is_number(c) for c in cells[:2]) and len(cells) >= 2:
+                rows.append((float(cells[0]), float(cells[1])))
+            elif text and rows:
+                raise V.InputError(f"{path}: non-numeric row {text!r} among the terms")
+    if E0 is None and E0_file is None:
+        raise V.InputError(f"{path}: no '# E0 = <value> MPa' line; give E0 (the instantaneous "
+                           "modulus the relative moduli refer to)")
+    E0_value = V.positive(f"{path}: E0", E0 if E0 is not None else E0_file, "MPa")
+    if not rows:
+        raise V.InputError(f"{path}: no rows of terms (rel_mod, rel_time)")
+    gamma, tau = np.array(rows).T
+    if (gamma < 0).any():
+        i = int(np.argmax(gamma < 0))
+        raise V.InputError(f"{path}: rel_mod[{i}] = {gamma[i]!r}: a negative modulus; expected "
+                           ">= 0")
+    if gamma.sum() >= 1.0:
+        raise V.InputError(f"{path}: sum(rel_mod) = {gamma.sum():.6g}: expected < 1 (the "
+                           "equilibrium modulus E_inf = E0 (1 - sum) must stay > 0)")
+    try:
+        series = PronySeries(gamma, tau)
+    except ValueError as err:
+        raise V.InputError(f"{path}: {err}") from None
+    return PronyTimeFit(series, E0_value * series.gamma_inf, None, 0, False, source=path.name)
+
+
+# --------------------------------------------------------------------------------------------
+# plausibility at fit time
+# --------------------------------------------------------------------------------------------
+
+
+def plausibility_warnings(series: PronySeries, E_inf: float,
+                          omega_range: tuple[float, float] | None, K: float | None = None
+                          ) -> list[str]:
+    """One line per implausible property of a fitted (or read) series, checked at fit time:
+
+    * the instantaneous Poisson ratio nu0 = (3K - E0) / (6K) with the bulk modulus K of the
+      compound it goes into (``K`` given) negative or above 0.5;
+    * the loss tangent's peak (E''/E' of eq. 3.34, on a grid two decades beyond the terms)
+      outside the data's frequency range;
+    * relaxation times (non-zero terms) more than a decade outside the data's time range
+      1/omega_max .. 1/omega_min.
+    Impossible results (negative moduli, E_inf <= 0) never reach here: the series refuses them.
+    ``omega_range`` in rad/s (for a relaxation curve E(t) over t1 .. t2: 1/t2 .. 1/t1; None for
+    terms read without data: the two data checks are skipped).
+    """
+    out: list[str] = []
+    s = series.pruned() if (series.gamma > 0).any() else series
+    E0 = series.E0(E_inf)
+    if K is not None:
+        nu0 = (3.0 * K - E0) / (6.0 * K)
+        if not 0.0 <= nu0 <= 0.5:
+            out.append(f"instantaneous Poisson ratio nu0 = (3K - E0)/(6K) = {nu0:.4f} outside "
+                       f"0 .. 0.5: the glassy E0 = {E0:.4g} MPa against the compound's bulk "
+                       f"modulus K = {K:.4g} MPa (the FE model keeps K elastic, eq. 3.77)")
+    if omega_range is not None and (s.gamma > 0).any():
+        w_lo, w_hi = (float(v) for v in omega_range)
+        lo, hi = math.log10(1 / s.tau.max()) - 2, math.log10(1 / s.tau.min()) + 2
+        w = np.logspace(lo, hi, int((hi - lo) * 50) + 1)
+        E = s.complex_modulus(w, E_inf)
+        w_peak = float(w[np.argmax(E.imag / E.real)])
+        if not w_lo <= w_peak <= w_hi:
+            out.append(f"loss tangent peak at {w_peak / (2 * math.pi):.3g} Hz, outside the data "
+                       f"({w_lo / (2 * math.pi):.3g} .. {w_hi / (2 * math.pi):.3g} Hz): the "
+                       "series extrapolates its maximum damping")
+        t_lo, t_hi = 1.0 / w_hi, 1.0 / w_lo
+        far = (s.tau < t_lo / 10.0) | (s.tau > t_hi * 10.0)
+        if far.any():
+            more = " ..." if far.sum() > 4 else ""
+            listed = ", ".join(f"{x:.3g}" for x in s.tau[far][:4]) + more
+            out.append(f"{int(far.sum())} relaxation time(s) ({listed} s) more than a decade "
+                       f"outside the data's time range {t_lo:.3g} .. {t_hi:.3g} s")
+    return out
 
 
 # --------------------------------------------------------------------------------------------

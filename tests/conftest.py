@@ -32,6 +32,8 @@ SHA256 = {
         "a925a5b1906af78f31d7bb61301b158cc38bd34081fc8368a0b279075511077b",
     "pyvisco_prony_terms_KPf_MD.csv":
         "969243a958babc9ed8875bae9a085bcbcb50d5497200bc50db4a5b60a6d74248",
+    "pyvisco_freq_master_shift_factors.csv":
+        "61347b02bf8ea0f77c8fc110487c7fa8627d851c5eddb4073cb49677ab2fc3d5",
 }
 
 

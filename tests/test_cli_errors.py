@@ -67,6 +67,15 @@ def _files(tmp: Path) -> None:
     text = resolve_data_path("tread_default").read_text()
     assert "\nC10 = 0.174" in text  # the line the bad compound changes
     (tmp / "badc.toml").write_text(text.replace("\nC10 = 0.174", "\nC10 = -0.1"))
+    # DMA inputs of ``material fit``: a master curve, shift-factor tables, Prony terms
+    f = np.logspace(-1, 4, 11)
+    rows = "".join(f"{a:.6g},{1 + 0.1 * np.log10(a):.6g},{0.2:.6g}\n" for a in f)
+    (tmp / "dma.csv").write_text("f,E_stor,E_loss\nHz,MPa,MPa\n" + rows)
+    (tmp / "relax.csv").write_text("t,E_relax\ns,MPa\n" + "".join(
+        f"{a:.6g},{2 + 1 / (1 + a):.6g}\n" for a in f))
+    (tmp / "shift.csv").write_text("T,log_aT\nC, -\n-20,2.5\n-5,0\n20,-3\n40,-5\n")
+    (tmp / "shift_nounits.csv").write_text("T,log_aT\n-20,2.5\n-5,0\n20,-3\n40,-5\n")
+    (tmp / "prony_neg.csv").write_text("# E0 = 100 MPa\n0.2,1\n-0.1,10\n")
 
 
 # (id, argv (strings; {tmp} is the test folder), what the message must contain, as typed)
@@ -142,7 +151,26 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("theory-pressure", ["theory", "--pressure", "-1"], ["--pressure -1"]),
     ("theory-velocities", ["theory", "--velocities", "0"], ["--velocities 0"]),
     ("material-missing", ["material", "show", "nosuch"], ["nosuch", "not found"]),
-    ("material-fit-missing", ["material", "fit", "{tmp}/missing.csv"], ["missing.csv"]),
+    ("material-fit-missing", ["material", "fit", "{tmp}/missing.csv", "--T-ref-C", "20"],
+     ["missing.csv"]),
+    ("material-fit-no-T-ref", ["material", "fit", "{tmp}/dma.csv"],
+     ["--T-ref-C", "--shift-factors", "nothing is assumed"]),
+    ("material-fit-T-ref", ["material", "fit", "{tmp}/dma.csv", "--T-ref-C", "-300"],
+     ["--T-ref-C -300", "> -273.15"]),
+    ("material-fit-shift-missing", ["material", "fit", "{tmp}/dma.csv", "--shift-factors",
+                                    "{tmp}/nosuch.csv"], ["--shift-factors", "nosuch.csv"]),
+    ("material-fit-shift-units", ["material", "fit", "{tmp}/dma.csv", "--shift-factors",
+                                  "{tmp}/shift_nounits.csv"],
+     ["--shift-factors", "shift_nounits.csv", "temperature unit"]),
+    ("material-fit-shift-vs-T-ref", ["material", "fit", "{tmp}/dma.csv", "--shift-factors",
+                                     "{tmp}/shift.csv", "--T-ref-C", "20"],
+     ["--T-ref-C 20", "--shift-factors", "-5 degC"]),
+    ("material-fit-terms-time", ["material", "fit", "{tmp}/relax.csv", "--kind", "time",
+                                 "--T-ref-C", "20", "--terms", "5"], ["--terms", "--kind time"]),
+    ("material-fit-columns", ["material", "fit", "{tmp}/relax.csv", "--kind", "time",
+                              "--T-ref-C", "20", "--columns", "t"], ["--columns t", "2 column"]),
+    ("material-fit-prony-negative", ["material", "fit", "{tmp}/prony_neg.csv", "--kind", "prony",
+                                     "--T-ref-C", "20"], ["prony_neg.csv", "negative modulus"]),
 ]
 
 

@@ -540,7 +540,8 @@ def test_cli_show(capsys) -> None:
 
 
 def test_cli_fit_writes_loadable_compound(tmp_path: Path) -> None:
-    """``material fit`` with the base E_inf fixed reproduces a known series; --T-C shifts tau."""
+    """``material fit`` with the base E_inf fixed reproduces a known series; --T-ref-C (alias
+    --T-C) at base's T_ref leaves tau, at 40 degC shifts it by 1/a(T) (eq. 3.37)."""
     base = load_compound("tread_default")
     true = PronySeries([0.4, 0.3, 0.2], [1e-5, 1e-3, 1e-1])
     f = np.logspace(-1, 4, 51)
@@ -549,8 +550,9 @@ def test_cli_fit_writes_loadable_compound(tmp_path: Path) -> None:
     csv.write_text("f,E_stor,E_loss\nHz,MPa,MPa\n" + "".join(f"{a!r},{b.real!r},{b.imag!r}\n"
                                                              for a, b in zip(f, E)))
     out, png = tmp_path / "fit.toml", tmp_path / "fit.png"
-    assert _cli(["material", "fit", str(csv), "--fix-E-inf", "--toml", str(out),
-                 "--plot", str(png)]) == 0
+    assert _cli(["material", "fit", str(csv), "--fix-E-inf", "--T-ref-C", "20", "--toml",
+                 str(out), "--plot", str(png)]) == 0
+    assert "# master curve reference temperature 20 degC (--T-ref-C)" in out.read_text()
     c = load_compound(out)
     assert c.hyperelastic == base.hyperelastic and c.wlf == base.wlf and c.thermal == base.thermal
     np.testing.assert_allclose(c.complex_modulus(2 * np.pi * f), E, rtol=1e-6)
@@ -560,3 +562,59 @@ def test_cli_fit_writes_loadable_compound(tmp_path: Path) -> None:
                  "--toml", str(out40)]) == 0
     np.testing.assert_allclose(load_compound(out40).prony.tau, c.prony.tau * 10**1.2295081967,
                                rtol=1e-8)
+
+
+def test_cli_fit_needs_the_reference_temperature(tmp_path: Path, capsys,
+                                                 shared_data: Path) -> None:
+    """No --T-ref-C and no --shift-factors: refused (no silent 20 degC), nothing written."""
+    csv = shared_data / "pyvisco_freq_master.csv"
+    out = tmp_path / "x.toml"
+    assert _cli(["material", "fit", str(csv), "--toml", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "--T-ref-C" in err and "--shift-factors" in err and not out.exists()
+
+
+def test_cli_fit_with_shift_factors(tmp_path: Path, capsys, shared_data: Path) -> None:
+    """pyvisco's curve with its shift-factor table: reference -5 degC, the compound's WLF is the
+    least-squares fit to the table at T_ref = -5 degC (tau not shifted), all stated."""
+    from rubberfriction.forms import prony as P
+
+    out = tmp_path / "pv.toml"
+    assert _cli(["material", "fit", str(shared_data / "pyvisco_freq_master.csv"),
+                 "--shift-factors", str(shared_data / "pyvisco_freq_master_shift_factors.csv"),
+                 "--toml", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "reference temperature of the master curve: -5 degC (--shift-factors" in text
+    wfit = P.fit_wlf(*P.read_shift_factors(shared_data / "pyvisco_freq_master_shift_factors.csv"))
+    assert wfit.report() in text
+    c = load_compound(out)
+    assert c.wlf == wfit.wlf and c.wlf.T_ref == pytest.approx(268.15, abs=1e-12)
+    omega, E1, E2 = P.read_dma_csv(shared_data / "pyvisco_freq_master.csv")
+    fit = P.fit_prony(omega, E1, E2)
+    np.testing.assert_array_equal(c.prony.tau, fit.series.pruned().tau)  # not shifted
+    toml = out.read_text()
+    assert "# master curve reference temperature -5 degC" in toml and "tau not shifted" in toml
+    for line in P.plausibility_warnings(fit.series, c.E_inf, (omega.min(), omega.max()),
+                                        K=c.hyperelastic.K):
+        assert f"warning: {line}" in text and f"# warning: {line}" in toml
+
+
+@pytest.mark.parametrize("kind, name", [("time", "pyvisco_time_user_master.csv"),
+                                        ("prony", "pyvisco_prony_terms_KPf_MD.csv")])
+def test_cli_fit_time_and_prony(tmp_path: Path, capsys, shared_data: Path, kind: str,
+                                name: str) -> None:
+    """E(t) curves and published terms make compounds too; at base's T_ref nothing shifts, so
+    the compound's gamma, tau are the fit's (time) or the file's (prony)."""
+    from rubberfriction.forms import prony as P
+
+    out = tmp_path / "c.toml"
+    assert _cli(["material", "fit", str(shared_data / name), "--kind", kind, "--T-ref-C", "20",
+                 "--toml", str(out)]) == 0
+    assert "reference temperature of the master curve: 20 degC (--T-ref-C)" in \
+        capsys.readouterr().out
+    got = (P.fit_prony_time(*P.read_relaxation_csv(shared_data / name)) if kind == "time"
+           else P.read_prony_csv(shared_data / name)).series.pruned()
+    c = load_compound(out)
+    np.testing.assert_allclose(c.prony.tau, got.tau, rtol=1e-15)
+    np.testing.assert_allclose(c.prony.gamma, got.gamma, rtol=1e-15)
+    assert c.wlf == load_compound("tread_default").wlf

@@ -329,6 +329,12 @@ def test_hot_layer_mode_agrees_with_the_coupled_loop(case: Case):
     assert np.all(np.diff(hot.mu_lower) < 0), hot.mu_lower
     assert hot.mu < hot.mu_isothermal
     T_c = hot.macro.series["T_contact"][-1]
+    # the hottest contact node of the slide bounds the final mean; within the law's grid: no
+    # warning (tests/test_hot_layer_range.py has the case beyond it)
+    assert hot.macro.stats["T_contact_max"] >= T_c
+    assert hot.T_law_max == hot.temperatures[-1]
+    assert hot.macro.stats["T_contact_max"] <= hot.T_law_max
+    assert not any("hot-layer law" in n for n in hot.notes), hot.notes
     assert T_c > T0 + 1.0 and hot.mu == pytest.approx(
         0.6 + np.interp(T_c, hot.temperatures, hot.mu_lower), rel=1e-14)
     coupled = case.loop(1000.0, LoopSettings(divisions=2, mu_const=0.6))

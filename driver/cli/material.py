@@ -1,13 +1,24 @@
 """``rubberfriction material``: inspect material files and fit Prony series to DMA data.
 
     rubberfriction material show NAME|FILE [--T-C 0]
-    rubberfriction material fit DMA.csv [--terms N] [--plot out.png] [--toml out.toml]
-                                        [--base tread_default]
+    rubberfriction material fit DATA.csv (--T-ref-C DEGC | --shift-factors SHIFT.csv)
+                                [--kind frequency|time|prony] [--terms N] [--plot out.png]
+                                [--toml out.toml] [--base tread_default]
 
 ``show`` prints the summary of a compound (or road), E'(f), E''(f) and tan delta at a few
-frequencies, and the WLF shift table.  ``fit`` fits a Prony series (eq. 3.34, non-negative least
-squares on E' and E'') to a DMA master curve in the pyvisco CSV format and can write a ready-to-use
-compound TOML whose Mooney-Rivlin, WLF and thermal data come from ``--base``.
+frequencies, and the WLF shift table.  ``fit`` fits a Prony series to a master curve in the
+pyvisco CSV format -- a DMA curve E'(f), E''(f) (eq. 3.34, non-negative least squares on both),
+a relaxation curve E(t) (``--kind time``, E_inf + sum E_k exp(-t/tau_k), NNLS on a log-spaced
+tau grid), or published Prony terms read as given (``--kind prony``) -- and can write a
+ready-to-use compound TOML whose Mooney-Rivlin and thermal data come from ``--base``.
+
+The master curve's reference temperature is an input, never assumed: ``--T-ref-C``, or
+``--shift-factors`` (the table log10 aT vs T that built the curve; its zero is the reference,
+and WLF c1, c2 are fitted to it by least squares and become the compound's WLF data).  Without
+a shift-factor table the compound takes ``--base``'s WLF, the relaxation times shifted from
+``--T-ref-C`` to its T_ref (eq. 3.37).  Every fit states its reference temperature and warns,
+one line each, about a Poisson ratio outside 0 .. 0.5, a loss-tangent peak outside the data and
+relaxation times more than a decade outside the data's time range.
 """
 
 from __future__ import annotations
@@ -19,9 +30,12 @@ from pathlib import Path
 
 import numpy as np
 
+from rubberfriction import validation as V
 from rubberfriction.forms import compound as M
 from rubberfriction.forms import material_files
 
+KINDS = ("frequency", "time", "prony")
+DEFAULT_COLUMNS = {"frequency": ("f", "E_stor", "E_loss"), "time": ("t", "E_relax")}
 SHOW_FREQUENCIES_HZ = (1e-2, 1e-1, 1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8)
 WLF_TABLE_C = (-40.0, -20.0, 0.0, 20.0, 40.0, 60.0, 80.0, 100.0)
 
@@ -40,25 +54,34 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                       help="temperature (degC) of the moduli table")
     show.set_defaults(func=run_show)
 
-    fit = sub.add_parser("fit", help="fit a Prony series to a DMA master curve (pyvisco CSV)")
+    fit = sub.add_parser("fit", help="fit a Prony series to a master curve (pyvisco CSV)")
     fit.add_argument("dma", type=Path,
-                     help="CSV: header row, optional units row, frequency, E', E''")
+                     help="CSV: header row, optional units row, then frequency, E', E'' "
+                          "(--kind frequency), time, E(t) (--kind time) or the Prony terms "
+                          "rel_mod, rel_time after a '# E0 = ... MPa' line (--kind prony)")
+    fit.add_argument("--kind", choices=KINDS, default="frequency",
+                     help="what the CSV holds (default: frequency)")
     fit.add_argument("--terms", type=int, default=None,
-                     help="number of Prony terms (default: one per decade)")
+                     help="number of Prony terms (--kind frequency; default: one per decade)")
     fit.add_argument("--freq-unit", choices=("Hz", "rad/s"), default="Hz")
-    fit.add_argument("--columns", nargs=3, default=("f", "E_stor", "E_loss"),
-                     metavar=("FREQ", "E1", "E2"))
-    fit.add_argument("--T-C", type=float, default=None,
-                     help="temperature (degC) of the master curve; default: the base "
-                          "compound's WLF T_ref")
+    fit.add_argument("--columns", nargs="+", default=None, metavar="COL",
+                     help="column names: f E_stor E_loss (frequency) or t E_relax (time)")
+    fit.add_argument("--T-ref-C", "--T-C", dest="T_ref_C", type=float, default=None,
+                     help="reference temperature (degC) of the master curve")
+    fit.add_argument("--shift-factors", type=Path, default=None, metavar="FILE",
+                     help="CSV of log10 aT vs T (header T, log_aT; units row C or K): gives "
+                          "the reference temperature (log10 aT = 0) and the WLF c1, c2 fitted "
+                          "to it")
     fit.add_argument("--base", default=material_files.DEFAULT_COMPOUND,
-                     help="compound providing Mooney-Rivlin, WLF and thermal data for --toml")
+                     help="compound providing Mooney-Rivlin and thermal data (and WLF without "
+                          "--shift-factors) for --toml")
     fit.add_argument("--fix-E-inf", action="store_true",
                      help="fix E_inf to the base compound's Mooney-Rivlin long-term modulus")
     fit.add_argument("--bound", action="store_true",
                      help="also compute the best max error any Prony series could reach "
-                          "(linear programme)")
-    fit.add_argument("--plot", type=Path, default=None, help="write a PNG of data, fit and errors")
+                          "(linear programme; --kind frequency)")
+    fit.add_argument("--plot", type=Path, default=None,
+                     help="write a PNG of data, fit and errors (--kind frequency)")
     fit.add_argument("--toml", type=Path, default=None,
                      help="write a compound TOML with the fitted series")
     fit.add_argument("--name", default=None,
@@ -145,16 +168,30 @@ def run_fit(args: argparse.Namespace) -> int:
     from rubberfriction.forms import prony as P
 
     try:
+        _check_fit_options(args)
         base = material_files.load_compound(args.base)
-        omega, E1, E2 = P.read_dma_csv(args.dma, freq_unit=args.freq_unit,
-                                       columns=tuple(args.columns))
-        fixed = base.E_inf if args.fix_E_inf else None
-        fit = P.fit_prony(omega, E1, E2, n_terms=args.terms, E_inf=fixed)
+        T_ref, wlf_fit = reference_of(args)
+        fit, omega, E1, E2, w_range = _fit_data(args, base)
+        series, shift_note = P.series_at_reference(fit, base, T_ref,
+                                                   wlf_fit.wlf if wlf_fit else None)
+        # the data-range checks on the series as fitted (at the data's reference temperature)
+        warnings = P.plausibility_warnings(fit.series, base.E_inf, w_range,
+                                           K=base.hyperelastic.K)
     except (ValueError, OSError) as err:
         return _error("fit", err)
-    f = omega / (2 * np.pi)
-    print(f"{args.dma}: {omega.size} points, {f.min():.3g} .. {f.max():.3g} Hz")
+    source = ("--shift-factors " + str(args.shift_factors) if wlf_fit else "--T-ref-C")
+    if args.kind != "prony":
+        lo, hi = (w_range[0] / (2 * np.pi), w_range[1] / (2 * np.pi))
+        what = (f"{lo:.3g} .. {hi:.3g} Hz" if args.kind == "frequency"
+                else f"t = {1 / w_range[1]:.3g} .. {1 / w_range[0]:.3g} s")
+        print(f"{args.dma}: {fit.n_data} points, {what}")
+    print(f"reference temperature of the master curve: {T_ref - M.ZERO_CELSIUS:g} degC "
+          f"({source})")
+    if wlf_fit is not None:
+        print(wlf_fit.report())
     print(fit.report())
+    for line in warnings:
+        print(f"warning: {line}")
     if args.bound:
         lo, hi = np.log10(fit.series.tau.min()) - 2, np.log10(fit.series.tau.max()) + 2
         dense = np.logspace(lo, hi, int(4 * (hi - lo)) + 1)
@@ -164,44 +201,108 @@ def run_fit(args: argparse.Namespace) -> int:
     if args.plot is not None:
         print(f"plot: {P.plot_fit(fit, omega, E1, E2, args.plot)}")
     if args.toml is not None:
-        write_compound_toml(args, fit, base)
+        wlf = wlf_fit.wlf if wlf_fit is not None else base.wlf
+        notes = [f"master curve reference temperature {T_ref - M.ZERO_CELSIUS:g} degC "
+                 f"({source})"]
+        notes += [wlf_fit.report()] if wlf_fit is not None else []
+        notes += ([shift_note] if shift_note else []) + [f"warning: {w}" for w in warnings]
+        write_compound_toml(args, fit, base, series, wlf, notes)
     return 0
 
 
-def _shifted_series(fit, base: M.Compound, T_C: float | None) -> tuple[M.PronySeries, str]:
-    """The series at base's T_ref (``prony.series_at_reference``) and its note as a comment."""
-    from rubberfriction.forms.prony import series_at_reference
+def _check_fit_options(args: argparse.Namespace) -> None:
+    """Options that do not apply to ``--kind``: one line naming the option."""
+    if args.kind != "frequency":
+        for opt, given in (("--terms", args.terms is not None), ("--plot", args.plot is not None),
+                           ("--bound", args.bound)):
+            if given:
+                raise V.InputError(f"{opt}: applies to --kind frequency, not --kind {args.kind}")
+    if args.kind == "prony" and args.columns is not None:
+        raise V.InputError("--columns: --kind prony reads the pyvisco terms file (rel_mod, "
+                           "rel_time)")
+    if args.kind == "prony" and args.fix_E_inf:
+        raise V.InputError("--fix-E-inf: --kind prony takes the terms as given")
+    want = len(DEFAULT_COLUMNS.get(args.kind, ()))
+    if args.columns is not None and len(args.columns) != want:
+        raise V.InputError(f"--columns {' '.join(args.columns)}: expected {want} column names "
+                           f"for --kind {args.kind}")
 
-    T = None if T_C is None else T_C + M.ZERO_CELSIUS
-    series, note = series_at_reference(fit, base, T)
-    return series, f"# {note}\n" if note else ""
+
+def reference_of(args: argparse.Namespace):
+    """The master curve's reference temperature (K) and, from ``--shift-factors``, the WLF fitted
+    to the table (else None).  Neither option given: refused, nothing is assumed."""
+    from rubberfriction.forms import prony as P
+
+    T_opt = None
+    if args.T_ref_C is not None:
+        T_opt = V.option("--T-ref-C", args.T_ref_C, what="a temperature", above=-M.ZERO_CELSIUS,
+                         unit="degC") + M.ZERO_CELSIUS
+    if args.shift_factors is None:
+        if T_opt is None:
+            raise V.InputError("the master curve's reference temperature is not given: pass "
+                               "--T-ref-C DEGC or --shift-factors FILE (nothing is assumed)")
+        return T_opt, None
+    try:
+        T, log_aT = P.read_shift_factors(args.shift_factors)
+        fit = P.fit_wlf(T, log_aT)
+    except OSError as err:
+        raise V.InputError(f"--shift-factors {args.shift_factors}: "
+                           f"{err.strerror or err}") from None
+    except ValueError as err:
+        raise V.InputError(f"--shift-factors {args.shift_factors}: {err}") from None
+    if T_opt is not None and abs(T_opt - fit.wlf.T_ref) > 0.005:
+        raise V.InputError(f"--T-ref-C {args.T_ref_C:g}: --shift-factors {args.shift_factors} "
+                           f"puts the reference (log10 aT = 0) at "
+                           f"{fit.wlf.T_ref - M.ZERO_CELSIUS:g} degC; give one of the two")
+    return fit.wlf.T_ref, fit
 
 
-def write_compound_toml(args: argparse.Namespace, fit, base: M.Compound) -> Path:
-    """A compound TOML: the fitted series inline, Mooney-Rivlin/WLF/thermal data of ``base``."""
+def _fit_data(args: argparse.Namespace, base: M.Compound):
+    """(fit, omega, E', E'', data frequency range in rad/s or None) for ``--kind``."""
+    from rubberfriction.forms import prony as P
+
+    fixed = base.E_inf if args.fix_E_inf else None
+    if args.kind == "prony":
+        fit = P.read_prony_csv(args.dma)
+        return fit, None, None, None, None
+    columns = tuple(args.columns or DEFAULT_COLUMNS[args.kind])
+    if args.kind == "time":
+        t, E = P.read_relaxation_csv(args.dma, columns=columns)
+        fit = P.fit_prony_time(t, E, E_inf=fixed)
+        return fit, None, None, None, (1.0 / t.max(), 1.0 / t.min())
+    omega, E1, E2 = P.read_dma_csv(args.dma, freq_unit=args.freq_unit, columns=columns)
+    fit = P.fit_prony(omega, E1, E2, n_terms=args.terms, E_inf=fixed)
+    return fit, omega, E1, E2, (float(omega.min()), float(omega.max()))
+
+
+def write_compound_toml(args: argparse.Namespace, fit, base: M.Compound, series: M.PronySeries,
+                        wlf: M.WLF | None, notes: list[str]) -> Path:
+    """A compound TOML: the fitted series inline (at ``wlf``'s T_ref), Mooney-Rivlin and thermal
+    data of ``base``; ``notes`` (reference temperature, WLF fit, shift, warnings) as comments."""
     from rubberfriction.forms.prony import prony_toml
 
     name = args.name or args.dma.stem
-    series, shift_note = _shifted_series(fit, base, args.T_C)
     mr = base.hyperelastic
     ratio = base.E_inf / fit.E_inf
     report = "".join(f"# {line}\n" for line in fit.report().splitlines())
+    note_lines = "".join(f"# {line}\n" for line in notes)
+    wlf_of = "the shift factors' WLF fit" if wlf is not base.wlf else f"WLF of {base.name}"
     text = (f"# Written by `rubberfriction material fit {args.dma}`; "
             f"format: forms/data/README.md\n{report}"
             f"# E_inf of the fit = {fit.E_inf:.6g} MPa; the compound uses the Mooney-Rivlin "
             f"E_inf = {base.E_inf:.6g} MPa, so its moduli are the fitted ones scaled by "
-            f"{ratio:.4g}.\n{shift_note}"
+            f"{ratio:.4g}.\n{note_lines}"
             f'kind = "compound"\nname = "{name}"\n'
-            f'description = "Prony series fitted to {args.dma.name}; equilibrium, WLF and '
-            f'thermal data of {base.name}"\n'
-            f'source = "Prony: rubberfriction material fit {args.dma.name}; '
-            f'Mooney-Rivlin/WLF/thermal: {base.name}"\n\n'
+            f'description = "Prony series from {args.dma.name}; equilibrium and thermal data '
+            f'of {base.name}, {wlf_of}"\n'
+            f'source = "Prony: rubberfriction material fit {args.dma.name} --kind {args.kind}; '
+            f'Mooney-Rivlin/thermal: {base.name}; {wlf_of}"\n\n'
             + _units_block(base.thermal is not None)
             + f'\n[hyperelastic]\nmodel = "mooney_rivlin"\nform = "{mr.form}"\n'
               f'volumetric = "{mr.volumetric}"\n'
               f"C10 = {mr.C10!r}  # MPa\nC01 = {mr.C01!r}  # MPa\nD1 = {mr.D1!r}  # 1/MPa\n"
             + "\n[prony]  # gamma_k = E_k/E0, tau_k in s at T_ref\n" + prony_toml(series)
-            + _wlf_block(base.wlf) + _thermal_block(base.thermal))
+            + _wlf_block(wlf) + _thermal_block(base.thermal))
     args.toml.write_text(text)
     material_files.load_compound(args.toml)  # the file must load
     print(f"compound file: {args.toml} ({len(series)} non-zero terms)")

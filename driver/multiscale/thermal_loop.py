@@ -453,6 +453,7 @@ class HotLayerResult:
     wall: float = math.nan
     notes: list[str] = field(default_factory=list)
     law: Any = None  # mu_const + mu_lower as mu(p, v, T), linear in T (the macro run's friction)
+    T_law_max: float = math.nan  # the law's highest surface temperature, K (constant beyond)
 
     @property
     def mu_isothermal(self) -> float:
@@ -480,7 +481,8 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
                   log: Callable[[str], None] | None = None) -> HotLayerResult:
     """Hot-layer mode: one cascade per surface temperature (independent: farmed together over all
     ranks, every run from rest), a mu(T_S) law (linear in T between the grid points, constant
-    beyond), then the thermomechanical macro run with that law: mu follows the computed surface
+    beyond, with a warning in ``notes`` when the contact got hotter: :func:`law_range_note`),
+    then the thermomechanical macro run with that law: mu follows the computed surface
     temperature node by node, with no down-passing.
 
     No warm starts here: no physical path joins the grid's steady states, and slid on from the
@@ -512,5 +514,27 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
     out.law = fit_mu_pvT([0.0, 1.0e3], [1.0e-9, 1.0e7], T, grid, degree=1)
     out.macro = run_thermal_macro(dataclasses.replace(spec, friction=out.law), rubber, thermal,
                                   wall_limit=wall_limit)
+    out.T_law_max = float(T.max())
+    note = law_range_note(out.T_law_max, out.macro.stats.get("T_contact_max", math.nan), T0)
+    if note:
+        out.notes.append(note)
     out.wall = time.perf_counter() - wall
     return out
+
+
+def law_range_note(T_top: float, T_seen: float, T0: float) -> str:
+    """The warning when the macro contact got hotter than the hot-layer law's highest surface
+    temperature ``T_top`` (K), "" otherwise.
+
+    Beyond ``T_top`` the spline law (``fit_mu_pvT``) is clamped: mu stays at mu(T_top) with zero
+    slope.  Neither extrapolation is physical -- a linear one runs mu below 0, and a WLF shift
+    of the lower scales' mu(T_S) would be a model of its own, not the cascade the law stands
+    for -- and refusing the point would throw away a macro run that is right wherever the
+    contact stayed within the grid.  So the point keeps its number and says, in its notes
+    (``loop_results.csv`` notes column and the log), how far it left the computed range."""
+    if not (math.isfinite(T_seen) and T_seen > T_top + 1e-9):
+        return ""
+    return (f"warning: the contact reached T0 {T_seen - T0:+.3g} K, {T_seen - T_top:.3g} K above "
+            f"the hot-layer law's highest surface temperature T0 {T_top - T0:+.3g} K; mu(T_S) was "
+            "held at its value there (not extrapolated): add a higher [thermal].hot_layer_rises "
+            "value")

@@ -207,6 +207,7 @@ class ThermalCoupler:
         self.cpu_heat = 0.0
         self.max_rescale = 0.0  # largest |scale - 1| of the nodal power (0 without cut-backs)
         self.max_step_dT = 0.0
+        self.T_active_max = float("nan")  # hottest contact node the friction law saw, K
         Tb, _ = self.heat.interface_temperatures()
         self._T_prev = Tb
         run.contact.set_slave_temperatures(self._slave_temperatures(Tb))
@@ -268,6 +269,9 @@ class ThermalCoupler:
             self._deflect_road(run, st, t)
         p = st["pressure"] * st["weight"] * st["active"]
         T_contact = float(p @ slave_T / p.sum()) if p.sum() > 0 else float("nan")
+        if np.any(st["active"] > 0):
+            self.T_active_max = float(np.fmax(self.T_active_max,
+                                              np.max(slave_T[st["active"] > 0])))
         self.max_step_dT = max(self.max_step_dT, float(np.max(np.abs(Tb - self._T_prev))))
         self._T_prev = Tb
         _, Tr = self.heat.road_surface()
@@ -392,7 +396,8 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: MacroSetting
                       "cpu_heat": coupler.cpu_heat, "max_power_rescale": coupler.max_rescale,
                       "heat_description": coupler.heat.describe(),
                       "bulk_wlf": float(coupler.bulk_map is not None),
-                      "bulk_T_max": getattr(coupler, "bulk_T_max", float("nan"))})
+                      "bulk_T_max": getattr(coupler, "bulk_T_max", float("nan")),
+                      "T_contact_max": coupler.T_active_max})
     return out
 
 
