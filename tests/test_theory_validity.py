@@ -97,7 +97,8 @@ def test_theory_command_prints_each_flag_under_its_model(capsys) -> None:
     assert any(line.startswith("    outside validity: cumulative rms slope") for line in below)
     # the surface line states the road and where it stops
     (surface,) = [line for line in out if line.startswith("surface: ")]
-    assert "cut at 0.003 mm" in surface and "no cut-off rule" in surface
+    # without a scene the shipped road takes the default rule, as the default scene does
+    assert "cut at 0.3 mm" in surface and 'cutoff = "slope"' in surface
 
 
 def test_a_flagged_curve_is_faded_and_labelled_in_plots() -> None:

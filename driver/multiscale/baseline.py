@@ -29,12 +29,14 @@ import numpy as np
 
 from rubberfriction.driver.multiscale.scene import Scene
 from rubberfriction.driver.surfaces import (
+    DEFAULT_EDGES,
     default_road,
     load_profile,
     multiscale_from_measurements,
     psd_1d,
 )
-from rubberfriction.driver.surfaces.four_scale import four_scale_road
+from rubberfriction.driver.surfaces.cutoff import DEFAULT_MAX_SLOPE, apply_cutoff, parse_cutoff
+from rubberfriction.driver.surfaces.four_scale import FOUR_SCALE_EDGES, four_scale_road
 from rubberfriction.driver.theory.adhesion import BellLaw
 from rubberfriction.driver.theory.curves import (
     MODELS,
@@ -160,11 +162,13 @@ def surface_psd(surface: str | None = "default", lambda_max: float | None = None
                 edges: tuple[float, ...] | None = None, cutoff: str | None = None) -> SurfacePSD:
     """Profile PSD (Persson convention) of a profile file, several files or a shipped road.
 
-    ``surface="default"``: the default road (with ``edges`` if given); ``"four_scale"``: the
-    four-scale road (driver.surfaces.four_scale); ``files``: profiles of one
-    road at several resolutions, decomposed at ``edges`` like the multiscale driver; otherwise
-    ``surface`` is one profile file.  ``cutoff`` (a scene's cut-off rule as text) goes into the
-    shipped road's label (:func:`road_label`), which states the road and where it stops.
+    ``surface="default"``: the default road with ``edges`` if given, else cut by the default
+    lowest-scale rule (``cutoff = "slope"``, as the default scene and ``surface default``);
+    ``"four_scale"``: the four-scale road (driver.surfaces.four_scale), likewise; ``files``:
+    profiles of one road at several resolutions, decomposed at ``edges`` like the multiscale
+    driver; otherwise ``surface`` is one profile file.  ``cutoff`` (a scene's cut-off rule as
+    text) goes into the shipped road's label (:func:`road_label`), which states the road and
+    where it stops.
     """
     if files:
         profiles = [load_profile(f) for f in files]
@@ -176,7 +180,12 @@ def surface_psd(surface: str | None = "default", lambda_max: float | None = None
         source = ", ".join(Path(f).name for f in files)
     elif surface in (None, "default", "default_road", "four_scale"):
         make = four_scale_road if surface == "four_scale" else default_road
-        road = make() if edges is None else make(edges=edges)
+        if edges is None:  # the shipped road as every command takes it: the slope cut-off rule
+            edges_all = FOUR_SCALE_EDGES if surface == "four_scale" else DEFAULT_EDGES
+            road, _ = apply_cutoff(lambda e: make(edges=e), edges_all, parse_cutoff("slope"))
+            cutoff = cutoff or f'cutoff = "slope" (max_slope = {DEFAULT_MAX_SLOPE:g})'
+        else:
+            road = make(edges=edges)
         q, C = _band_psd(road)
         lam_hi, lam_lo = road.edges[0], road.edges[-1]
         source = road_label(road, cutoff)
