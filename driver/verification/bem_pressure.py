@@ -117,7 +117,7 @@ def elastic_compound(name: str = "m1"):
                     thermal=None)
 
 
-def compare(fractions=(0.07, 0.25), n: int = 64, rms_slope: float = 0.03, seed: int = 1,
+def compare(fractions=(0.07, 0.2, 0.3), n: int = 64, rms_slope: float = 0.03, seed: int = 1,
             compound: str = "m1", contact: str = "mortar", slide_periods: float = 1.0,
             refine: int = 1) -> dict:
     """FE pressure-branch runs (frictionless, elastic, periodic, block height = period) at the
@@ -158,8 +158,8 @@ def compare(fractions=(0.07, 0.25), n: int = 64, rms_slope: float = 0.03, seed: 
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--fractions", type=float, nargs="+", default=[0.07, 0.25],
-                   help="BEM contact fractions to compare at (default 0.07 0.25)")
+    p.add_argument("--fractions", type=float, nargs="+", default=[0.07, 0.2, 0.3],
+                   help="BEM contact fractions to compare at (default 0.07 0.2 0.3)")
     p.add_argument("--n", type=int, default=64, help="profile vertices = contact elements")
     p.add_argument("--rms-slope", type=float, default=0.03, help="rms slope of the profile")
     p.add_argument("--seed", type=int, default=1, help="seed of the self-affine profile")
