@@ -811,7 +811,10 @@ def _adhesion_fit(origin: str, base: Path | None, given: dict, fit_from: dict, a
 
 
 def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) -> Scene:
-    """Validate a scene given as TOML text; ``base`` is the folder relative paths start from."""
+    """Validate a scene given as TOML text; ``base`` is the folder relative paths start from.
+
+    One helper per section, called in the order the checks have always run (the first error a
+    scene has is the one reported)."""
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
@@ -820,38 +823,64 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
     doc, scale_tables = _scale_numerics_tables(doc)
     vals = {s: _table(origin, doc, s) for s in SECTIONS}
     warnings: list[str] = []
+    surface, stated_names = _parse_surface(origin, base, doc, vals["surface"], top["name"],
+                                           warnings)
+    conditions = _parse_conditions(origin, base, vals["conditions"])
+    physics, thermal = _parse_physics(origin, doc, vals, warnings)
+    adhesion, adhesion_fit = _parse_adhesion(origin, base, doc, vals["adhesion"], physics,
+                                             conditions, warnings)
+    # the scale count the separated variant checks is the stated one (before any cut-off)
+    separated = _parse_separated(origin, doc, top["variant"], vals["separated"],
+                                 len(stated_names), physics, warnings)
+    numerics = _parse_numerics(origin, vals["numerics"], scale_tables, surface, stated_names,
+                               warnings)
+    name = top["name"]
+    output = Path(top["output"].replace("{name}", name))
+    return Scene(name=name, description=top["description"], variant=top["variant"], output=output,
+                 surface=surface, samples=SamplesConfig(**vals["samples"]), conditions=conditions,
+                 physics=physics, adhesion=adhesion, numerics=numerics,
+                 separated=separated, source=origin, text=text, warnings=tuple(warnings),
+                 adhesion_fit=adhesion_fit, thermal=thermal)
 
-    # --- surface ------------------------------------------------------------------------------
-    s = vals["surface"]
-    given = doc.get("surface", {})
+
+def _check_sines(origin: str, s: dict[str, Any], given: dict) -> None:
+    """[surface] of source = "sines": one amplitude per descending wavelength, edges around
+    them (or none: ``s["edges"]`` becomes ``()``)."""
+    amps, lams = s["amplitudes"], s["wavelengths"]
+    if not lams:
+        raise SceneError(f"{origin}: [surface].wavelengths = []: source = \"sines\" needs one "
+                         f"wavelength "
+                         "(mm) per scale")
+    if len(amps) != len(lams):
+        raise SceneError(f"{origin}: [surface].amplitudes = {list(amps)}: expected one "
+                         f"amplitude per wavelength ({len(lams)} wavelengths given)")
+    if any(v <= 0 for v in lams) or any(a < 0 for a in amps):
+        raise SceneError(f"{origin}: [surface].wavelengths/amplitudes: expected wavelengths "
+                         "> 0 and "
+                         "amplitudes >= 0 (mm)")
+    if any(lams[i + 1] >= lams[i] for i in range(len(lams) - 1)):
+        raise SceneError(f"{origin}: [surface].wavelengths = {list(lams)}: expected strictly "
+                         "descending wavelengths (macro scale first)")
+    if "edges" not in given:
+        s["edges"] = ()
+        return
+    _check_edges(origin, s["edges"])
+    if len(s["edges"]) != len(lams) + 1:
+        raise SceneError(f"{origin}: [surface].edges = {list(s['edges'])}: {len(lams)} "
+                         f"waves need {len(lams) + 1} edges (or omit edges)")
+    for i, lam in enumerate(lams):
+        if not s["edges"][i + 1] < lam <= s["edges"][i]:
+            raise SceneError(f"{origin}: [surface].edges = {list(s['edges'])}: wavelength "
+                             f"{lam:g} mm of scale {i} is outside its band "
+                             f"{s['edges'][i]:g}-{s['edges'][i + 1]:g} mm")
+
+
+def _check_surface_source(origin: str, base: Path | None, s: dict[str, Any], given: dict,
+                          warnings: list[str]) -> None:
+    """The [surface] keys that belong to one source only (sines: amplitudes and wavelengths;
+    files: the profile files, resolved in place against ``base``)."""
     if s["source"] == "sines":
-        amps, lams = s["amplitudes"], s["wavelengths"]
-        if not lams:
-            raise SceneError(f"{origin}: [surface].wavelengths = []: source = \"sines\" needs one "
-                             f"wavelength "
-                             "(mm) per scale")
-        if len(amps) != len(lams):
-            raise SceneError(f"{origin}: [surface].amplitudes = {list(amps)}: expected one "
-                             f"amplitude per wavelength ({len(lams)} wavelengths given)")
-        if any(v <= 0 for v in lams) or any(a < 0 for a in amps):
-            raise SceneError(f"{origin}: [surface].wavelengths/amplitudes: expected wavelengths "
-                             "> 0 and "
-                             "amplitudes >= 0 (mm)")
-        if any(lams[i + 1] >= lams[i] for i in range(len(lams) - 1)):
-            raise SceneError(f"{origin}: [surface].wavelengths = {list(lams)}: expected strictly "
-                             "descending wavelengths (macro scale first)")
-        if "edges" in given:
-            _check_edges(origin, s["edges"])
-            if len(s["edges"]) != len(lams) + 1:
-                raise SceneError(f"{origin}: [surface].edges = {list(s['edges'])}: {len(lams)} "
-                                 f"waves need {len(lams) + 1} edges (or omit edges)")
-            for i, lam in enumerate(lams):
-                if not s["edges"][i + 1] < lam <= s["edges"][i]:
-                    raise SceneError(f"{origin}: [surface].edges = {list(s['edges'])}: wavelength "
-                                     f"{lam:g} mm of scale {i} is outside its band "
-                                     f"{s['edges'][i]:g}-{s['edges'][i + 1]:g} mm")
-        else:
-            s["edges"] = ()
+        _check_sines(origin, s, given)
     else:
         _check_edges(origin, s["edges"])
         for k in ("amplitudes", "wavelengths"):
@@ -869,6 +898,13 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
                          f"{s['source']!r})")
     if s["source"] == "sines" and "cutoff" in given:
         warnings.append("[surface].cutoff is ignored: source = \"sines\" has no spectrum to cut")
+
+
+def _parse_surface(origin: str, base: Path | None, doc: dict, s: dict[str, Any], name: str,
+                   warnings: list[str]) -> tuple[SurfaceConfig, list[str]]:
+    """[surface]: the surface (cut by its rule for a road source) and the scale names it states
+    before the cut (a [numerics.<scale>] table of a dropped scale is then only a warning)."""
+    _check_surface_source(origin, base, s, doc.get("surface", {}), warnings)
     surface = SurfaceConfig(**s)
     n = surface.n_scales
     for k in ("names", "block_lengths"):
@@ -881,11 +917,13 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
                          "positive lengths in mm")
     stated_names = surface_scale_names(surface)
     if surface.source in ROAD_SOURCES:
-        surface = _cut(origin, surface, name=top["name"])
+        surface = _cut(origin, surface, name=name)
         warnings.extend(_steep_band_warnings(surface.cutoff_report))
+    return surface, stated_names
 
-    # --- conditions -------------------------------------------------------------------------------
-    c = vals["conditions"]
+
+def _parse_conditions(origin: str, base: Path | None, c: dict[str, Any]) -> ConditionsConfig:
+    """[conditions]: compound files resolved, T0 in kelvin (given in degC when it says so)."""
     paths = tuple(_compound_path(origin, base, i, t) for i, t in enumerate(c["compounds"]))
     T0 = c["T0"]
     if T0 is not None and c["T0_unit"] == "degC":
@@ -894,9 +932,12 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
         raise SceneError(f"{origin}: [conditions].T0 = {c['T0']!r} {c['T0_unit']}: expected a "
                          f"temperature "
                          "above absolute zero")
-    conditions = ConditionsConfig(c["compounds"], paths, c["pressures"], c["velocities"], T0)
+    return ConditionsConfig(c["compounds"], paths, c["pressures"], c["velocities"], T0)
 
-    # --- physics ---------------------------------------------------------------------------------
+
+def _parse_physics(origin: str, doc: dict, vals: dict[str, dict], warnings: list[str]
+                   ) -> tuple[PhysicsConfig, ThermalSceneConfig | None]:
+    """[physics] and, when it asks for the thermal macro scale, [thermal]."""
     physics = PhysicsConfig(**vals["physics"])
     thermal = _thermal(origin, doc, vals["thermal"]) if physics.thermal else None
     if not physics.thermal and "thermal" in doc:
@@ -905,56 +946,69 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
         raise SceneError(f"{origin}: [physics]: hysteresis = false and adhesion = false leave "
                          f"nothing to "
                          "compute; expected at least one of them true")
-    adhesion = None
-    adhesion_fit = None
+    return physics, thermal
+
+
+def _parse_adhesion(origin: str, base: Path | None, doc: dict, a: dict[str, Any],
+                    physics: PhysicsConfig, conditions: ConditionsConfig, warnings: list[str]
+                    ) -> tuple[BellLaw | None, AdhesionFitConfig | None]:
+    """[adhesion]: a given bell law (eq. 7.6-7.8), or the measurements to fit it from."""
+    if not physics.adhesion:
+        if "adhesion" in doc:
+            warnings.append("[adhesion] is ignored: [physics].adhesion = false")
+        return None, None
+    if "adhesion" not in doc:
+        raise SceneError(f"{origin}: [physics].adhesion = true: expected an [adhesion] table "
+                         f"with tau0 "
+                         "(MPa), c, v0 (mm/s) and alpha (eq. 7.6-7.8)")
+    a = dict(a)
+    fit_from, approach = a.pop("fit_from"), a.pop("approach")
+    extrapolate = a.pop("extrapolate")
+    if fit_from:
+        return None, _adhesion_fit(origin, base, doc["adhesion"], fit_from, approach,
+                                   extrapolate, conditions)
+    for k in ("approach", "extrapolate"):
+        if k in doc["adhesion"]:
+            warnings.append(f"[adhesion].{k} is ignored without fit_from")
+    return BellLaw(**a), None
+
+
+def _parse_separated(origin: str, doc: dict, variant: str, t: dict[str, Any], n: int,
+                     physics: PhysicsConfig, warnings: list[str]) -> SeparatedConfig | None:
+    """[separated] of variant = "separated": two scales, a (p, v) grid of at least 2 x 2."""
+    if variant != "separated":
+        if "separated" in doc:
+            warnings.append("[separated] is ignored: variant = \"rough\"")
+        return None
+    if n != 2:
+        raise SceneError(f"{origin}: variant = \"separated\": expected exactly two scales "
+                         f"(macro, micro), "
+                         f"the surface gives {n}")
     if physics.adhesion:
-        if "adhesion" not in doc:
-            raise SceneError(f"{origin}: [physics].adhesion = true: expected an [adhesion] table "
-                             f"with tau0 "
-                             "(MPa), c, v0 (mm/s) and alpha (eq. 7.6-7.8)")
-        a = dict(vals["adhesion"])
-        fit_from, approach = a.pop("fit_from"), a.pop("approach")
-        extrapolate = a.pop("extrapolate")
-        if fit_from:
-            adhesion_fit = _adhesion_fit(origin, base, doc["adhesion"], fit_from, approach,
-                                         extrapolate, conditions)
-        else:
-            adhesion = BellLaw(**a)
-            for k in ("approach", "extrapolate"):
-                if k in doc["adhesion"]:
-                    warnings.append(f"[adhesion].{k} is ignored without fit_from")
-    elif "adhesion" in doc:
-        warnings.append("[adhesion] is ignored: [physics].adhesion = false")
+        raise SceneError(f"{origin}: variant = \"separated\" with [physics].adhesion = true: "
+                         f"adhesion is "
+                         "coupled in the rough-surface variant only (thesis 7.3); expected "
+                         "variant = \"rough\"")
+    separated = SeparatedConfig(**t)
+    if not separated.pressures and not separated.pressure_factors:
+        raise SceneError(f"{origin}: [separated]: expected pressures or pressure_factors")
+    if not separated.velocities and not separated.velocity_factors:
+        raise SceneError(f"{origin}: [separated]: expected velocities or velocity_factors")
+    for axis, plural in (("pressure", "pressures"), ("velocity", "velocities")):
+        grid = getattr(separated, plural) or getattr(separated, axis + "_factors")
+        if len(set(grid)) != len(grid) or len(grid) < 2:
+            raise SceneError(f"{origin}: [separated].{plural}/{axis}_factors = {list(grid)}: "
+                             f"expected at "
+                             "least two distinct values (a spline needs two points per axis)")
+    return separated
 
-    # --- variant ---------------------------------------------------------------------------------
-    separated = None
-    if top["variant"] == "separated":
-        if n != 2:
-            raise SceneError(f"{origin}: variant = \"separated\": expected exactly two scales "
-                             f"(macro, micro), "
-                             f"the surface gives {n}")
-        if physics.adhesion:
-            raise SceneError(f"{origin}: variant = \"separated\" with [physics].adhesion = true: "
-                             f"adhesion is "
-                             "coupled in the rough-surface variant only (thesis 7.3); expected "
-                             "variant = \"rough\"")
-        separated = SeparatedConfig(**vals["separated"])
-        if not separated.pressures and not separated.pressure_factors:
-            raise SceneError(f"{origin}: [separated]: expected pressures or pressure_factors")
-        if not separated.velocities and not separated.velocity_factors:
-            raise SceneError(f"{origin}: [separated]: expected velocities or velocity_factors")
-        for axis, plural in (("pressure", "pressures"), ("velocity", "velocities")):
-            grid = getattr(separated, plural) or getattr(separated, axis + "_factors")
-            if len(set(grid)) != len(grid) or len(grid) < 2:
-                raise SceneError(f"{origin}: [separated].{plural}/{axis}_factors = {list(grid)}: "
-                                 f"expected at "
-                                 "least two distinct values (a spline needs two points per axis)")
-    elif "separated" in doc:
-        warnings.append("[separated] is ignored: variant = \"rough\"")
 
-    numerics = NumericsConfig(**vals["numerics"],
-                              scales=_scale_numerics(origin, scale_tables, surface, stated_names,
-                                                     warnings))
+def _parse_numerics(origin: str, t: dict[str, Any], scale_tables: dict[str, Any],
+                    surface: SurfaceConfig, stated_names: Sequence[str], warnings: list[str]
+                    ) -> NumericsConfig:
+    """[numerics] and its [numerics.<scale>] tables, with the element/solver check per scale."""
+    numerics = NumericsConfig(**t, scales=_scale_numerics(origin, scale_tables, surface,
+                                                          stated_names, warnings))
     for scale in [None, *surface_scale_names(surface)]:
         num = numerics if scale is None else numerics.for_scale(scale)
         if num.newton != "line-search" and num.element == "Q1P0s":
@@ -962,13 +1016,7 @@ def parse_scene(text: str, origin: str = "<scene>", base: Path | None = None) ->
             raise SceneError(f"{origin}: {where}: newton = \"{num.newton}\" with element = "
                              "\"Q1P0s\": the trust region eliminates the cell pressures, which "
                              "the pressure-jump term couples; expected element Q1P0 or Q1")
-    name = top["name"]
-    output = Path(top["output"].replace("{name}", name))
-    return Scene(name=name, description=top["description"], variant=top["variant"], output=output,
-                 surface=surface, samples=SamplesConfig(**vals["samples"]), conditions=conditions,
-                 physics=physics, adhesion=adhesion, numerics=numerics,
-                 separated=separated, source=origin, text=text, warnings=tuple(warnings),
-                 adhesion_fit=adhesion_fit, thermal=thermal)
+    return numerics
 
 
 def _scale_numerics_tables(doc: dict) -> tuple[dict, dict[str, Any]]:
