@@ -60,7 +60,7 @@ __all__ = [
     "verify",
 ]
 
-#: the tables of a campaign (``<output>/<name>.csv``; driver/multiscale/report.py)
+#: the tables of a campaign (``<output>/<name>.csv``; driver/multiscale/report/tables.py)
 TABLES = ("results", "scales", "samples")
 
 
@@ -192,7 +192,7 @@ def table(result: CampaignResult | str | Path, which: str = "results") -> list[d
     (every single-scale run).  ``result``: what :func:`run` returned, or the output folder of
     a finished campaign (its ``<which>.csv`` is read; numbers come back as floats).
 
-    Delegates to ``driver.multiscale.report.point_rows`` / ``scale_rows`` / ``sample_rows``
+    Delegates to ``driver.multiscale.report.tables.point_rows`` / ``scale_rows`` / ``sample_rows``
     (the rows ``results.csv``, ``scales.csv``, ``samples.csv`` are written from)."""
     if which not in TABLES:
         raise InputError(f"table(which={which!r}): expected one of {', '.join(TABLES)}")
@@ -203,10 +203,10 @@ def table(result: CampaignResult | str | Path, which: str = "results") -> list[d
                              "folder of a finished campaign)")
         with open(path, newline="") as fh:
             return [{k: _number(v) for k, v in row.items()} for row in csv.DictReader(fh)]
-    from rubberfriction.driver.multiscale import report
+    from rubberfriction.driver.multiscale.report import tables
 
-    rows = {"results": report.point_rows, "scales": report.scale_rows,
-            "samples": report.sample_rows}[which]
+    rows = {"results": tables.point_rows, "scales": tables.scale_rows,
+            "samples": tables.sample_rows}[which]
     return rows(result.points)
 
 
