@@ -506,7 +506,7 @@ def test_shipped_thesis_7_4_files_return_their_stated_parameters(approach: str, 
     thesis' set-up (ten samples per scale)."""
     from importlib import resources
 
-    from rubberfriction.driver.multiscale.scene import load_scene
+    from rubberfriction.driver.scenes import load_scene
 
     folder = Path(str(resources.files("rubberfriction.driver.scenes") / "thesis_7_4"))
     inputs = [CompoundInput(k, read_measurement(folder / f"{k}_dry.csv"),

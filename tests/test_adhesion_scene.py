@@ -63,7 +63,7 @@ def mu_a(v: np.ndarray, area: np.ndarray) -> np.ndarray:
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
     from rubberfriction.driver.multiscale.campaign import run_scene
-    from rubberfriction.driver.multiscale.scene import parse_scene
+    from rubberfriction.driver.scenes import parse_scene
 
     tmp = tmp_path_factory.mktemp("fit_scene")
     plain = run_scene(parse_scene(SCENE, "<plain>", tmp), output=tmp / "plain", quiet=True)
@@ -156,7 +156,7 @@ def test_a_failed_end_point_leaves_the_measurements_beyond_it_out_of_the_fit(run
     from dataclasses import replace
 
     from rubberfriction.driver.multiscale.campaign import _measurements, fit_campaign
-    from rubberfriction.driver.multiscale.scene import SceneError, parse_scene
+    from rubberfriction.driver.scenes import SceneError, parse_scene
 
     scene = parse_scene(SCENE + FIT, str(runs["tmp"] / "fit.toml"), runs["tmp"])
     plain = runs["plain"]
@@ -185,7 +185,7 @@ BAD = [
 @pytest.mark.parametrize("table,message", BAD)
 def test_bad_fit_from_tables_fail_when_the_scene_is_read(tmp_path: Path, table: str,
                                                          message: str):
-    from rubberfriction.driver.multiscale.scene import SceneError, parse_scene
+    from rubberfriction.driver.scenes import SceneError, parse_scene
 
     for f in ("dry.csv", "soap.csv"):
         (tmp_path / f).write_text("v [mm/s], mu\n0.01, 0.5\n100, 0.6\n")
@@ -199,7 +199,7 @@ def test_bad_measurements_fail_before_any_run(tmp_path: Path):
     """A speed outside the scene's velocities (no extrapolate) and a file without units stop the
     campaign before its first run (the runner would raise)."""
     from rubberfriction.driver.multiscale.campaign import run_scene
-    from rubberfriction.driver.multiscale.scene import SceneError, parse_scene
+    from rubberfriction.driver.scenes import SceneError, parse_scene
 
     def never(spec):
         raise AssertionError("a run started")

@@ -66,7 +66,7 @@ def test_tutorial_runs_and_its_numbers_hold(tmp_path: Path) -> None:
     e_star = E / (1.0 - nu * nu)
     a = math.sqrt(4.0 * P * R / (math.pi * e_star))
     exact = {"half-width a": a, "peak pressure p0": 2.0 * P / (math.pi * a)}
-    tolerance = 0.02  # the hertz case's stated tolerance (driver/verification/contact_cases.py)
+    tolerance = 0.02  # the hertz case's stated tolerance (driver/verification/hertz.py)
     for quantity, value in exact.items():
         computed, tol = map(float, re.search(
             rf"Hertz {quantity}: computed {FLOAT}, closed form \S+, relative error \S+ "

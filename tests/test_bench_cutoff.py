@@ -8,7 +8,7 @@ import math
 import pytest
 
 from rubberfriction.driver.bench.cutoff import cut_scene, point_rows
-from rubberfriction.driver.multiscale.scene import load_scene, override
+from rubberfriction.driver.scenes import load_scene, override
 
 EDGES = (20.0, 3.0, 0.3, 0.04, 0.003, 0.0002)
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from rubberfriction.driver.bench.trade import SETTINGS, setting_scene
-from rubberfriction.driver.multiscale.scene import load_scene
+from rubberfriction.driver.scenes import load_scene
 
 
 def test_settings_change_one_choice_and_the_converged_one_refines_all() -> None:

@@ -262,12 +262,12 @@ def test_failed_points_end_in_one_line(tmp_path: Path, capsys: pytest.CaptureFix
 
 def test_real_bugs_keep_their_traceback(monkeypatch: pytest.MonkeyPatch) -> None:
     """The safety net catches InputError only: any other exception (a bug) propagates."""
-    from rubberfriction.driver.verification import contact_cases
+    from rubberfriction.driver.verification import hertz
 
     def bug(args):
         raise ZeroDivisionError("a bug")
 
-    monkeypatch.setattr(contact_cases, "run", bug)
+    monkeypatch.setattr(hertz, "run", bug)
     with pytest.raises(ZeroDivisionError):
         cli_main.main(["verify", "hertz"])
 

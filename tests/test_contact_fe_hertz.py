@@ -21,7 +21,7 @@ import math
 import pytest
 
 from fe_helpers import checks_of, rel
-from rubberfriction.driver.verification import contact_cases as cc
+from rubberfriction.driver.verification.hertz import hertz
 
 R, E, A_OVER_R = 10.0, 6.0, 0.02
 TOL = 0.01  # product: 0.02
@@ -46,7 +46,7 @@ def errors(run: dict, nu: float) -> tuple[float, float]:
 
 @pytest.mark.parametrize("nu", [0.3, 0.4999])
 def test_hertz_within_one_percent_and_converging(nu):
-    r = cc.hertz(R=R, E=E, nu=nu, a_over_R=A_OVER_R, elements_per_a=(4, 8, 16, 32))
+    r = hertz(R=R, E=E, nu=nu, a_over_R=A_OVER_R, elements_per_a=(4, 8, 16, 32))
     by = checks_of(r, HERTZ_CHECKS)
     P = target_load(nu)
     assert rel(r["parameters"]["P"], P) < 1e-12
@@ -68,7 +68,7 @@ def test_hertz_within_one_percent_and_converging(nu):
 
 def test_hertz_node_to_segment_also_within_one_percent():
     nu = 0.3
-    r = cc.hertz(R=R, E=E, nu=nu, a_over_R=A_OVER_R, elements_per_a=(8, 32), method="nts")
+    r = hertz(R=R, E=E, nu=nu, a_over_R=A_OVER_R, elements_per_a=(8, 32), method="nts")
     checks_of(r, HERTZ_CHECKS)
     fine = r["runs"][-1]
     assert round(fine["elements_per_a"]) == 32 and rel(fine["P"], target_load(nu)) <= 5e-3

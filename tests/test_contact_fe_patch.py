@@ -23,7 +23,8 @@ import pytest
 
 from fe_helpers import checks_of, plane_strain_compression, rel
 from rubberfriction.driver.fe.contact import DEFAULT_TANGENTIAL_FRACTION
-from rubberfriction.driver.verification import contact_cases as cc
+from rubberfriction.driver.verification.patch import patch
+from rubberfriction.driver.verification.thermal_bars import thermal_bars
 
 PATCH = dict(E=10.0, nu=0.3, pressure=0.1, length=1.0)
 PATCH_CHECKS = {"slave nodes in contact", "contact pressure min", "contact pressure max",
@@ -41,7 +42,7 @@ def patch_exact(E, nu, pressure, length):
                          [(7, 5, "Q1P0"), (4, 9, "Q1P0"), (7, 5, "Q1P0s")])
 def test_patch_mortar_exact(n_upper, n_lower, element):
     """Exact with the stabilised element too: a uniform pressure has no jumps."""
-    r = cc.patch(n_upper=n_upper, n_lower=n_lower, method="mortar", element=element, **PATCH)
+    r = patch(n_upper=n_upper, n_lower=n_lower, method="mortar", element=element, **PATCH)
     by = checks_of(r, PATCH_CHECKS)
     p_exact, force = patch_exact(**PATCH)
     assert by["slave nodes in contact"]["computed"] == n_upper + 1  # every slave node
@@ -57,7 +58,7 @@ def test_patch_mortar_exact(n_upper, n_lower, element):
 
 def test_patch_node_to_segment_fails_as_known():
     """One-pass node-to-segment on non-matching meshes: total force right, distribution wrong."""
-    r = cc.patch(method="nts", **PATCH)
+    r = patch(method="nts", **PATCH)
     by = checks_of(r, PATCH_CHECKS)
     p_exact, force = patch_exact(**PATCH)
     assert rel(by["total contact force F_z"]["computed"], force) <= PATCH_TOL
@@ -89,7 +90,7 @@ def bars_exact(L1, L2, k1, k2, width, h0, h1, beta, T_top, T_bottom, penetration
 
 
 def test_thermal_bars_mortar_exact():
-    r = cc.thermal_bars(method="mortar", **BARS)
+    r = thermal_bars(method="mortar", **BARS)
     by = checks_of(r, BARS_CHECKS)
     exact = bars_exact(**BARS)
     assert (exact["friction: total heat W"] > 0.0
@@ -100,7 +101,7 @@ def test_thermal_bars_mortar_exact():
 
 
 def test_thermal_bars_node_to_segment_reported():
-    r = cc.thermal_bars(method="nts", **BARS)
+    r = thermal_bars(method="nts", **BARS)
     by = checks_of(r, BARS_CHECKS)
     exact = bars_exact(**BARS)
     # nodal collocation: conductance error ~1e-4 on non-matching meshes, and the slave node that

@@ -18,13 +18,13 @@ from __future__ import annotations
 import numpy as np
 
 from fe_helpers import checks_of, rel
-from rubberfriction.driver.verification import contact_cases as cc
+from rubberfriction.driver.verification.periodic_sliding import periodic_sliding
 
 WAVELENGTH, STEPS, PERIODS = 1.0, 32, 3
 
 
 def test_periodic_sliding_three_periods():
-    r = cc.periodic_sliding(wavelength=WAVELENGTH, periods=PERIODS, steps_per_period=STEPS)
+    r = periodic_sliding(wavelength=WAVELENGTH, periods=PERIODS, steps_per_period=STEPS)
     checks_of(r, {"mean F_x, last two periods", "mean F_z, last two periods",
                   "mean dissipation, last two periods"})
     means = np.asarray(r["period_means"])  # (period, [F_x, F_z, dissipation per step])

@@ -29,7 +29,8 @@ from fe_helpers import checks_of, rel
 from rubberfriction.driver.cli.main import main
 from rubberfriction.driver.fe import friction_law as fl
 from rubberfriction.driver.verification import SolverFailure
-from rubberfriction.driver.verification import contact_cases as cc
+from rubberfriction.driver.verification import sliding_block as sliding_case
+from rubberfriction.driver.verification.sliding_block import sliding_block
 
 MU, PRESSURE, VELOCITY, LENGTH = 0.6, 0.2, 10.0, 1.0
 CHECKS = {"finite block: slipping nodes", "finite block: -F_x/F_z", "layer: slipping nodes",
@@ -54,8 +55,8 @@ def newton_order(residuals, floor):
 def test_sliding_block(method, n_contact):
     law = fl.fit_mu_pv(P_GRID, V_GRID, mu_pv(P_GRID[:, None], V_GRID[None, :]))
     assert V_GRID[4] == pytest.approx(VELOCITY, rel=1e-15)
-    r = cc.sliding_block(method=method, n_contact=n_contact, mu=MU, law=law, pressure=PRESSURE,
-                         velocity=VELOCITY, length=LENGTH)
+    r = sliding_block(method=method, n_contact=n_contact, mu=MU, law=law, pressure=PRESSURE,
+                      velocity=VELOCITY, length=LENGTH)
     by = checks_of(r, CHECKS)
     # 1. finite block, constant mu: all active nodes slip, -F_x/F_z = mu
     slipping = by["finite block: slipping nodes"]
@@ -92,7 +93,7 @@ def test_sharp_edged_block_slides_at_mu(case):
     -1.45 % (32: the bias grew under refinement) and -1.30 % (20 x 8 mm block); now -0.16 %,
     -0.16 %, -0.18 %.  The rounded block (its chain end is out of contact) was and is -0.21 %.
     What remains is the averaged normal of the node next to the corner.  The 20 x 8 mm block runs
-    at 0.2 MPa: at 0.3 MPa its sharp leading edge tucks under (contact_cases.sliding_block)."""
+    at 0.2 MPa: at 0.3 MPa its sharp leading edge tucks under (verification/sliding_block.py)."""
     kw = {"sharp, 16 elements": dict(edge_radius=0.0, n_contact=16),
           "sharp, 32 elements": dict(edge_radius=0.0, n_contact=32),
           "rounded r = 0.2, 16 elements": dict(edge_radius=0.2, n_contact=16),
@@ -100,7 +101,7 @@ def test_sharp_edged_block_slides_at_mu(case):
                                         height=8.0, n_contact=40, steps=40,
                                         step_length=0.125)}[case]
     mu = kw.get("mu", MU)
-    r = cc.sliding_block(**{"mu": mu, **kw})
+    r = sliding_block(**{"mu": mu, **kw})
     by = checks_of(r, CHECKS)
     slipping = by["finite block: slipping nodes"]
     # steady sliding: every node in contact slips
@@ -125,7 +126,7 @@ def test_master_frame_makes_full_slip_exact(case):
     block at 0.3 MPa, 40 elements).  With 80 elements the master-frame run stopped in Newton
     (step 16 of 40, a traceback on the command line) until the corner's projection normal became
     the road's (cpp_contact/README.md, "Frame of a chain end"); the default steps now slide the
-    block past gross sliding (19 steps, contact_cases.gross_sliding_steps; 12 left its corner
+    block past gross sliding (19 steps, sliding_block.gross_sliding_steps; 12 left its corner
     sticking).  This pins the frame and the solver, not the corner: the corner element is folded
     (its end segment reversed, -176 degrees), see test_sharp_corner_at_80_elements_slave_frame."""
     kw = {"sharp, 16 elements": dict(edge_radius=0.0, n_contact=16),
@@ -134,7 +135,7 @@ def test_master_frame_makes_full_slip_exact(case):
                                                    step_length=0.25),
           "sharp 20 x 8 mm block at 0.3 MPa, 80 elements": CORNER_80}[case]
     mu = kw.get("mu", MU)
-    r = cc.sliding_block(**{"mu": mu, **kw}, frame="master")
+    r = sliding_block(**{"mu": mu, **kw}, frame="master")
     by = checks_of(r, CHECKS)
     slipping = by["finite block: slipping nodes"]
     assert slipping["computed"] == slipping["analytical"] > 0
@@ -153,7 +154,7 @@ def test_sharp_corner_at_80_elements_slave_frame():
     0.23 mm below the road) and the end segment reverses.  The bias grows with refinement (before:
     -1.7 / -2.7 / -3.6 % with 60 / 80 / 120 elements), so it is no discretisation error of the
     bottom face: the front face has to become a contact surface.  Strict: passing is news."""
-    r = cc.sliding_block(**CORNER_80)
+    r = sliding_block(**CORNER_80)
     by = checks_of(r, CHECKS)
     slipping = by["finite block: slipping nodes"]
     assert slipping["computed"] == slipping["analytical"] > 0
@@ -162,20 +163,20 @@ def test_sharp_corner_at_80_elements_slave_frame():
 
 def test_unknown_contact_frame_is_refused():
     with pytest.raises(ValueError, match="frame: got 'road'"):
-        cc.sliding_block(frame="road", steps=1)
+        sliding_block(frame="road", steps=1)
 
 
 def test_verify_reports_a_failed_solve_in_one_line(monkeypatch, capsys):
     """A case whose Newton solve fails for the user's parameters ends ``rubberfriction verify``
     with one line naming the case, the step and the reason, and status 1 (it was a traceback)."""
-    original = cc.CASE_FUNCTIONS["sliding-block"]
+    original = sliding_case.sliding_block
 
     @functools.wraps(original)
     def failing(**kw):
         raise SolverFailure("sliding block (finite): step 16: Newton failed: no convergence in 40 "
                             "iterations")
 
-    monkeypatch.setitem(cc.CASE_FUNCTIONS, "sliding-block", failing)
+    monkeypatch.setattr(sliding_case, "sliding_block", failing)
     rc = main(["verify", "sliding-block", "--frame", "master", "--n-contact", "80"])
     captured = capsys.readouterr()
     assert rc == 1

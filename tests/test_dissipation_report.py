@@ -21,7 +21,7 @@ import pytest
 
 from rubberfriction.driver.multiscale.campaign import run_scene
 from rubberfriction.driver.multiscale.report import depth_edges
-from rubberfriction.driver.multiscale.scene import parse_scene
+from rubberfriction.driver.scenes import parse_scene
 from rubberfriction.driver.runtime.store import Store
 
 SCENE = textwrap.dedent("""

@@ -1,7 +1,7 @@
 """The generated docs pages stay what their generator makes of the code.
 
 ``docs/scene-reference.md`` is written by ``rubberfriction scene reference`` from the scene
-schema (``driver/multiscale/scene.py``, SCHEMA and UNITS): a key added, renamed, re-defaulted
+schema (``driver/scenes/schema.py``, SCHEMA and UNITS): a key added, renamed, re-defaulted
 or re-bounded in the schema without regenerating the page fails here, naming the command.
 """
 
@@ -11,7 +11,7 @@ from pathlib import Path
 
 from rubberfriction.driver.cli.main import main
 from rubberfriction.driver.cli.scene import REGENERATE, SECTION_INTRO, reference_markdown
-from rubberfriction.driver.multiscale.scene import SCHEMA, UNITS
+from rubberfriction.driver.scenes import SCHEMA, UNITS
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGE = ROOT / "docs" / "scene-reference.md"
@@ -49,7 +49,7 @@ def test_every_real_valued_key_states_its_unit() -> None:
     """A new number key needs an entry in scene.UNITS; a unit of a non-number key is an error."""
     missing = [f"[{s}].{n}" for s, keys in SCHEMA.items() for n, k in keys.items()
                if k.kind in REAL_KINDS and not k.unit]
-    assert not missing, f"add these keys to UNITS in driver/multiscale/scene.py: {missing}"
+    assert not missing, f"add these keys to UNITS in driver/scenes/schema.py: {missing}"
     for where in UNITS:
         section, name = where[1:].split("].")
         assert SCHEMA[section][name].kind in REAL_KINDS, where

@@ -23,7 +23,7 @@ from rubberfriction.driver.multiscale.estimate import (
     estimate_wall_time,
     model_seconds,
 )
-from rubberfriction.driver.multiscale.scene import load_scene
+from rubberfriction.driver.scenes import load_scene
 from rubberfriction.driver.runtime.store import Store
 
 

@@ -87,7 +87,7 @@ def driver_script(tmp_path: Path) -> Path:
         import sys
         sys.path[:0] = [{str(ROOT)!r}, {str(tmp_path)!r}]
         from rubberfriction.driver.multiscale.campaign import run_scene
-        from rubberfriction.driver.multiscale.scene import load_scene
+        from rubberfriction.driver.scenes import load_scene
         from toy_farm import toy_run
         scene = load_scene({str(tmp_path / "scene.toml")!r})
         r = run_scene(scene, output=sys.argv[1], runner=toy_run, quiet=True)
@@ -260,7 +260,7 @@ def test_killed_campaign_resumes_with_only_the_missing_runs(tmp_path: Path, toy)
         return toy(spec)
 
     from rubberfriction.driver.multiscale.campaign import run_scene
-    from rubberfriction.driver.multiscale.scene import load_scene
+    from rubberfriction.driver.scenes import load_scene
 
     r = run_scene(load_scene(str(tmp_path / "scene.toml")), output=out, runner=counting, quiet=True)
     assert len(calls) == 52 - len(before) and not (set(calls) & before)
@@ -806,7 +806,7 @@ def test_bench_farm_replays_a_finished_campaign_from_its_store(tmp_path: Path, t
     import rubberfriction
     from rubberfriction.driver.bench.farm import UNLIMITED, MissingRun, main, replay_folder
     from rubberfriction.driver.multiscale.campaign import run_scene
-    from rubberfriction.driver.multiscale.scene import load_scene
+    from rubberfriction.driver.scenes import load_scene
 
     (tmp_path / "scene.toml").write_text(SCENE)
     out = tmp_path / "out"

@@ -30,7 +30,7 @@ import pytest
 from rubberfriction.driver.cli.main import main
 from rubberfriction.driver.multiscale.campaign import run_scene
 from rubberfriction.driver.multiscale.fields import parse_selection, write_fields
-from rubberfriction.driver.multiscale.scene import SceneError, load_scene, parse_scene
+from rubberfriction.driver.scenes import SceneError, load_scene, parse_scene
 
 #: two sines, one sample per branch, one speed: three runs of about a second in all
 SCENE = textwrap.dedent("""

@@ -5,6 +5,7 @@ Command line and benchmarks on top, physics at the bottom; dependencies point on
     cli -> bench -> verification -> multiscale -> sliding -> fe -> forms, meshes -> rubberfriction
                                     multiscale -> thermal -> sliding, theory
                                     multiscale -> runtime, surfaces, theory, adhesion
+                                    multiscale -> scenes -> surfaces, theory, forms
                                     adhesion -> theory -> surfaces
                                                 theory -> forms (the Prony modulus)
 
@@ -40,7 +41,7 @@ ALLOWED: dict[str, set[str]] = {
     "fe": {"root", "forms", "meshes"},
     "sliding": {"root", "forms", "meshes", "fe"},
     "thermal": {"root", "forms", "meshes", "fe", "sliding", "theory", "surfaces"},
-    "scenes": set(),
+    "scenes": {"root", "surfaces", "theory", "forms"},
     "multiscale": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces",
                    "theory", "adhesion", "scenes"},
     "verification": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces",

@@ -402,7 +402,7 @@ def full_contact_scene(tmp_path: Path) -> tuple[Path, float]:
 
 def test_full_contact_cascade_reproduces_the_sum_of_closed_form_contributions(tmp_path: Path):
     from rubberfriction.driver.multiscale.campaign import run_scene
-    from rubberfriction.driver.multiscale.scene import load_scene
+    from rubberfriction.driver.scenes import load_scene
 
     path, mu_sum = full_contact_scene(tmp_path)
     res = run_scene(load_scene(path), output=tmp_path / "out", quiet=True)
@@ -418,7 +418,7 @@ def test_full_contact_cascade_reproduces_the_sum_of_closed_form_contributions(tm
 @pytest.mark.slow
 def test_two_sine_multiscale_agrees_with_the_reference_and_is_cheaper(tmp_path: Path):
     from rubberfriction.driver.multiscale.campaign import run_scene
-    from rubberfriction.driver.multiscale.scene import load_scene
+    from rubberfriction.driver.scenes import load_scene
 
     res = run_scene(load_scene("two_sine"), output=tmp_path / "out", quiet=True)
     r = res.points[0]
@@ -583,7 +583,7 @@ def test_samples_scales_and_summary_report_the_road_resolution(tmp_path: Path):
         scale_rows,
         summary_text,
     )
-    from rubberfriction.driver.multiscale.scene import parse_scene
+    from rubberfriction.driver.scenes import parse_scene
 
     sets = scales_with_distinct_samples(2)
 

@@ -45,7 +45,7 @@ def fake_result(tmp_path: Path, scene_text: str = SCENE) -> Any:
     from rubberfriction.driver.multiscale.campaign import CampaignResult
     from rubberfriction.driver.multiscale.results import Point, PointResult, ScaleResult
     from rubberfriction.driver.multiscale.statistics import sample_stats
-    from rubberfriction.driver.multiscale.scene import parse_scene
+    from rubberfriction.driver.scenes import parse_scene
     from rubberfriction.driver.runtime.store import Store
 
     scene = parse_scene(scene_text, "<test>", tmp_path)
@@ -183,7 +183,7 @@ def test_theory_failure_never_breaks_the_report(tmp_path: Path, monkeypatch) -> 
 def test_theory_request_from_a_loaded_scene() -> None:
     """A loaded Scene gives the theory its surface, analysis range, compound, conditions."""
     from rubberfriction.driver.multiscale.baseline import request_from_scene
-    from rubberfriction.driver.multiscale.scene import load_scene
+    from rubberfriction.driver.scenes import load_scene
 
     got = request_from_scene(load_scene("captif_stress"))
     assert got.surface == "default" and got.edges == (20.0, 3.0, 0.3, 0.04, 0.003)

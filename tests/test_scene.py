@@ -11,7 +11,7 @@ import pytest
 
 from rubberfriction.driver.fe.contact import DEFAULT_TANGENTIAL_FRACTION, METHODS
 from rubberfriction.driver.fe.solid import ELEMENTS
-from rubberfriction.driver.multiscale.scene import (
+from rubberfriction.driver.scenes import (
     SCHEMA,
     SceneError,
     load_scene,

@@ -189,7 +189,7 @@ def test_which_stored_runs_are_results_of_their_inputs(failure: str, retry: bool
 def test_summary_says_how_many_runs_the_wall_clock_stopped(tmp_path: Path):
     from rubberfriction.driver.multiscale.campaign import CampaignResult
     from rubberfriction.driver.multiscale.report import summary_text
-    from rubberfriction.driver.multiscale.scene import parse_scene
+    from rubberfriction.driver.scenes import parse_scene
     from rubberfriction.driver.runtime.store import Outcome
 
     scene = parse_scene('name = "t"\n[surface]\nsource = "sines"\namplitudes = [0.01]\n'

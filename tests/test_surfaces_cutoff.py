@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from rubberfriction.driver.multiscale.scene import SceneError, load_scene, parse_scene
+from rubberfriction.driver.scenes import SceneError, load_scene, parse_scene
 from rubberfriction.driver.surfaces import (
     fit_psd_power_law,
     multiscale_from_measurements,
@@ -185,7 +185,7 @@ def test_run_check_prints_the_bands_and_the_sharpest_tips(capsys) -> None:
 def test_tip_radius_of_a_sine_is_one_over_its_curvature() -> None:
     """h = a sin(2 pi x / lam): R = 1 / (a (2 pi / lam)^2) at the crest; central differences on
     200 points per wavelength are within 0.1 %."""
-    from rubberfriction.driver.multiscale.roads import smallest_tip_radius
+    from rubberfriction.driver.surfaces.roads import smallest_tip_radius
 
     a, lam = 0.01, 0.3
     x = np.linspace(0.0, 2 * lam, 401)
@@ -197,7 +197,7 @@ def test_tip_radius_of_a_sine_is_one_over_its_curvature() -> None:
 def test_a_finer_cut_of_the_four_scale_road_continues_the_same_road() -> None:
     """Edges below 3 um add an ultra-fine 'scan'; the bands above stay the same realisation, and
     max_slope 1.0 / 1.3 / 2.0 cut it at 11 um / 3 um / below 3 um (scene.with_surface)."""
-    from rubberfriction.driver.multiscale.scene import with_surface
+    from rubberfriction.driver.scenes import with_surface
 
     design = four_scale_road()
     finer = four_scale_road((20.0, 3.0, 0.3, 0.04, 0.003, 0.0002))

@@ -661,7 +661,7 @@ def test_cli_theory_reads_scenes_like_run(tmp_path, capsys) -> None:
 def test_theory_request_from_a_multiscale_scene(tmp_path) -> None:
     """The scene's sources, lists, T0_unit and physics switch reach the theory request."""
     from rubberfriction.driver.multiscale.baseline import request_from_scene
-    from rubberfriction.driver.multiscale.scene import load_scene
+    from rubberfriction.driver.scenes import load_scene
 
     scene = tmp_path / "ms.toml"
     scene.write_text(
@@ -713,7 +713,7 @@ def test_draw_beside_fe(tmp_path) -> None:
     import matplotlib.pyplot as plt
 
     from rubberfriction.driver.multiscale.baseline import draw_beside_fe
-    from rubberfriction.driver.multiscale.scene import load_scene
+    from rubberfriction.driver.scenes import load_scene
 
     path = tmp_path / "sines.toml"
     path.write_text('[surface]\nsource = "sines"\namplitudes = [0.01]\nwavelengths = [5.0]\n')

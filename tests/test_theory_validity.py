@@ -130,7 +130,7 @@ def test_report_notes_carry_the_flags() -> None:
     import matplotlib.pyplot as plt
 
     from rubberfriction.driver.multiscale.baseline import draw_beside_fe
-    from rubberfriction.driver.multiscale.scene import load_scene
+    from rubberfriction.driver.scenes import load_scene
 
     fig, ax = plt.subplots()
     curves, notes = draw_beside_fe(ax, load_scene("default"), v_fe=[1.0, 100.0],

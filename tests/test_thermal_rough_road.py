@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rubberfriction.driver.multiscale.scene import SceneError, parse_scene
+from rubberfriction.driver.scenes import SceneError, parse_scene
 from rubberfriction.driver.multiscale.thermal_scene import _materials, macro_inputs
 from rubberfriction.driver.thermal.macro import run_thermal_macro
 
@@ -107,7 +107,7 @@ def test_block_on_the_rough_road_heats_and_keeps_the_heat_balance():
 def test_shipped_rough_thermal_scene_builds_its_macro_road():
     """The shipped scene thermal_rough: an elastic r1 road shaped by the default road's macro band
     (its first 69 mm: rms height 0.46 mm, rough on the block's scale)."""
-    from rubberfriction.driver.multiscale.scene import load_scene
+    from rubberfriction.driver.scenes import load_scene
 
     scene = load_scene("thermal_rough")
     [(_, compound)], road = _materials(scene)

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rubberfriction.driver.multiscale.scene import SceneError, load_scene, parse_scene
+from rubberfriction.driver.scenes import SceneError, load_scene, parse_scene
 from rubberfriction.driver.multiscale.thermal_scene import friction_of
 
 BASE = """

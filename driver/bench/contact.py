@@ -25,7 +25,8 @@ from petsc4py import PETSc
 from rubberfriction.driver.fe.constraints import ConstraintMap
 from rubberfriction.driver.fe.contact import Contact, PenaltySettings, RigidMaster, SlaveSurface
 from rubberfriction.driver.fe.newton import NewtonSolver
-from rubberfriction.driver.verification import contact_cases as cc
+from rubberfriction.driver.verification import contact_common as cc
+from rubberfriction.driver.verification.hertz import hertz
 
 
 def rough_profile(n: int, length: float, rms: float, seed: int = 1,
@@ -85,7 +86,7 @@ def bench_newton_share(nx: int, steps: int = 3, friction=0.5, step_fraction: flo
                        penalty=None) -> dict:
 
     L = 1.0
-    body, sp, spec, top_x, top_z = cc._block_setup(E=6.0, nu=0.4999, length=L, height=L,
+    body, sp, spec, top_x, top_z = cc.elastic_body(E=6.0, nu=0.4999, length=L, height=L,
                                                    n_contact=nx, periodic=True, element="Q1P0")
     V = rough_profile(8 * nx, L, 0.005, k_max=max(2, nx // 8))  # >= 8 slave elements per wavelength
     V[:, 1] -= V[:, 1].max()
@@ -171,7 +172,7 @@ def main(argv: list[str] | None = None) -> int:
 
     print("\n3. Hertz (R = 10 mm, E = 6 MPa, nu = 0.3, a = 0.02 R): error vs wall time")
 
-    res = cc.hertz(nu=0.3, elements_per_a=tuple(args.hertz))
+    res = hertz(nu=0.3, elements_per_a=tuple(args.hertz))
     print(f"{'el./a':>6} {'dofs':>7} {'Newton its':>10} {'wall s':>7} {'err a':>9} {'err p0':>9} "
           f"{'L2 err p':>9}")
     for r in res["runs"]:

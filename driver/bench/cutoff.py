@@ -25,8 +25,8 @@ from typing import Any
 
 from rubberfriction.driver.multiscale.baseline import evaluate, request_from_scene
 from rubberfriction.driver.multiscale.campaign import run_scene
-from rubberfriction.driver.multiscale.scene import Scene, SceneError, load_scene, override
-from rubberfriction.driver.multiscale.scene import with_surface
+from rubberfriction.driver.scenes import Scene, SceneError, load_scene, override
+from rubberfriction.driver.scenes import with_surface
 from rubberfriction.driver.surfaces.multiscale import scale_names
 
 #: the theories shown next to the FE (both Persson: line roughness and isotropic)

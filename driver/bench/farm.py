@@ -23,7 +23,7 @@ from pathlib import Path
 
 from rubberfriction.driver.multiscale.campaign import make_planner
 from rubberfriction.driver.multiscale.scales import build_scales
-from rubberfriction.driver.multiscale.scene import load_scene
+from rubberfriction.driver.scenes import load_scene
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
 from rubberfriction.driver.runtime.farm import Replay, Task, replay
 from rubberfriction.driver.runtime.store import Outcome, Store, run_key

@@ -61,7 +61,7 @@ import numpy as np
 from rubberfriction.driver.fe.solid import ELEMENTS
 from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
-from rubberfriction.driver.multiscale.scene import load_scene
+from rubberfriction.driver.scenes import load_scene
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds, refined_master
 from rubberfriction.driver.multiscale.statistics import STABILISATION_TOL, usable, why_unusable
 from rubberfriction.driver.runtime.store import result_outcome

@@ -35,7 +35,7 @@ import numpy as np
 
 from rubberfriction.driver.multiscale.baseline import load_rubber, surface_psd
 from rubberfriction.driver.multiscale.campaign import runs_per_point
-from rubberfriction.driver.multiscale.scene import load_scene
+from rubberfriction.driver.scenes import load_scene
 from rubberfriction.driver.theory.curves import iso_psd_from_profile_psd
 from rubberfriction.driver.theory.kluppel import descriptors_from_psd, kluppel_heinrich_friction
 from rubberfriction.driver.theory.persson import persson_friction

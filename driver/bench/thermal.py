@@ -41,7 +41,7 @@ import time
 
 import numpy as np
 
-from rubberfriction.driver.multiscale.scene import load_scene
+from rubberfriction.driver.scenes import load_scene
 from rubberfriction.driver.multiscale.thermal_scene import friction_of
 from rubberfriction.driver.thermal.macro import (THESIS_INTERFACE, MacroSettings, flat_road_spec,
                                                  run_thermal_macro, run_thermal_slides)

@@ -31,7 +31,7 @@ import numpy as np
 
 from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
-from rubberfriction.driver.multiscale.scene import load_scene
+from rubberfriction.driver.scenes import load_scene
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
 from rubberfriction.driver.multiscale.thermal_loop import (
     CascadeRunner,

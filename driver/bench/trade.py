@@ -31,8 +31,8 @@ from pathlib import Path
 from typing import Any
 
 from rubberfriction.driver.multiscale.campaign import run_scene
-from rubberfriction.driver.multiscale.report import time_by_scale
-from rubberfriction.driver.multiscale.scene import Scene, SceneError, load_scene, override
+from rubberfriction.driver.multiscale.report.tables import time_by_scale
+from rubberfriction.driver.scenes import Scene, SceneError, load_scene, override
 
 #: name -> (label, overrides of the default scene's sections)
 SETTINGS: dict[str, tuple[str, dict[str, dict[str, Any]]]] = {

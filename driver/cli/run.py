@@ -38,7 +38,7 @@ from importlib import resources
 from mpi4py import MPI  # isort: skip
 
 from rubberfriction import validation as V
-from rubberfriction.driver.multiscale.scene import (
+from rubberfriction.driver.scenes import (
     SCENES_PACKAGE,
     Scene,
     SceneError,

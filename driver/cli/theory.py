@@ -39,7 +39,7 @@ from rubberfriction.driver.multiscale.baseline import (
     evaluate,
     request_from_scene,
 )
-from rubberfriction.driver.multiscale.scene import SceneError, load_scene
+from rubberfriction.driver.scenes import SceneError, load_scene
 from rubberfriction.driver.theory.adhesion import BellLaw
 from rubberfriction.driver.theory.curves import MODELS, plot_curves
 from rubberfriction.driver.theory.errors import TheoryInputError

@@ -28,7 +28,8 @@ import numpy as np
 
 from rubberfriction.driver.adhesion.fit import AdhesionFit, on_speeds
 from rubberfriction.driver.adhesion.plots import plot_fit
-from rubberfriction.driver.multiscale.report import _plt, area_spread, write_csv
+from rubberfriction.driver.multiscale.report.plots import _plt
+from rubberfriction.driver.multiscale.report.tables import area_spread, write_csv
 from rubberfriction.driver.multiscale.results import PointResult
 
 CONDITIONS = ("dry", "water", "soap")

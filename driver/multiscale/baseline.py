@@ -27,7 +27,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from rubberfriction.driver.multiscale.scene import Scene
+from rubberfriction.driver.scenes import Scene
 from rubberfriction.driver.surfaces import (
     DEFAULT_EDGES,
     default_road,

@@ -29,15 +29,12 @@ from rubberfriction.driver.adhesion.fit import AdhesionFit, CompoundInput, fit_a
 from rubberfriction.driver.adhesion.measurements import SpeedCurve, read_measurement
 from rubberfriction.driver.multiscale.adhesion_report import write_adhesion_report
 from rubberfriction.driver.multiscale.cascade import CampaignPlanner, RoughCascade
-from rubberfriction.driver.multiscale.report import (
-    plot_sample_study,
-    study_rows,
-    write_csv,
-    write_report,
-)
+from rubberfriction.driver.multiscale.report import write_report
+from rubberfriction.driver.multiscale.report.plots import plot_sample_study
+from rubberfriction.driver.multiscale.report.tables import study_rows, write_csv
 from rubberfriction.driver.multiscale.results import Point, PointResult
 from rubberfriction.driver.multiscale.scales import Scales, build_scales, surface_lines
-from rubberfriction.driver.multiscale.scene import Scene, SceneError, surface_scale_names
+from rubberfriction.driver.scenes import Scene, SceneError, surface_scale_names
 from rubberfriction.driver.multiscale.separated import SeparatedTwoScale
 from rubberfriction.driver.multiscale.estimate import estimate_wall_time
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds, points

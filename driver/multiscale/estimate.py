@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from rubberfriction.driver.multiscale.scales import Scales
-from rubberfriction.driver.multiscale.scene import Scene
+from rubberfriction.driver.scenes import Scene
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds, points
 from rubberfriction.driver.runtime.store import Store, code_version
 

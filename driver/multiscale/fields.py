@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
 
-from rubberfriction.driver.multiscale.scene import Scene, SceneError, surface_scale_names
+from rubberfriction.driver.scenes import Scene, SceneError, surface_scale_names
 
 #: Branch labels of the runs by scene variant (cascade.py: down/up; separated.py: roles).
 BRANCHES: dict[str, tuple[str, ...]] = {"rough": ("down", "up"),

@@ -13,8 +13,8 @@ from typing import Any
 import numpy as np
 
 from rubberfriction.driver.multiscale.results import ScaleSet
-from rubberfriction.driver.multiscale.scene import Scene, SceneError, surface_scale_names
-from rubberfriction.driver.multiscale.roads import road_builder, tip_rows
+from rubberfriction.driver.scenes import Scene, SceneError, surface_scale_names
+from rubberfriction.driver.surfaces.roads import road_builder, tip_rows
 from rubberfriction.driver.surfaces import SurfaceError, extract_samples
 
 

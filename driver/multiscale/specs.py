@@ -16,7 +16,7 @@ from typing import Any, Callable, Mapping
 import numpy as np
 
 from rubberfriction.driver.multiscale.results import Point
-from rubberfriction.driver.multiscale.scene import Scene, SceneError, surface_scale_names
+from rubberfriction.driver.scenes import Scene, SceneError, surface_scale_names
 from rubberfriction.driver.runtime.store import Store, StoredRun, canonical
 from rubberfriction.driver.sliding.spec import InitialState, SlidingSpec
 from rubberfriction.driver.surfaces.profile import UNIFORM_RTOL

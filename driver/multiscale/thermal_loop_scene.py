@@ -43,7 +43,7 @@ import numpy as np
 from rubberfriction.driver.multiscale.campaign import open_store, runner_and_timeout
 from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
-from rubberfriction.driver.multiscale.scene import Scene, SceneError
+from rubberfriction.driver.scenes import Scene, SceneError
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
 from rubberfriction.driver.multiscale.thermal_loop import (
     CascadeRunner,

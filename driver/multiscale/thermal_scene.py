@@ -41,7 +41,7 @@ import numpy as np
 from rubberfriction.driver.fe.contact import ThermalSettings
 from rubberfriction.driver.fe.friction_law import fit_mu_pvT
 from rubberfriction.driver.multiscale.scales import macro_road
-from rubberfriction.driver.multiscale.scene import Scene, SceneError
+from rubberfriction.driver.scenes import Scene, SceneError
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.thermal.macro import (
     MacroSettings,

@@ -6,18 +6,18 @@ with keyword parameters that the tests call directly.
 """
 
 CASES: dict[str, tuple[str, str]] = {
-    "hertz": ("rubberfriction.driver.verification.contact_cases",
+    "hertz": ("rubberfriction.driver.verification.hertz",
               "plane-strain cylinder on a rigid flat (Hertz)"),
-    "westergaard": ("rubberfriction.driver.verification.contact_cases",
+    "westergaard": ("rubberfriction.driver.verification.westergaard",
                     "elastic block on a rigid periodic sinusoid (Westergaard)"),
-    "patch": ("rubberfriction.driver.verification.contact_cases",
+    "patch": ("rubberfriction.driver.verification.patch",
               "contact patch test on non-matching meshes"),
-    "sliding-block": ("rubberfriction.driver.verification.contact_cases",
+    "sliding-block": ("rubberfriction.driver.verification.sliding_block",
                       "Coulomb sliding block, Fx/Fz = mu (constant mu and a mu(p, v) law)"),
-    "thermal-bars": ("rubberfriction.driver.verification.contact_cases",
+    "thermal-bars": ("rubberfriction.driver.verification.thermal_bars",
                      "thermal contact: two bars through a conductance, "
                      "frictional heat split kappa"),
-    "periodic-sliding": ("rubberfriction.driver.verification.contact_cases",
+    "periodic-sliding": ("rubberfriction.driver.verification.periodic_sliding",
                          "elastic layer sliding over 3 periods of a wrapped periodic sinusoid"),
     "viscoelastic-sinusoid": ("rubberfriction.driver.verification.viscoelastic_sinusoid",
                               "viscoelastic block sliding over a sinusoid in full contact"),

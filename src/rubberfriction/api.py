@@ -27,7 +27,7 @@ from rubberfriction.validation import InputError
 if TYPE_CHECKING:  # types of the signatures only; imported by the functions that need them
     from rubberfriction.driver.multiscale.baseline import TheoryResult
     from rubberfriction.driver.multiscale.campaign import CampaignResult
-    from rubberfriction.driver.multiscale.scene import Scene
+    from rubberfriction.driver.scenes import Scene
     from rubberfriction.driver.surfaces import HDCFit, MultiScaleSurface, Profile
     from rubberfriction.driver.theory.curves import TheoryCurve
     from rubberfriction.forms.compound import Compound
@@ -60,7 +60,7 @@ __all__ = [
     "verify",
 ]
 
-#: the tables of a campaign (``<output>/<name>.csv``; driver/multiscale/report.py)
+#: the tables of a campaign (``<output>/<name>.csv``; driver/multiscale/report/tables.py)
 TABLES = ("results", "scales", "samples")
 
 
@@ -77,8 +77,8 @@ def shipped_scenes() -> list[str]:
     """Names of the scenes shipped with the package (``driver/scenes/*.toml``), e.g.
     ``"default"``, ``"two_sine"``; any of them is a valid :func:`load_scene` argument.
 
-    Delegates to ``driver.multiscale.scene.shipped_scenes``."""
-    from rubberfriction.driver.multiscale.scene import shipped_scenes as names
+    Delegates to ``driver.scenes.shipped_scenes``."""
+    from rubberfriction.driver.scenes import shipped_scenes as names
 
     return names()
 
@@ -89,8 +89,8 @@ def load_scene(source: str | Path | None = None) -> Scene:
     (``scene.conditions.pressures`` in MPa, ``.velocities`` in mm/s, ``scene.output`` the
     output folder).  A bad value raises a ``SceneError`` (an :class:`InputError`) naming it.
 
-    Delegates to ``driver.multiscale.scene.load_scene`` (what ``rubberfriction run`` reads)."""
-    from rubberfriction.driver.multiscale.scene import load_scene as load
+    Delegates to ``driver.scenes.load_scene`` (what ``rubberfriction run`` reads)."""
+    from rubberfriction.driver.scenes import load_scene as load
 
     return load(source)
 
@@ -102,8 +102,8 @@ def scene_from_toml(text: str, *, base: str | Path | None = None,
     files) are relative to (default: the current directory); ``origin`` names the text in
     messages.
 
-    Delegates to ``driver.multiscale.scene.parse_scene``."""
-    from rubberfriction.driver.multiscale.scene import parse_scene
+    Delegates to ``driver.scenes.parse_scene``."""
+    from rubberfriction.driver.scenes import parse_scene
 
     return parse_scene(text, origin, Path(base) if base is not None else Path.cwd())
 
@@ -116,8 +116,8 @@ def modify_scene(scene: Scene, **changes: Any) -> Scene:
     ``SceneError``.  Values are taken as given (not re-validated like a TOML file; build
     from TOML with :func:`scene_from_toml` for that).
 
-    Delegates to ``driver.multiscale.scene.override``."""
-    from rubberfriction.driver.multiscale.scene import override
+    Delegates to ``driver.scenes.override``."""
+    from rubberfriction.driver.scenes import override
 
     return override(scene, **changes)
 
@@ -126,8 +126,8 @@ def scene_schema() -> str:
     """Every scene key with its default, unit and meaning, as commented TOML (what
     ``rubberfriction run --schema`` prints).
 
-    Delegates to ``driver.multiscale.scene.schema_text``."""
-    from rubberfriction.driver.multiscale.scene import schema_text
+    Delegates to ``driver.scenes.schema_text``."""
+    from rubberfriction.driver.scenes import schema_text
 
     return schema_text()
 
@@ -192,7 +192,7 @@ def table(result: CampaignResult | str | Path, which: str = "results") -> list[d
     (every single-scale run).  ``result``: what :func:`run` returned, or the output folder of
     a finished campaign (its ``<which>.csv`` is read; numbers come back as floats).
 
-    Delegates to ``driver.multiscale.report.point_rows`` / ``scale_rows`` / ``sample_rows``
+    Delegates to ``driver.multiscale.report.tables.point_rows`` / ``scale_rows`` / ``sample_rows``
     (the rows ``results.csv``, ``scales.csv``, ``samples.csv`` are written from)."""
     if which not in TABLES:
         raise InputError(f"table(which={which!r}): expected one of {', '.join(TABLES)}")
@@ -203,10 +203,10 @@ def table(result: CampaignResult | str | Path, which: str = "results") -> list[d
                              "folder of a finished campaign)")
         with open(path, newline="") as fh:
             return [{k: _number(v) for k, v in row.items()} for row in csv.DictReader(fh)]
-    from rubberfriction.driver.multiscale import report
+    from rubberfriction.driver.multiscale.report import tables
 
-    rows = {"results": report.point_rows, "scales": report.scale_rows,
-            "samples": report.sample_rows}[which]
+    rows = {"results": tables.point_rows, "scales": tables.scale_rows,
+            "samples": tables.sample_rows}[which]
     return rows(result.points)
 
 
