@@ -60,6 +60,8 @@ def main(argv: list[str]) -> int:
     print(f"solves: {len(ok)} converged ({its.sum()} iterations, mean {its.mean():.2f}), "
           f"{len(bad)} failed ({sum(e[1] for e in bad)} iterations), "
           f"{sum(e[3] for e in log)} line-search backtracks")
+    starts = {k: int(st.get(f"{k}_used", 0)) for k in ("predictor", "extrapolation", "period")}
+    print("Newton starts used (else the last state):", starts)
     print("iterations per converged solve:", sorted(collections.Counter(its.tolist()).items()))
     print("failed solves:", collections.Counter(e[4][:24] for e in bad).most_common(4))
     for e in ok[len(ok) // 2: len(ok) // 2 + 6]:

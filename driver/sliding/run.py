@@ -143,10 +143,11 @@ class SlidingRun:
     """Set-up and time loop of one sliding run; `run()` returns a SlidingResult."""
 
     #: Newton starts a sliding sub-step chooses from (:meth:`_start_iterate`): the last state,
-    #: the translation and the extrapolated last increment, the latter guarded
-    #: (:meth:`_guarded_solve`); an instance may set ``start_candidates`` and
-    #: ``extrapolation_guard`` (0: unguarded); ``bench sliding --part start`` compares them
-    START_CANDIDATES = ("last", "translation", "extrapolation")
+    #: the translation, the extrapolated last increment (guarded, :meth:`_guarded_solve`) and
+    #: the state one period earlier at the same phase (periodic cells); an instance may set
+    #: ``start_candidates`` and ``extrapolation_guard`` (0: unguarded); ``bench sliding --part
+    #: start`` compares them
+    START_CANDIDATES = ("last", "translation", "extrapolation", "period")
     #: Newton iterations an extrapolated start may take before the sub-step is solved again from
     #: the other starts
     EXTRAPOLATION_GUARD = 6
@@ -322,7 +323,10 @@ class SlidingRun:
             apply_load(t_cur + h)
             self.sp.prepare_step(h)
             self.contact.set_time_step(h)
-            start = self._start_iterate(predict, h, x_saved) if adaptive else "last"
+            full = abs(h - dt) <= 1e-12 * dt and t_cur == t  # the whole step: its phase is known
+            start = (self._start_iterate(predict, h, x_saved,
+                                         period_guess=self._period_guess if full else None)
+                     if adaptive else "last")
             hybrid = self.trust is not None and self.trust is not self.newton
             x_start = self.sp.w.x.array.copy() if hybrid else None
             if start == "extrapolation" and self.extrapolation_guard > 0:
@@ -444,7 +448,8 @@ class SlidingRun:
         return self.newton.solve(), redo_start
 
     def _start_iterate(self, predict, h: float, x_saved: np.ndarray,
-                       exclude: tuple[str, ...] = ()) -> str:
+                       exclude: tuple[str, ...] = (),
+                       period_guess: np.ndarray | None = None) -> str:
         """Newton start of a sliding sub-step of length h, returned by name: of the last converged
         state, the translation prediction (``predict``, periodic cells) and the extrapolation of
         the last converged sub-step's increment (unless backing off after a rejected one, see
@@ -463,7 +468,13 @@ class SlidingRun:
         cell of ``tests/test_sliding.py`` it ends at mu 0.0243 against 0.0224 from the other
         starts, and where the stabilised sub-steps started from it too, in an equilibrium whose
         contact face travels with the road (mu -0.72); so it is used through the guard only and
-        never in the stabilisation ladder (README "Start iterate")."""
+        never in the stabilisation ladder (README "Start iterate").
+
+        Period (``period_guess``, whole steps of a periodic cell from its second period on): the
+        converged state one period earlier at the same phase plus the drift between the periods
+        at the step before, x(t - T) + (x_n - x(t_n - T)).  In a periodic steady state it is the
+        solution itself; while a run still settles it carries the active set of the last period.
+        Always compared (never taken unseen)."""
         wanted = tuple(c for c in self.start_candidates if c not in exclude)
         candidates: list[tuple[str, Any]] = [("last", None)]
         if predict is not None and "translation" in wanted:
@@ -474,13 +485,16 @@ class SlidingRun:
         elif ("extrapolation" in wanted and inc is not None and inc[0].shape == x_saved.shape
                 and inc[1] > 0.0):
             candidates.append(("extrapolation", x_saved + (h / inc[1]) * inc[0]))
+        if "period" in wanted and period_guess is not None and period_guess.shape == x_saved.shape:
+            candidates.insert(1, ("period", period_guess))
         if len(candidates) < 2:
             return "last"  # the last state (already the iterate): nothing to compare
         pb = self.problem
         x = self.sp.w.x.array
         best, best_r = "last", math.inf
         best_x = x_saved
-        if candidates[-1][0] == "extrapolation" and self._unseen > 0:
+        if (candidates[-1][0] == "extrapolation" and self._unseen > 0
+                and candidates[1][0] != "period"):
             self._unseen -= 1  # it has won every comparison lately: take it unseen
             self.extrapolation_unseen += 1
             best, best_x = candidates[-1][0], candidates[-1][1]
@@ -500,6 +514,7 @@ class SlidingRun:
         pb.constraints.set_prescribed(x)
         self.predictor_used += best == "translation"
         self.extrapolation_used += best == "extrapolation"
+        self.period_used += best == "period"
         if candidates and candidates[-1][0] == "extrapolation":
             self._streak = self._streak + 1 if best == "extrapolation" else 0
             if 0 < self.unseen_after <= self._streak and self.extrapolation_guard > 0:
@@ -681,6 +696,8 @@ class SlidingRun:
         s = self.spec
         self.cutbacks, self.newton_iterations, self.predictor_used, self._easy = 0, 0, 0, 0
         self.extrapolation_used = 0  # sub-steps started from the extrapolated increment
+        self.period_used = 0  # steps started from the state one period earlier
+        self._period_guess: np.ndarray | None = None  # that start for the next step
         # extrapolated starts the guard rejected; sub-steps without it after rejections
         self.guard_rejections = self._backoff = self._skip = self._streak = self._unseen = 0
         self.extrapolation_unseen = 0  # of extrapolation_used: taken without comparing residuals
@@ -732,6 +749,10 @@ class SlidingRun:
         self._notify("on_start")
         self._h_next, self._easy = dt_slide, 0
         per_period = round(L / step_len) if whole_periods else 0
+        # converged states of the last period by phase (the "period" Newton start) and the
+        # change of the state since one period earlier at the last step
+        phase_x: list[np.ndarray | None] = [None] * per_period
+        drift: np.ndarray | None = None
         history = self.sp.history if s.steady_state else None
         start = history.snapshot() if history is not None else None
         self.converged, self.window_used = math.nan, 0  # this attempt's window (see __init__)
@@ -746,11 +767,19 @@ class SlidingRun:
                 self.fext[:] = keep
                 self.contact.set_master_offset(offset0 - s.velocity * (tk - t_s), 0.0)
 
+            slot = k % per_period if per_period else 0
+            self._period_guess = (None if not per_period or phase_x[slot] is None or drift is None
+                                  else phase_x[slot] + drift)
             ok, reason, _ = self._solve_step(t, dt_slide, load, predict, adaptive=True)
+            self._period_guess = None
             if not ok:
                 res = self._result(rows, distance, "failed", f"sliding: {reason}", t)
                 return res
             t += dt_slide
+            if per_period:  # the state at this phase, and its change since one period earlier
+                x_now = self.sp.w.x.array
+                drift = None if phase_x[slot] is None else x_now - phase_x[slot]
+                phase_x[slot] = x_now.copy()
             st = self.contact.state()
             rows.append((t, s.velocity * (t - t_s), st["Fx"], st["Fz"], st["contact_length"],
                          self.step_energy, self.step_friction_energy, st["mean_pressure"],
@@ -916,6 +945,7 @@ class SlidingRun:
         res.stats = {"cutbacks": self.cutbacks, "newton_iterations": self.newton_iterations,
                      "predictor_used": self.predictor_used,
                      "extrapolation_used": self.extrapolation_used,
+                     "period_used": self.period_used,
                      # extrapolated starts the guard rejected (solved again from the others)
                      "extrapolation_rejected": self.guard_rejections,
                      "extrapolation_unseen": self.extrapolation_unseen,
