@@ -1,4 +1,4 @@
-"""Step-size control of a sliding run (`SlidingRun._solve_step`) on a scripted solver.
+"""Step-size control of a sliding run (`StepControl.solve`) on a scripted solver.
 
 The Newton solver is replaced by a script (converged or not, iterations), so the sequence of
 sub-step lengths is known exactly: halving on failure, doubling after EASY_STREAK easy sub-steps
@@ -14,6 +14,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from rubberfriction.driver.sliding.run import EASY_STREAK, SlidingRun
+from rubberfriction.driver.sliding.steps import StepControl
 from rubberfriction.driver.sliding.spec import (
     MESH_REFINEMENT,
     SOFT_TANGENT,
@@ -38,8 +39,9 @@ class ScriptedNewton:
                                reason="" if ok else "scripted failure")
 
 
-def scripted_run(newton: ScriptedNewton, max_cutbacks: int = 8) -> SlidingRun:
-    run = SlidingRun.__new__(SlidingRun)
+def scripted_control(newton: ScriptedNewton, max_cutbacks: int = 8) -> StepControl:
+    """The step control of a run whose solid, contact and solver are scripted."""
+    run = SimpleNamespace()
     run.spec = SimpleNamespace(max_cutbacks=max_cutbacks, stabilisation=0.0)
     run.sp = SimpleNamespace(w=SimpleNamespace(x=SimpleNamespace(array=np.zeros(3))),
                              prepare_step=lambda h: setattr(newton, "h", h),
@@ -47,19 +49,17 @@ def scripted_run(newton: ScriptedNewton, max_cutbacks: int = 8) -> SlidingRun:
     run.contact = SimpleNamespace(set_time_step=lambda h: None, commit=lambda: None,
                                   state=lambda: {})
     run.newton, run.trust, run._inverted = newton, None, lambda: False
-    run.newton_iterations = run.cutbacks = run._easy = 0
-    run.step_energy = run.step_friction_energy = 0.0
-    run.min_det_F, run._iterate_det_F = float("inf"), float("nan")
-    run._deadline, run._h_next = float("inf"), 1.0
-    run.start_candidates, run._last_increment = ("last",), None  # Newton starts where it is
-    return run
+    run._iterate_det_F, run._deadline = float("nan"), float("inf")
+    control = StepControl(run, start_candidates=("last",))  # Newton starts where it is
+    control.h_next = 1.0
+    return control
 
 
 def test_sub_steps_grow_back_within_a_step():
     assert EASY_STREAK == 2
     newton = ScriptedNewton(lambda call, h: call > 3)  # the first three attempts fail
-    run = scripted_run(newton)
-    ok, _, cutbacks = run._solve_step(0.0, 1.0, lambda t: None)
+    control = scripted_control(newton)
+    ok, _, cutbacks = control.solve(0.0, 1.0, lambda t: None)
     assert ok and cutbacks == 3
     assert newton.tried[:3] == [1.0, 0.5, 0.25]
     # 1/8, 1/8, then doubled to 1/4, 1/4, and the remaining 1/4 (not eight steps of 1/8)
@@ -68,19 +68,19 @@ def test_sub_steps_grow_back_within_a_step():
 
 def test_step_fails_below_the_smallest_sub_step():
     newton = ScriptedNewton(lambda call, h: False)
-    run = scripted_run(newton, max_cutbacks=4)
-    ok, reason, cutbacks = run._solve_step(0.0, 2.0, lambda t: None)
+    control = scripted_control(newton, max_cutbacks=4)
+    ok, reason, cutbacks = control.solve(0.0, 2.0, lambda t: None)
     assert not ok and reason == "scripted failure" and cutbacks == 5
     assert newton.tried == [2.0, 1.0, 0.5, 0.25, 0.125]  # 2 / 2**4 is the last length tried
 
 
 def test_sliding_steps_carry_the_reduced_length_over():
     newton = ScriptedNewton(lambda call, h: h <= 0.25, iterations=12)  # hard: no growth
-    run = scripted_run(newton)
-    assert run._solve_step(0.0, 1.0, lambda t: None, adaptive=True)[0]
-    assert run._h_next == 0.25
+    control = scripted_control(newton)
+    assert control.solve(0.0, 1.0, lambda t: None, adaptive=True)[0]
+    assert control.h_next == 0.25
     newton.tried.clear()
-    assert run._solve_step(1.0, 1.0, lambda t: None, adaptive=True)[0]
+    assert control.solve(1.0, 1.0, lambda t: None, adaptive=True)[0]
     assert newton.tried == [0.25] * 4  # no repeated failures at 1 and 1/2
 
 

@@ -24,21 +24,24 @@ run-in (``window.converged_window``).  ``spec.keep_state`` returns the final sta
 Micro cell: periodic boundary conditions x_r - x_l = X_r - X_l on the left/right edges (eq. 6.5)
 with the periodic master, so the cell slides over many periods.  Macro block: non-periodic.
 
-Failure handling: a step that does not converge (or inverts an element) is retried with half the
-step (cut-back), steps grow again after easy successes; a sub-step that still fails after
-STABILISE_AFTER cut-backs (or at the last one) is retried with viscous stabilisation
-(``driver.fe.stabilisation``, thesis 6.3.3: dashpots resisting the motion within the sub-step,
-their work and force reported as ``stabilisation_share``); when the step gets too small the run
-starts again with the next fallback (`SlidingRun.attempts`): a softer tangential penalty (frictional
-runs), node-to-segment contact, smaller sliding steps, then contact elements twice as short.  A
-run that still fails returns `status="failed"` with the reason of the attempt that got furthest
-and the time reached (stats ``attempts`` lists every failed attempt's reason, also on a run that
-succeeded after them).  Nothing is raised through the caller.
+Failure handling (``driver.sliding.steps``): a step that does not converge (or inverts an
+element) is retried with half the step (cut-back), steps grow again after easy successes; a
+sub-step that still fails after STABILISE_AFTER cut-backs (or at the last one) is retried with
+viscous stabilisation (``driver.fe.stabilisation``, thesis 6.3.3: dashpots resisting the motion
+within the sub-step, their work and force reported as ``stabilisation_share``); when the step gets
+too small the run starts again with the next fallback (`SlidingRun.attempts`): a softer
+tangential penalty (frictional runs), node-to-segment contact, smaller sliding steps, then contact
+elements twice as short.  A run that still fails returns `status="failed"` with the reason of the
+attempt that got furthest and the time reached (stats ``attempts`` lists every failed attempt's
+reason, also on a run that succeeded after them).  Nothing is raised through the caller.
 
-Outputs: mu(t) = F_x/F_z (eq. 6.2) and mu from dissipated energy (eq. 2.8: viscous (+ frictional)
-energy per sliding distance over F_z), their averages over the homogenisation window, the mean
-contact pressure over contact nodes and steps (eq. 6.11), the contact length (area per unit depth)
-and its average (7.4), dissipation by depth.
+Periodic cells slid over whole periods (``driver.sliding.periods``): the converged-window rule at
+each period end, the steady-state history jump, the period start of the Newton solves.
+
+Outputs (``driver.sliding.result``): mu(t) = F_x/F_z (eq. 6.2) and mu from dissipated energy
+(eq. 2.8: viscous (+ frictional) energy per sliding distance over F_z), their averages over the
+homogenisation window, the mean contact pressure over contact nodes and steps (eq. 6.11), the
+contact length (area per unit depth) and its average (7.4), dissipation by depth.
 """
 
 from __future__ import annotations
@@ -48,7 +51,7 @@ import math
 import time
 import warnings
 from collections.abc import Callable
-from typing import Any, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 
@@ -59,11 +62,18 @@ from rubberfriction.driver.fe.newton import LINEAR_SOLVERS, NewtonSettings, Newt
 from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
 from rubberfriction.driver.fe.stabilisation import ViscousStabilisation
 from rubberfriction.driver.fe.trust_region import TrustRegionSolver
-from rubberfriction.driver.sliding import shortcut
+from rubberfriction.driver.sliding import shortcut, steps
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
 from rubberfriction.driver.sliding.intrusion import road_intrusion
 from rubberfriction.driver.sliding.outputs import DissipationByDepth
+from rubberfriction.driver.sliding.periods import Periods, sliding_step
 from rubberfriction.driver.sliding.progress import StepReporter
+from rubberfriction.driver.sliding.result import (
+    assemble,
+    pooled_contact_pressure,
+    stabilisation_share,
+)
+from rubberfriction.driver.sliding.steps import EASY_STREAK, StepControl, WallLimit
 from rubberfriction.driver.sliding.temperature import (
     MIN_ROW_FRACTION,
     cell_temperatures,
@@ -73,10 +83,7 @@ from rubberfriction.driver.sliding.temperature import (
 from rubberfriction.driver.sliding.spec import (
     MESH_REFINEMENT,
     SOFT_TANGENT,
-    STABILISATION_LADDER,
     STABILISE_AFTER,
-    STABILISED_ITERATIONS,
-    STABILISED_STAGNATION,
     InitialState,
     SlidingResult,
     SlidingSpec,
@@ -87,26 +94,14 @@ from rubberfriction.driver.sliding.spec import (
     refined,
     softened,
 )
-from rubberfriction.driver.sliding.window import (
-    WINDOW_QUANTITIES,
-    error_estimate,
-    converged_window,
-    earliest_convergence,
-    period_means,
-    step_lengths,
-    window_drift,
-)
+from rubberfriction.driver.sliding.window import WINDOW_QUANTITIES
 from rubberfriction.forms import jit
 from rubberfriction.forms.kinematics import deformation_gradient
 
+__all__ = ["Attempt", "EASY_STREAK", "NEWTON_METHODS", "SlidingRun", "block_mesh",
+           "pooled_contact_pressure", "run_sliding", "sliding_contact", "sliding_runner",
+           "stabilisation_share"]
 
-#: a sub-step converging in at most this many Newton iterations counts as easy; EASY_STREAK easy
-#: sub-steps in a row double the sub-step length (one would make it oscillate: double, fail, halve)
-EASY_ITERATIONS = 6
-EASY_STREAK = 2
-#: after a rejected extrapolated start the next 1, 2, 4, ... (at most this many) sub-steps start
-#: without it, until one from it converges within the guard again
-MAX_BACKOFF = 32
 #: trial steps (linear solves) a trust-region solve may take (driver.fe.trust_region)
 TRUST_REGION_STEPS = 60
 #: globalisations of the Newton solves (SlidingSpec.newton)
@@ -130,30 +125,35 @@ class Attempt(NamedTuple):
                 + (f" c_T x{self.tangent:g}" if self.tangent != 1.0 else ""))
 
 
-class _WallLimit(Exception):
-    """The run's wall-time limit passed (raised between sub-steps, caught in SlidingRun.run)."""
-
-    def __init__(self, t: float, projected: str = ""):
-        super().__init__(t)
-        self.t = t
-        self.projected = projected  # why the limit will pass before the run can converge
+def _of_steps(name: str) -> property:
+    """A counter of the current attempt's step control, read on the run (observers, benches)."""
+    return property(lambda run: getattr(run.steps, name),
+                    doc=f"``steps.{name}`` of the current (or last) attempt")
 
 
 class SlidingRun:
-    """Set-up and time loop of one sliding run; `run()` returns a SlidingResult."""
+    """Set-up, load history and fallback attempts of one sliding run; `run()` returns a
+    SlidingResult.  Each attempt has its step control (``steps``), its periods (``periods``)
+    and its result (``driver.sliding.result``)."""
 
-    #: Newton starts a sliding sub-step chooses from (:meth:`_start_iterate`): the last state,
-    #: the translation, the extrapolated last increment (guarded, :meth:`_guarded_solve`) and
-    #: the state one period earlier at the same phase (periodic cells); an instance may set
-    #: ``start_candidates`` and ``extrapolation_guard`` (0: unguarded); ``bench sliding --part
-    #: start`` compares them
-    START_CANDIDATES = ("last", "translation", "extrapolation", "period")
-    #: Newton iterations an extrapolated start may take before the sub-step is solved again from
-    #: the other starts
-    EXTRAPOLATION_GUARD = 6
-    #: extrapolated starts that won the residual comparison in a row, after which as many are
-    #: taken without computing the starts' residuals (``unseen_after``, 0: always compared)
-    UNSEEN_AFTER = 16
+    #: Newton start candidates, extrapolation guard and unseen starts of the step control
+    #: (``driver.sliding.steps``); an instance may set ``start_candidates``,
+    #: ``extrapolation_guard`` and ``unseen_after`` before ``run()``
+    START_CANDIDATES = steps.START_CANDIDATES
+    EXTRAPOLATION_GUARD = steps.EXTRAPOLATION_GUARD
+    UNSEEN_AFTER = steps.UNSEEN_AFTER
+
+    cutbacks = _of_steps("cutbacks")
+    newton_iterations = _of_steps("newton_iterations")
+    predictor_used = _of_steps("predictor_used")
+    extrapolation_used = _of_steps("extrapolation_used")
+    period_used = _of_steps("period_used")
+    guard_rejections = _of_steps("guard_rejections")
+    stabilised_steps = _of_steps("stabilised_steps")
+    min_det_F = _of_steps("min_det_F")
+    #: energies of the sliding step just solved (on_step observers)
+    step_energy = _of_steps("step_energy")
+    step_friction_energy = _of_steps("step_friction_energy")
 
     def __init__(self, spec: SlidingSpec, mesh_factory=None, contact_factory=None, progress=None,
                  observers=(), wall_limit: float = 0.0, linear_solver: str = "petsc"):
@@ -188,7 +188,6 @@ class SlidingRun:
         if not (np.isfinite(self.wall_limit) and self.wall_limit >= 0.0):
             raise ValueError(f"wall_limit: expected seconds >= 0 (0: no limit), got {wall_limit!r}")
         self._deadline = float("inf")
-        self._period_wall = 0.0  # wall clock at the last period end (_project_wall_time)
         # LU package of the Newton solves (driver.fe.newton.LINEAR_SOLVERS): the results agree to
         # round-off, so it is a machine choice, not part of the spec
         if linear_solver not in LINEAR_SOLVERS:
@@ -209,8 +208,8 @@ class SlidingRun:
         self._mesh_factory = mesh_factory
         self._detF = None  # det F at the quadrature points, compiled on first use per attempt
         self._iterate_det_F = math.nan  # its smallest value at the last checked iterate
-        self.converged = math.nan  # converged window rule: 1 stationary, 0 not (yet)
-        self.window_used = 0  # periods averaged once stationary (driver.sliding.window)
+        self.steps: StepControl | None = None  # the current attempt's step control
+        self.periods: Periods | None = None  # and its sliding periods
         self._contact_factory = contact_factory
 
     # --- set-up ------------------------------------------------------------------------------
@@ -278,8 +277,7 @@ class SlidingRun:
         self.force_scale = s.pressure * L
         # strict backtracking (no residual growth accepted): with friction a full step from trial
         # slip can jump over the narrow stick cone into reverse slip and back (2-cycle); without,
-        # on steep rough samples, it also pays (rms slope 2 micro sample at 10 mm/s, 0.1 MPa:
-        # 10 200 -> 6 400 Newton iterations, 86 -> 57 s, same mu within 0.2 %).
+        # on steep rough samples, it also saves iterations (docs/performance.md)
         # stagnation: cycling active sets are cut back after 8 iterations instead of 25
         settings = NewtonSettings(rtol=1e-8, atol=1e-12 * self.force_scale, backtrack_growth=1.0,
                                   stagnation=8, linear_solver=self.linear_solver)
@@ -300,260 +298,13 @@ class SlidingRun:
         self.cmap = ConstraintMap(self.cspec)
         self.problem.set_constraints(self.cmap)  # the solver refactorises the new P^T A P
 
-    # --- one step with cut-backs ---------------------------------------------------------------
-    def _solve_step(self, t: float, dt: float, apply_load, predict=None,
-                    adaptive: bool = False) -> tuple[bool, str, int]:
-        """Advance from t to t + dt (sub-stepping on failure). Returns (ok, reason, cutbacks).
-
-        predict(h), if given, moves the start iterate of a sub-step of length h (not the result);
-        it is kept only where it lowers the start residual (see :meth:`_start_iterate`).
-        The sub-step length halves on failure and doubles (up to dt) after EASY_STREAK sub-steps
-        in a row that converged in at most EASY_ITERATIONS iterations; the step fails when it
-        would fall below dt / 2**max_cutbacks. ``adaptive``: the sub-step length is also
-        remembered from step to step (sliding phase), so a step after a hard one does not first
-        repeat its failed attempts.
-        """
-        cutbacks, t_cur = 0, t
-        h = min(dt, self._h_next) if adaptive else dt
-        while t_cur < t + dt - 1e-12 * dt:
-            if time.perf_counter() > self._deadline:
-                raise _WallLimit(t_cur)
-            h = min(h, t + dt - t_cur)
-            x_saved = self.sp.w.x.array.copy()
-            apply_load(t_cur + h)
-            self.sp.prepare_step(h)
-            self.contact.set_time_step(h)
-            full = abs(h - dt) <= 1e-12 * dt and t_cur == t  # the whole step: its phase is known
-            start = (self._start_iterate(predict, h, x_saved,
-                                         period_guess=self._period_guess if full else None)
-                     if adaptive else "last")
-            hybrid = self.trust is not None and self.trust is not self.newton
-            x_start = self.sp.w.x.array.copy() if hybrid else None
-            if start == "extrapolation" and self.extrapolation_guard > 0:
-                res, redo_start = self._guarded_solve(predict, h, x_saved)
-                if hybrid and redo_start is not None:
-                    x_start = redo_start
-            else:
-                res = self.newton.solve()
-            self.newton_iterations += res.iterations
-            if not res.converged and hybrid:
-                # the sub-step again from the same start, with the trust region
-                self.sp.w.x.array[:] = x_start
-                res = self.trust.solve()
-                self.newton_iterations += res.iterations
-                self.trust_solves += 1
-            ok, reason = res.converged, res.reason
-            if ok and self._inverted():
-                ok, reason = False, self._bad_element_reason()
-            floor = dt * 0.5**self.spec.max_cutbacks * (1.0 - 1e-9)
-            if not ok and self.spec.stabilisation > 0.0 and (cutbacks >= self.stabilise_after
-                                                             or 0.5 * h < floor):
-                ok, res = self._stabilised_solve(h, x_saved, predict, adaptive)
-            if ok:
-                if "extrapolation" in self.start_candidates:  # only then is it read
-                    self._last_increment = (self.sp.w.x.array - x_saved, h)
-                self.min_det_F = min(self.min_det_F, self._iterate_det_F)
-                self.step_energy += self.sp.commit_step()
-                self.contact.commit()
-                self.step_friction_energy += float(self.contact.state().get("dissipation", 0.0))
-                t_cur += h
-                self._easy = self._easy + 1 if res.iterations <= EASY_ITERATIONS else 0
-                if self._easy >= EASY_STREAK:
-                    h, self._easy = min(dt, 2.0 * h), 0
-                if adaptive:
-                    self._h_next = h
-                continue
-            self.sp.w.x.array[:] = x_saved
-            self._easy = 0
-            cutbacks += 1
-            self.cutbacks += 1
-            h *= 0.5
-            if h < floor:
-                if adaptive:
-                    self._h_next = dt
-                return False, reason, cutbacks
-            if adaptive:
-                self._h_next = h
-        return True, "", cutbacks
-
-    def _stabilised_solve(self, h: float, x_saved: np.ndarray, predict,
-                          sliding: bool = False) -> tuple[bool, object]:
-        """The failed sub-step again with viscous stabilisation (driver.fe.stabilisation), beta
-        up the ladder spec.stabilisation x STABILISATION_LADDER until Newton converges; the
-        dashpots' work and net x-force are added to the step's (series ``stabilisation_energy``,
-        ``stabilisation_impulse``).  The load of the sub-step is already applied."""
-        plain = self.newton.settings
-        self.newton.settings = dataclasses.replace(plain, max_iterations=STABILISED_ITERATIONS,
-                                                   stagnation=STABILISED_STAGNATION)
-        try:
-            return self._stabilised_ladder(h, x_saved, predict, sliding)
-        finally:
-            self.newton.settings = plain
-            self.stabiliser.deactivate()
-
-    def _stabilised_ladder(self, h: float, x_saved: np.ndarray, predict,
-                           sliding: bool = False) -> tuple[bool, object]:
-        pb, damper = self.problem, self.stabiliser
-        self.sp.w.x.array[:] = x_saved
-        damper.deactivate()
-        pb.constraints.set_prescribed(self.sp.w.x.array)
-        pb.assemble(need_vector=False)
-        diagonal = pb.A.getDiagonal().array.copy()  # of the tangent at u_n, for every rung
-        res = None
-        for factor in STABILISATION_LADDER:
-            self.sp.w.x.array[:] = x_saved
-            damper.activate(self.spec.stabilisation * factor, diagonal, x_saved)
-            if sliding:  # not the extrapolation: unguarded, it may choose another branch
-                self._start_iterate(predict, h, x_saved, exclude=("extrapolation",))
-            res = self.newton.solve()
-            self.newton_iterations += res.iterations
-            if res.converged and not self._inverted():
-                x = self.sp.w.x.array
-                fx = float(np.sum(damper.forces(x)[self._stabilised_x]))
-                self.step_stabilisation_energy += damper.energy(x)
-                self.step_stabilisation_impulse += fx * h
-                self.stabilised_steps += 1
-                return True, res
-        self.sp.w.x.array[:] = x_saved
-        return False, res
-
-    def _guarded_solve(self, predict, h: float, x_saved: np.ndarray
-                       ) -> tuple[Any, np.ndarray | None]:
-        """Newton from the extrapolated start, allowed ``extrapolation_guard`` iterations.  A
-        start near the continuation of the path converges within them (micro2: 4 on average);
-        one that needs more has left it and may be heading for another equilibrium (on the
-        three-wave cell the unguarded starts that led off the other starts' path took 29 and 97
-        iterations), so the sub-step is solved again from the other starts (the iterations of
-        both count) and the next 1, 2, 4, ... MAX_BACKOFF sub-steps do without the extrapolation
-        (where it does not pay, as on smooth cells where the translation converges in 3, its
-        rejections would otherwise double their cost).  Returns Newton's result and, after a
-        rejection, the start of the solve again (None when the extrapolated start converged)."""
-        plain = self.newton.settings
-        self.newton.settings = dataclasses.replace(plain, max_iterations=self.extrapolation_guard)
-        try:
-            res = self.newton.solve()
-        finally:
-            self.newton.settings = plain
-        if res.converged:
-            self._backoff = 0
-            return res, None
-        self.guard_rejections += 1
-        self._streak = self._unseen = 0  # compare the starts again
-        self._backoff = min(2 * self._backoff or 1, MAX_BACKOFF)
-        self._skip = self._backoff
-        self.newton_iterations += res.iterations
-        self.sp.w.x.array[:] = x_saved
-        self._start_iterate(predict, h, x_saved, exclude=("extrapolation",))
-        redo_start = self.sp.w.x.array.copy()
-        return self.newton.solve(), redo_start
-
-    def _start_iterate(self, predict, h: float, x_saved: np.ndarray,
-                       exclude: tuple[str, ...] = (),
-                       period_guess: np.ndarray | None = None) -> str:
-        """Newton start of a sliding sub-step of length h, returned by name: of the last converged
-        state, the translation prediction (``predict``, periodic cells) and the extrapolation of
-        the last converged sub-step's increment (unless backing off after a rejected one, see
-        :meth:`_guarded_solve`), the one with the lowest residual (each costs one residual
-        assembly); ``exclude`` leaves candidates out.  Once the extrapolation has won
-        ``unseen_after`` comparisons in a row, as many next sub-steps take it unseen, then one
-        comparison decides again (a rejection by the guard starts the count anew; unguarded, it
-        is always compared): on micro cells it always wins and comparing cost 9 % of a micro2
-        period; on meso cells the translation often wins and saves 10 % of the iterations.
-
-        Extrapolation: x_n + (h / h_prev) (x_n - x_prev), the forward-Euler predictor of the
-        displacement path: on steep micro cells the other starts are far from the solution
-        (the translation interpolates contact nodes into the road's flanks and never wins there)
-        and it cuts a micro2 period's Newton iterations 2.6x.  A start can choose the branch
-        where the discrete equilibrium is not unique: unguarded, on the frictionless three-wave
-        cell of ``tests/test_sliding.py`` it ends at mu 0.0243 against 0.0224 from the other
-        starts, and where the stabilised sub-steps started from it too, in an equilibrium whose
-        contact face travels with the road (mu -0.72); so it is used through the guard only and
-        never in the stabilisation ladder (README "Start iterate").
-
-        Period (``period_guess``, whole steps of a periodic cell from its second period on): the
-        converged state one period earlier at the same phase plus the drift between the periods
-        at the step before, x(t - T) + (x_n - x(t_n - T)).  In a periodic steady state it is the
-        solution itself; while a run still settles it carries the active set of the last period.
-        Always compared (never taken unseen)."""
-        wanted = tuple(c for c in self.start_candidates if c not in exclude)
-        candidates: list[tuple[str, Any]] = [("last", None)]
-        if predict is not None and "translation" in wanted:
-            candidates.append(("translation", predict))
-        inc = self._last_increment
-        if "extrapolation" in wanted and self._skip > 0:
-            self._skip -= 1  # backing off after a rejected extrapolation (_guarded_solve)
-        elif ("extrapolation" in wanted and inc is not None and inc[0].shape == x_saved.shape
-                and inc[1] > 0.0):
-            candidates.append(("extrapolation", x_saved + (h / inc[1]) * inc[0]))
-        if "period" in wanted and period_guess is not None and period_guess.shape == x_saved.shape:
-            candidates.insert(1, ("period", period_guess))
-        if len(candidates) < 2:
-            return "last"  # the last state (already the iterate): nothing to compare
-        pb = self.problem
-        x = self.sp.w.x.array
-        best, best_r = "last", math.inf
-        best_x = x_saved
-        if (candidates[-1][0] == "extrapolation" and self._unseen > 0
-                and candidates[1][0] != "period"):
-            self._unseen -= 1  # it has won every comparison lately: take it unseen
-            self.extrapolation_unseen += 1
-            best, best_x = candidates[-1][0], candidates[-1][1]
-            candidates = []
-        for name, move in candidates:
-            x[:] = x_saved
-            if name == "translation":
-                move(h)
-            elif move is not None:
-                x[:] = move
-            pb.constraints.set_prescribed(x)
-            pb.assemble(need_matrix=False)
-            r = pb.br.norm()
-            if np.isfinite(r) and r < best_r:
-                best, best_r, best_x = name, r, x.copy()
-        x[:] = best_x
-        pb.constraints.set_prescribed(x)
-        self.predictor_used += best == "translation"
-        self.extrapolation_used += best == "extrapolation"
-        self.period_used += best == "period"
-        if candidates and candidates[-1][0] == "extrapolation":
-            self._streak = self._streak + 1 if best == "extrapolation" else 0
-            if 0 < self.unseen_after <= self._streak and self.extrapolation_guard > 0:
-                self._unseen = self.unseen_after
-        return best
-
-    def _translation_predictor(self):
-        """Start iterate for a sliding step of a periodic cell: steady sliding carries the
-        deformation along with the surface, u_{n+1}(X) ~ u_n(X + v h) (periodic in x).  Nodes of
-        the structured block lie on rows of equal z; each row is interpolated in numpy.  Only the
-        Newton start changes; without it a step starts far from equilibrium on steep surfaces."""
-        X, L, v = self.sp.node_X, self.L, self.spec.velocity
-        d = self.sp.displacement_dofs()
-        x0 = X[:, 0].min()
-        rows = []
-        for z in np.unique(np.round(X[:, 1], 12)):
-            nodes = np.nonzero(np.abs(X[:, 1] - z) < 1e-9 * max(L, self.H))[0]
-            nodes = nodes[np.argsort(X[nodes, 0])]
-            data = nodes[:-1] if np.isclose(X[nodes[-1], 0] - X[nodes[0], 0], L) else nodes
-            rows.append((nodes, data))  # the right-edge node is the left one's periodic image
-        if sum(r[0].size for r in rows) < X.shape[0]:
-            return None  # not a structured block: no predictor
-
-        def predict(h: float) -> None:
-            shift = v * h
-            x = self.sp.w.x.array
-            for nodes, data in rows:
-                xd = X[data, 0] - x0
-                xe = (X[nodes, 0] - x0 + shift) % L
-                for c in (0, 1):
-                    x[d[nodes, c]] = np.interp(xe, xd, x[d[data, c]], period=L)
-
-        return predict
-
+    # --- helpers of the parts --------------------------------------------------------------------
     def exclude_from_wall_limit(self, seconds: float) -> None:
         """Time spent outside the run's own work (an observer's lower-scale cascades in the thermal
         loop) does not count against ``wall_limit``: the deadline moves by ``seconds``."""
         self._deadline += max(float(seconds), 0.0)
-        self._period_wall += max(float(seconds), 0.0)  # nor against a period's pace
+        if self.periods is not None:  # nor against a period's pace
+            self.periods.exclude(seconds)
 
     def _notify(self, event: str, *args) -> None:
         for obs in list(self.observers):
@@ -617,9 +368,7 @@ class SlidingRun:
         if has_friction(self.base_spec):
             soft = Attempt(base, tangent=SOFT_TANGENT)
             # a finite block (macro scale) tries the soft stick first: its first sliding step puts
-            # the nodes far outside the stick cone (measured: the 20 x 7 mm m2 block of thesis
-            # 8.5.2, mu 1.0, 0.5 m/s, 2 mm: the spec's c_T fails after ~105 s, the soft one slides
-            # in 8 s)
+            # the nodes far outside the stick cone (docs/performance.md)
             first = [soft, Attempt(base)] if self.base_spec.period == 0 else [Attempt(base), soft]
         if base == "mortar":
             first.append(Attempt("nts"))
@@ -658,7 +407,7 @@ class SlidingRun:
                 t_attempt = time.perf_counter()
                 try:
                     result = self._attempt(formulation, step_factor)
-                except _WallLimit as stop:
+                except WallLimit as stop:
                     why = (f": {stop.projected}" if stop.projected
                            else f" reached at t = {stop.t:.4g} s")
                     why = f"wall-time limit of {self.wall_limit:g} s{why}"
@@ -693,134 +442,102 @@ class SlidingRun:
         return best
 
     def _attempt(self, formulation: str, step_factor: float) -> SlidingResult:
-        s = self.spec
-        self.cutbacks, self.newton_iterations, self.predictor_used, self._easy = 0, 0, 0, 0
-        self.extrapolation_used = 0  # sub-steps started from the extrapolated increment
-        self.period_used = 0  # steps started from the state one period earlier
-        self._period_guess: np.ndarray | None = None  # that start for the next step
-        # extrapolated starts the guard rejected; sub-steps without it after rejections
-        self.guard_rejections = self._backoff = self._skip = self._streak = self._unseen = 0
-        self.extrapolation_unseen = 0  # of extrapolation_used: taken without comparing residuals
-        self._last_increment: tuple[np.ndarray, float] | None = None  # (x_n - x_prev, h_prev)
-        self._cpu_start = time.process_time()
-        self.compression_contact = float("nan")
-        self._detF = None
-        self.step_energy = self.step_friction_energy = 0.0
-        self.step_stabilisation_energy = self.step_stabilisation_impulse = 0.0
-        self.stabilised_steps = 0
-        self.min_det_F = math.inf
-        self.intrusion = -1.0  # deepest road vertex inside the rubber face over the sliding steps
-        self.trust_solves = 0  # hybrid: sub-steps handed to the trust region
-        self.warm_started = False  # slid on from spec.initial_state (_warm_state)
+        """One attempt: set-up, the load from rest (or the warm start), sliding, the result."""
+        s = self._begin_attempt()
         try:
             self.build(formulation)
         except (ValueError, RuntimeError) as err:
             return SlidingResult("failed", reason=f"set-up: {err}")
         if s.period > 0 and hasattr(self.contact, "slave") and hasattr(self.contact, "offset"):
             self.intrusion = 0.0  # a periodic cell on the rigid road: measured (-1: not)
-        L, F_target = self.L, s.pressure * self.L
-        step_len = (s.step_length or 0.5 * self.hc) * step_factor
-        whole_periods = s.period > 0 and (s.converge_tol > 0 or s.steady_state)
-        if whole_periods:  # steps end on every period boundary
-            step_len = L / max(1, round(L / step_len))
-        dt_slide = step_len / s.velocity
-        t_p = s.compression_time or L / (2.0 * np.pi * s.velocity)
-        dt_p = t_p / s.compression_steps
-        distance = s.slide_distance or 3.0 * (s.period if s.period > 0 else L)
+        F_target = s.pressure * self.L
+        step_len = sliding_step(s, self.L, (s.step_length or 0.5 * self.hc) * step_factor)
+        t_p = s.compression_time or self.L / (2.0 * np.pi * s.velocity)
+        distance = s.slide_distance or 3.0 * (s.period if s.period > 0 else self.L)
         warm = self._warm_state()
         self.t_planned = (0.0 if warm else t_p) + distance / s.velocity  # w/o initial contact
-        rows, offset0 = [], 0.0
         if warm is not None:  # slide on from an earlier run's final state (spec.InitialState)
-            self._restore(warm)
-            self.fext[:] = 0.0
-            self.fext[self.top_z_dof] = -F_target
+            self._restore(warm, F_target)
             t, offset0 = 0.0, warm.offset
         else:
-            t, failed = self._load_from_rest(t_p, dt_p, F_target)
+            t, failed = self._load_from_rest(t_p, t_p / s.compression_steps, F_target)
             if failed is not None:
                 return failed
-        # 3. sliding at v with p held
+            offset0 = 0.0
+        return self._slide(t, offset0, step_len, distance, warm is not None)
+
+    def _begin_attempt(self) -> SlidingSpec:
+        """Fresh per-attempt state: the step control with the run's start settings, counters."""
+        self.steps = StepControl(self, self.start_candidates, self.extrapolation_guard,
+                                 self.unseen_after, self.stabilise_after)
+        self.periods = None
+        self._cpu_start = time.process_time()
+        self.compression_contact = float("nan")
+        self._detF = None
+        self.intrusion = -1.0  # deepest road vertex inside the rubber face over the sliding steps
+        self.warm_started = False  # slid on from spec.initial_state (_warm_state)
+        return self.spec
+
+    def _slide(self, t: float, offset0: float, step_len: float, distance: float,
+               warm: bool) -> SlidingResult:
+        """Load history phase 3: sliding at v with p held, from time t and road offset offset0,
+        until the distance is slid or the periods say stop; the attempt's result."""
+        s, control = self.spec, self.steps
+        dt_slide = step_len / s.velocity
         nsteps = int(np.ceil(distance / step_len))
         t_s = t
         keep = self.fext.copy()
-        predict = self._translation_predictor() if s.period > 0 else None
+        predict = (steps.translation_predictor(self.sp, self.L, self.H, s.velocity)
+                   if s.period > 0 else None)
         self.t_start, self.slide_distance, self.dt_slide, self.n_slide_steps = (
             t_s, distance, dt_slide, nsteps)
         self._notify("on_start")
-        self._h_next, self._easy = dt_slide, 0
-        per_period = round(L / step_len) if whole_periods else 0
-        # converged states of the last period by phase (the "period" Newton start) and the
-        # change of the state since one period earlier at the last step
-        phase_x: list[np.ndarray | None] = [None] * per_period
-        drift: np.ndarray | None = None
-        history = self.sp.history if s.steady_state else None
-        start = history.snapshot() if history is not None else None
-        self.converged, self.window_used = math.nan, 0  # this attempt's window (see __init__)
-        run_in = 0 if warm is not None else 1  # periods from rest the window rule leaves out
-        out_of_reach = ""
-        self._period_wall = time.perf_counter()  # wall clock at the last period end
+        control.h_next, control.easy = dt_slide, 0
+        periods = self.periods = Periods(s, self.L, step_len, nsteps, self.sp.history, warm,
+                                         self.wall_limit)
+        rows: list[tuple] = []
         for k in range(1, nsteps + 1):
-            self.step_energy = self.step_friction_energy = 0.0
-            self.step_stabilisation_energy = self.step_stabilisation_impulse = 0.0
+            control.begin_step()
 
             def load(tk):
                 self.fext[:] = keep
                 self.contact.set_master_offset(offset0 - s.velocity * (tk - t_s), 0.0)
 
-            slot = k % per_period if per_period else 0
-            self._period_guess = (None if not per_period or phase_x[slot] is None or drift is None
-                                  else phase_x[slot] + drift)
-            ok, reason, _ = self._solve_step(t, dt_slide, load, predict, adaptive=True)
-            self._period_guess = None
+            ok, reason, _ = control.solve(t, dt_slide, load, predict, adaptive=True,
+                                          period_guess=periods.guess(k))
             if not ok:
-                res = self._result(rows, distance, "failed", f"sliding: {reason}", t)
-                return res
+                return assemble(self, rows, distance, "failed", f"sliding: {reason}", t)
             t += dt_slide
-            if per_period:  # the state at this phase, and its change since one period earlier
-                x_now = self.sp.w.x.array
-                drift = None if phase_x[slot] is None else x_now - phase_x[slot]
-                phase_x[slot] = x_now.copy()
-            st = self.contact.state()
-            rows.append((t, s.velocity * (t - t_s), st["Fx"], st["Fz"], st["contact_length"],
-                         self.step_energy, self.step_friction_energy, st["mean_pressure"],
-                         self.step_stabilisation_energy, self.step_stabilisation_impulse))
+            periods.record(k, self.sp.w.x.array)
+            rows.append(self._row(t, s.velocity * (t - t_s)))
             if self.intrusion >= 0.0:
                 self.intrusion = max(self.intrusion, self._road_intrusion())
             self._notify("on_step", k, t)
             if self.progress:
                 self.progress(k, nsteps)
-            if per_period and k % per_period == 0:  # a whole period ends here
-                if s.converge_tol > 0:
-                    arr = np.array([r[1:5] for r in rows])  # s, Fx, Fz, contact length
-                    with np.errstate(divide="ignore", invalid="ignore"):  # no load: mu is NaN
-                        q = {"mu_force": -arr[:, 1] / arr[:, 2], "contact_fraction": arr[:, 3] / L}
-                    names = WINDOW_QUANTITIES[s.window_quantity]
-                    means = [period_means(arr[:, 0], q[name], L) for name in names]
-                    halves = [period_means(arr[:, 0], q[name], 0.5 * L) for name in names]
-                    self.window_used = converged_window(means, s.converge_tol, s.window_periods,
-                                                        halves, run_in)
-                    self.converged = float(self.window_used > 0)
-                    if self.converged:
-                        break
-                    earliest = earliest_convergence(means, s.window_periods, run_in)
-                    if earliest > nsteps // per_period:
-                        after = "the run-in and " if run_in else ""
-                        out_of_reach = (f"no stationary window within the sliding budget: "
-                                        f"after period {k // per_period} the window rule "
-                                        f"cannot pass before period {earliest} of "
-                                        f"{nsteps // per_period} (it compares "
-                                        f"{2 * s.window_periods} periods after {after}"
-                                        f"after any period without a finite mean: no load on "
-                                        f"the contact)")
-                        break
-                    self._project_wall_time(k // per_period, earliest, t)
-                if history is not None and k < nsteps:
-                    history.extrapolate_periodic(start)
-                    start = history.snapshot()
-        res = self._result(rows, distance, "ok", out_of_reach, t)
+            if periods.end_of_step(k, rows, t, self._deadline):
+                break
+        res = assemble(self, rows, distance, "ok", periods.out_of_reach, t)
         if s.keep_state:
             res.final_state = self._final_state(offset0 - s.velocity * (t - t_s))
         return res
+
+    def _row(self, t: float, slid: float) -> tuple:
+        """The sliding step's row of the series (result.COLUMNS)."""
+        st, c = self.contact.state(), self.steps
+        return (t, slid, st["Fx"], st["Fz"], st["contact_length"], c.step_energy,
+                c.step_friction_energy, st["mean_pressure"], c.step_stabilisation_energy,
+                c.step_stabilisation_impulse)
+
+    @property
+    def converged(self) -> float:
+        """The converged window rule of the last attempt: 1 stationary, 0 not (yet), NaN n/a."""
+        return self.periods.converged if self.periods is not None else math.nan
+
+    @property
+    def window_used(self) -> int:
+        """Periods averaged once stationary (driver.sliding.window); 0 before."""
+        return self.periods.window_used if self.periods is not None else 0
 
     def _load_from_rest(self, t_p: float, dt_p: float, F_target: float
                         ) -> tuple[float, SlidingResult | None]:
@@ -838,7 +555,7 @@ class SlidingRun:
             def load(tk, t0=t, lo=delta, hi=target):
                 self.cmap.update_value(self.top_z_dof, -(lo + (hi - lo) * (tk - t0) / dt_p))
 
-            ok, reason, _ = self._solve_step(t, dt_p, load)
+            ok, reason, _ = self.steps.solve(t, dt_p, load)
             if not ok:
                 return t, SlidingResult("failed", reason=f"initial contact: {reason}", t_reached=t)
             t, delta = t + dt_p, target
@@ -859,7 +576,7 @@ class SlidingRun:
                 self.fext[:] = 0.0
                 self.fext[self.top_z_dof] = -Fk
 
-            ok, reason, _ = self._solve_step(t, dt_p, load)
+            ok, reason, _ = self.steps.solve(t, dt_p, load)
             if not ok:
                 return t, SlidingResult("failed", reason=f"compression: {reason}", t_reached=t)
             t += dt_p
@@ -875,10 +592,11 @@ class SlidingRun:
         self.warm_started = bool(fits)
         return state if fits else None
 
-    def _restore(self, state: InitialState) -> None:
+    def _restore(self, state: InitialState, F_target: float) -> None:
         """Take an earlier run's final state as the converged state now: displacements and
         pressures, the Prony histories at this run's temperatures, the contact's reference
-        positions at the road's offset then with its stick history, force control."""
+        positions at the road's offset then with its stick history, force control at
+        F_target."""
         self._switch_to_force_control()
         x = self.sp.w.x.array
         x[:] = state.w
@@ -887,6 +605,8 @@ class SlidingRun:
         self.problem.constraints.set_prescribed(x)
         gap = state.elastic_gap if state.elastic_gap.size else None
         self.contact.reset_history(x, (state.offset, 0.0), gap)
+        self.fext[:] = 0.0
+        self.fext[self.top_z_dof] = -F_target
 
     def _final_state(self, offset: float) -> InitialState:
         """This attempt's converged state now, for a later run to start from (spec.keep_state)."""
@@ -897,149 +617,6 @@ class SlidingRun:
                             h.Sbar_n.copy() if h is not None else empty,
                             float(offset % self.L) if self.spec.period > 0 else float(offset),
                             mesh_digest(self.sp.node_X), self.contact.elastic_gap(), self.refine)
-
-    def _project_wall_time(self, done: int, earliest: int, t: float) -> None:
-        """Stop a run that cannot reach a converged window before its wall-time limit: after
-        ``done`` >= 2 whole periods (the run-in is not a pace), the periods still needed before
-        the window rule can first pass (``earliest``, at least the next one) at the pace of the
-        period that just ended take longer than the time left.  Such a run would be stopped by
-        the limit anyway, later (a "timeout": recomputed on the next run of the scene).  The
-        default scene's micro2 runs at 63 and 191 MPa slid 4 to 6.5 of their 12 periods at
-        90-140 s each before the 600 s limit stopped them."""
-        now = time.perf_counter()
-        pace, self._period_wall = now - self._period_wall, now
-        if self.wall_limit <= 0.0 or done < 2:
-            return
-        need = max(earliest, done + 1) - done
-        left = self._deadline - now
-        if need * pace > left:
-            raise _WallLimit(t, f"projected after period {done}: {need} more period(s) before "
-                                f"a converged window is possible, at {pace:.0f} s per period, "
-                                f"with {max(left, 0.0):.0f} s left")
-
-    def _solvers(self) -> list:
-        """The Newton solvers of this attempt (two in the hybrid)."""
-        return [self.newton] + ([self.trust] if self.trust not in (None, self.newton) else [])
-
-    def _cpu_split(self) -> dict[str, float]:
-        """CPU seconds of this attempt by part (stats ``cpu_*``): bulk forms, contact, P^T A P
-        (with PETSc's assembly calls), linear solves (numeric LU + triangular solves), history
-        update (eq. 3.76), and the whole attempt (set-up and Python included)."""
-        asm = self.problem.cpu
-        return {"cpu_bulk": asm["bulk"], "cpu_contact": asm["hooks"],
-                "cpu_condense": asm["condense"],
-                "cpu_linear": sum(n.cpu_linear for n in self._solvers()),
-                "cpu_history": self.sp.cpu_history,
-                "cpu_attempt": time.process_time() - self._cpu_start}
-
-    def _result(self, rows, distance, status, reason, t) -> SlidingResult:
-        cols = ["t", "s", "Fx", "Fz", "contact_length", "viscous_energy", "friction_energy",
-                "mean_pressure", "stabilisation_energy", "stabilisation_impulse"]
-        arr = np.array(rows, dtype=float).reshape(-1, len(cols))
-        series = {c: arr[:, i] for i, c in enumerate(cols)}
-        res = SlidingResult(status, reason=reason, t_reached=t, series=series,
-                            min_det_F=self.min_det_F if math.isfinite(self.min_det_F) else math.nan,
-                            road_intrusion=(self.intrusion / self.hc if self.intrusion >= 0.0
-                                            else math.nan))
-        lo, hi = self._window(series["s"], distance)
-        res.stats = {"cutbacks": self.cutbacks, "newton_iterations": self.newton_iterations,
-                     "predictor_used": self.predictor_used,
-                     "extrapolation_used": self.extrapolation_used,
-                     "period_used": self.period_used,
-                     # extrapolated starts the guard rejected (solved again from the others)
-                     "extrapolation_rejected": self.guard_rejections,
-                     "extrapolation_unseen": self.extrapolation_unseen,
-                     "steps": len(rows), "h_contact": self.hc,
-                     "dofs": float(self.sp.w.x.array.size),
-                     "stabilised_steps": self.stabilised_steps,
-                     "lu_fallbacks": sum(n.lu_fallbacks for n in self._solvers()),
-                     # trial steps the trust region refused (newton = "trust-region" or "hybrid")
-                     "rejected_steps": float(self.trust.rejected if self.trust else 0),
-                     "trust_region_solves": float(self.trust_solves),
-                     "window_start": lo, "window_end": hi,
-                     "compression_contact_fraction": self.compression_contact,
-                     "warm_start": float(self.warm_started), **self._cpu_split()}
-        if len(rows) == 0:
-            return res
-        Fz = series["Fz"]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            # friction force on the block opposes +x sliding
-            series["mu_force"] = -series["Fx"] / Fz
-        win = series["s"] > lo + 1e-9 * max(hi, 1.0)
-        if status == "ok" and np.count_nonzero(win) >= 2:
-            ds = step_lengths(series["s"])[win]
-            res.mu_force = float(np.sum(series["mu_force"][win] * ds) / ds.sum())
-            energy = (series["viscous_energy"] + series["friction_energy"])[win].sum()
-            res.mu_energy = float(energy / (np.mean(Fz[win]) * ds.sum()))
-            res.mean_pressure = pooled_contact_pressure(series["mean_pressure"][win],
-                                                        series["contact_length"][win])
-            res.contact_fraction = float(np.mean(series["contact_length"][win]) / self.L)
-            res.window_drift = window_drift(series["s"], series["mu_force"], lo, hi)
-            res.contact_drift = window_drift(series["s"], series["contact_length"] / self.L, lo, hi)
-            res.stabilisation_share = stabilisation_share(series, win, ds, self.spec.velocity,
-                                                          self.spec.pressure * self.L)
-            self._stationarity(res, series)
-        return res
-
-    def _window(self, s_done: np.ndarray, distance: float) -> tuple[float, float]:
-        """(start, end) sliding distance of the averaging window (driver.sliding.window)."""
-        spec = self.spec
-        if spec.converge_tol > 0 and spec.period > 0:
-            end = spec.period * math.floor(float(np.max(s_done, initial=0.0)) / spec.period + 1e-9)
-            w = self.window_used or spec.window_periods
-            return max(0.0, end - w * spec.period), end
-        return spec.window_start * distance, distance
-
-    def _stationarity(self, res: SlidingResult, series: dict[str, np.ndarray]) -> None:
-        """Converged rule: whether the run got there, the period means and the error estimate;
-        fixed rule: half the window drift as the error estimate."""
-        spec = self.spec
-        if spec.converge_tol > 0 and spec.period > 0:
-            w = self.window_used or spec.window_periods
-            means = period_means(series["s"], series["mu_force"], spec.period)
-            contact = period_means(series["s"], series["contact_length"] / self.L, spec.period)
-            res.converged = 1.0 if self.converged == 1.0 else 0.0
-            res.mu_error = error_estimate(means, w)
-            res.contact_error = error_estimate(contact, w)
-            res.stats["period_mu"] = [float(m) for m in means]
-            res.stats["period_contact"] = [float(c) for c in contact]
-        else:
-            res.mu_error = 0.5 * abs(res.window_drift)
-            res.contact_error = 0.5 * abs(res.contact_drift)
-        if spec.period > 0:
-            res.stats["periods"] = round(float(series["s"][-1] / spec.period), 6)
-
-
-def pooled_contact_pressure(step_pressure: np.ndarray, contact_length: np.ndarray) -> float:
-    """Eq. (6.11): the contact pressures of all contact nodes of all time steps, each weighted by
-    its contact area, averaged: sum_t p_t A_t / sum_t A_t with a step's area-weighted mean
-    pressure p_t over its contact length A_t.  (The mean of the p_t would weigh a step with a
-    small contact patch, whose pressure is high, as much as one with a large patch.)  NaN
-    without contact."""
-    area = float(np.sum(contact_length))
-    return float(np.sum(step_pressure * contact_length) / area) if area > 0.0 else math.nan
-
-
-def stabilisation_share(series: dict[str, np.ndarray], win: np.ndarray, ds: np.ndarray,
-                        velocity: float, load: float = 0.0) -> float:
-    """What the stabilising dashpots carry of a window (driver.fe.stabilisation): the largest of
-    their work and of the work equivalent of their net x-force (impulse sum F_x,d dt times v) over
-    the friction work sum |F_x| ds, and of the part of the normal ``load`` (p l, held on the top
-    edge) that the contact does not carry in the stabilised steps, sum |p l - F_z| ds over
-    p l sum ds (quasi-static: the dashpots carry it; a stabilised step can hold the block with the
-    contact carrying nothing).  0 without stabilised sub-steps."""
-    work = float(np.sum(np.abs(series["Fx"][win]) * ds))
-    if not work > 0.0:
-        return math.nan
-    energy = float(np.sum(series["stabilisation_energy"][win]))
-    impulse = abs(float(np.sum(series["stabilisation_impulse"][win]))) * velocity
-    normal = 0.0
-    if load > 0.0:
-        stab = ((series["stabilisation_energy"][win] != 0.0)
-                | (series["stabilisation_impulse"][win] != 0.0))
-        missing = np.abs(load - np.abs(series["Fz"][win][stab]))
-        normal = float(np.sum(missing * ds[stab])) / (load * ds.sum())
-    return max(energy / work, impulse / work, normal)
 
 
 def run_sliding(spec: SlidingSpec, progress=None, observers=(),

@@ -1,0 +1,344 @@
+"""Step control of a sliding run: one load step with cut-backs, and the Newton start of a sub-step.
+
+A step that does not converge (or inverts an element) is retried with half the sub-step
+(cut-back); sub-steps grow again after easy successes; a sub-step that still fails after
+``stabilise_after`` cut-backs (or at the last one) is retried with viscous stabilisation up the
+ladder ``spec.STABILISATION_LADDER`` (``driver.fe.stabilisation``, thesis 6.3.3).  A sliding
+sub-step starts Newton from the best of several candidate iterates (:meth:`StepControl._start`).
+The state here lives for one attempt of :class:`~rubberfriction.driver.sliding.run.SlidingRun`;
+the solid, contact and solvers it drives are the run's.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from typing import Any
+
+import numpy as np
+
+from rubberfriction.driver.sliding.spec import (
+    STABILISATION_LADDER,
+    STABILISE_AFTER,
+    STABILISED_ITERATIONS,
+    STABILISED_STAGNATION,
+)
+
+#: a sub-step converging in at most this many Newton iterations counts as easy; EASY_STREAK easy
+#: sub-steps in a row double the sub-step length (one would make it oscillate: double, fail, halve)
+EASY_ITERATIONS = 6
+EASY_STREAK = 2
+#: after a rejected extrapolated start the next 1, 2, 4, ... (at most this many) sub-steps start
+#: without it, until one from it converges within the guard again
+MAX_BACKOFF = 32
+#: Newton starts a sliding sub-step chooses from (:meth:`StepControl._start`): the last state,
+#: the translation, the extrapolated last increment (guarded, :meth:`StepControl._guarded`) and
+#: the state one period earlier at the same phase (periodic cells); ``bench sliding --part
+#: start`` compares them
+START_CANDIDATES = ("last", "translation", "extrapolation", "period")
+#: Newton iterations an extrapolated start may take before the sub-step is solved again from
+#: the other starts (0: unguarded)
+EXTRAPOLATION_GUARD = 6
+#: extrapolated starts that won the residual comparison in a row, after which as many are
+#: taken without computing the starts' residuals (0: always compared)
+UNSEEN_AFTER = 16
+
+
+class WallLimit(Exception):
+    """The run's wall-time limit passed (raised between sub-steps, caught in SlidingRun.run)."""
+
+    def __init__(self, t: float, projected: str = ""):
+        super().__init__(t)
+        self.t = t
+        self.projected = projected  # why the limit will pass before the run can converge
+
+
+class StepControl:
+    """Sub-stepping, cut-backs and Newton starts of one attempt, with their counters.
+
+    ``run`` provides the solid ``sp``, the ``contact``, the solvers ``newton`` and ``trust``,
+    the ``problem``, the ``stabiliser`` (with ``_stabilised_x``), the current ``spec``, the
+    element check ``_inverted()`` / ``_bad_element_reason()`` with ``_iterate_det_F``, and the
+    wall-clock ``_deadline``; they are read when used (the solvers exist only after set-up).
+    """
+
+    def __init__(self, run: Any, start_candidates: tuple[str, ...] = START_CANDIDATES,
+                 extrapolation_guard: int = EXTRAPOLATION_GUARD,
+                 unseen_after: int = UNSEEN_AFTER, stabilise_after: int = STABILISE_AFTER):
+        self.run = run
+        self.start_candidates = start_candidates
+        self.extrapolation_guard = extrapolation_guard
+        self.unseen_after = unseen_after
+        self.stabilise_after = stabilise_after  # cut-backs before a sub-step is stabilised
+        self.cutbacks = self.newton_iterations = 0
+        self.predictor_used = 0  # sub-steps started from the translation
+        self.extrapolation_used = 0  # sub-steps started from the extrapolated increment
+        self.period_used = 0  # steps started from the state one period earlier
+        self.guard_rejections = 0  # extrapolated starts the guard rejected
+        self.extrapolation_unseen = 0  # of extrapolation_used: taken without comparing residuals
+        self.stabilised_steps = 0
+        self.trust_solves = 0  # hybrid: sub-steps handed to the trust region
+        self.min_det_F = math.inf
+        # energies of the step being solved (reset by begin_step)
+        self.step_energy = self.step_friction_energy = 0.0
+        self.step_stabilisation_energy = self.step_stabilisation_impulse = 0.0
+        self.easy = 0  # easy sub-steps in a row
+        self.h_next = math.inf  # sliding: the sub-step length carried to the next step
+        # sub-steps without the extrapolation after rejections, and the unseen-start counters
+        self._backoff = self._skip = self._streak = self._unseen = 0
+        self.last_increment: tuple[np.ndarray, float] | None = None  # (x_n - x_prev, h_prev)
+
+    def begin_step(self) -> None:
+        """A new load step: its energies start from zero."""
+        self.step_energy = self.step_friction_energy = 0.0
+        self.step_stabilisation_energy = self.step_stabilisation_impulse = 0.0
+
+    # --- one step with cut-backs ---------------------------------------------------------------
+    def solve(self, t: float, dt: float, apply_load, predict=None, adaptive: bool = False,
+              period_guess: np.ndarray | None = None) -> tuple[bool, str, int]:
+        """Advance from t to t + dt (sub-stepping on failure). Returns (ok, reason, cutbacks).
+
+        predict(h), if given, moves the start iterate of a sub-step of length h (not the result);
+        it is kept only where it lowers the start residual (see :meth:`_start`), as is
+        ``period_guess`` for the whole step.  The sub-step length halves on failure and doubles
+        (up to dt) after EASY_STREAK sub-steps in a row that converged in at most EASY_ITERATIONS
+        iterations; the step fails when it would fall below dt / 2**max_cutbacks. ``adaptive``:
+        the sub-step length is also remembered from step to step (sliding phase), so a step after
+        a hard one does not first repeat its failed attempts.
+        """
+        run = self.run
+        sp, spec = run.sp, run.spec
+        cutbacks, t_cur = 0, t
+        h = min(dt, self.h_next) if adaptive else dt
+        while t_cur < t + dt - 1e-12 * dt:
+            if time.perf_counter() > run._deadline:
+                raise WallLimit(t_cur)
+            h = min(h, t + dt - t_cur)
+            x_saved = sp.w.x.array.copy()
+            apply_load(t_cur + h)
+            sp.prepare_step(h)
+            run.contact.set_time_step(h)
+            full = abs(h - dt) <= 1e-12 * dt and t_cur == t  # the whole step: its phase is known
+            start = (self._start(predict, h, x_saved,
+                                 period_guess=period_guess if full else None)
+                     if adaptive else "last")
+            hybrid = run.trust is not None and run.trust is not run.newton
+            x_start = sp.w.x.array.copy() if hybrid else None
+            if start == "extrapolation" and self.extrapolation_guard > 0:
+                res, redo_start = self._guarded(predict, h, x_saved)
+                if hybrid and redo_start is not None:
+                    x_start = redo_start
+            else:
+                res = run.newton.solve()
+            self.newton_iterations += res.iterations
+            if not res.converged and hybrid:
+                # the sub-step again from the same start, with the trust region
+                sp.w.x.array[:] = x_start
+                res = run.trust.solve()
+                self.newton_iterations += res.iterations
+                self.trust_solves += 1
+            ok, reason = res.converged, res.reason
+            if ok and run._inverted():
+                ok, reason = False, run._bad_element_reason()
+            floor = dt * 0.5**spec.max_cutbacks * (1.0 - 1e-9)
+            if not ok and spec.stabilisation > 0.0 and (cutbacks >= self.stabilise_after
+                                                        or 0.5 * h < floor):
+                ok, res = self._stabilised(h, x_saved, predict, adaptive)
+            if ok:
+                if "extrapolation" in self.start_candidates:  # only then is it read
+                    self.last_increment = (sp.w.x.array - x_saved, h)
+                self.min_det_F = min(self.min_det_F, run._iterate_det_F)
+                self.step_energy += sp.commit_step()
+                run.contact.commit()
+                self.step_friction_energy += float(run.contact.state().get("dissipation", 0.0))
+                t_cur += h
+                self.easy = self.easy + 1 if res.iterations <= EASY_ITERATIONS else 0
+                if self.easy >= EASY_STREAK:
+                    h, self.easy = min(dt, 2.0 * h), 0
+                if adaptive:
+                    self.h_next = h
+                continue
+            sp.w.x.array[:] = x_saved
+            self.easy = 0
+            cutbacks += 1
+            self.cutbacks += 1
+            h *= 0.5
+            if h < floor:
+                if adaptive:
+                    self.h_next = dt
+                return False, reason, cutbacks
+            if adaptive:
+                self.h_next = h
+        return True, "", cutbacks
+
+    # --- stabilisation ---------------------------------------------------------------------------
+    def _stabilised(self, h: float, x_saved: np.ndarray, predict,
+                    sliding: bool = False) -> tuple[bool, object]:
+        """The failed sub-step again with viscous stabilisation (driver.fe.stabilisation), beta
+        up the ladder spec.stabilisation x STABILISATION_LADDER until Newton converges; the
+        dashpots' work and net x-force are added to the step's (series ``stabilisation_energy``,
+        ``stabilisation_impulse``).  The load of the sub-step is already applied."""
+        newton = self.run.newton
+        plain = newton.settings
+        newton.settings = dataclasses.replace(plain, max_iterations=STABILISED_ITERATIONS,
+                                              stagnation=STABILISED_STAGNATION)
+        try:
+            return self._ladder(h, x_saved, predict, sliding)
+        finally:
+            newton.settings = plain
+            self.run.stabiliser.deactivate()
+
+    def _ladder(self, h: float, x_saved: np.ndarray, predict,
+                sliding: bool = False) -> tuple[bool, object]:
+        run = self.run
+        pb, damper, x_now = run.problem, run.stabiliser, run.sp.w.x.array
+        x_now[:] = x_saved
+        damper.deactivate()
+        pb.constraints.set_prescribed(x_now)
+        pb.assemble(need_vector=False)
+        diagonal = pb.A.getDiagonal().array.copy()  # of the tangent at u_n, for every rung
+        res = None
+        for factor in STABILISATION_LADDER:
+            x_now[:] = x_saved
+            damper.activate(run.spec.stabilisation * factor, diagonal, x_saved)
+            if sliding:  # not the extrapolation: unguarded, it may choose another branch
+                self._start(predict, h, x_saved, exclude=("extrapolation",))
+            res = run.newton.solve()
+            self.newton_iterations += res.iterations
+            if res.converged and not run._inverted():
+                x = run.sp.w.x.array
+                fx = float(np.sum(damper.forces(x)[run._stabilised_x]))
+                self.step_stabilisation_energy += damper.energy(x)
+                self.step_stabilisation_impulse += fx * h
+                self.stabilised_steps += 1
+                return True, res
+        x_now[:] = x_saved
+        return False, res
+
+    # --- Newton starts ---------------------------------------------------------------------------
+    def _guarded(self, predict, h: float, x_saved: np.ndarray) -> tuple[Any, np.ndarray | None]:
+        """Newton from the extrapolated start, allowed ``extrapolation_guard`` iterations.  A
+        start near the continuation of the path converges within them; one that needs more has
+        left it and may be heading for another equilibrium, so the sub-step is solved again from
+        the other starts (the iterations of both count) and the next 1, 2, 4, ... MAX_BACKOFF
+        sub-steps do without the extrapolation (where it does not pay, its rejections would
+        otherwise double their cost).  Returns Newton's result and, after a rejection, the start
+        of the solve again (None when the extrapolated start converged)."""
+        run = self.run
+        plain = run.newton.settings
+        run.newton.settings = dataclasses.replace(plain, max_iterations=self.extrapolation_guard)
+        try:
+            res = run.newton.solve()
+        finally:
+            run.newton.settings = plain
+        if res.converged:
+            self._backoff = 0
+            return res, None
+        self.guard_rejections += 1
+        self._streak = self._unseen = 0  # compare the starts again
+        self._backoff = min(2 * self._backoff or 1, MAX_BACKOFF)
+        self._skip = self._backoff
+        self.newton_iterations += res.iterations
+        run.sp.w.x.array[:] = x_saved
+        self._start(predict, h, x_saved, exclude=("extrapolation",))
+        redo_start = run.sp.w.x.array.copy()
+        return run.newton.solve(), redo_start
+
+    def _start(self, predict, h: float, x_saved: np.ndarray, exclude: tuple[str, ...] = (),
+               period_guess: np.ndarray | None = None) -> str:
+        """Newton start of a sliding sub-step of length h, returned by name: of the last converged
+        state, the translation prediction (``predict``, periodic cells), the extrapolation of the
+        last converged sub-step's increment (unless backing off after a rejected one, see
+        :meth:`_guarded`) and the period start, the one with the lowest residual (each costs one
+        residual assembly); ``exclude`` leaves candidates out.  Once the extrapolation has won
+        ``unseen_after`` comparisons in a row, as many next sub-steps take it unseen, then one
+        comparison decides again (a rejection by the guard starts the count anew; unguarded, it
+        is always compared): where it always wins, comparing is pure cost.
+
+        Extrapolation: x_n + (h / h_prev) (x_n - x_prev), the forward-Euler predictor of the
+        displacement path: on steep micro cells the other starts are far from the solution (the
+        translation interpolates contact nodes into the road's flanks).  A start can choose the
+        branch where the discrete equilibrium is not unique, so it is used through the guard only
+        and never in the stabilisation ladder (README "Start iterate").
+
+        Period (``period_guess``, whole steps of a periodic cell from its second period on): the
+        converged state one period earlier at the same phase plus the drift between the periods
+        at the step before, x(t - T) + (x_n - x(t_n - T)).  In a periodic steady state it is the
+        solution itself; while a run still settles it carries the active set of the last period.
+        Always compared (never taken unseen)."""
+        wanted = tuple(c for c in self.start_candidates if c not in exclude)
+        candidates: list[tuple[str, Any]] = [("last", None)]
+        if predict is not None and "translation" in wanted:
+            candidates.append(("translation", predict))
+        inc = self.last_increment
+        if "extrapolation" in wanted and self._skip > 0:
+            self._skip -= 1  # backing off after a rejected extrapolation (_guarded)
+        elif ("extrapolation" in wanted and inc is not None and inc[0].shape == x_saved.shape
+                and inc[1] > 0.0):
+            candidates.append(("extrapolation", x_saved + (h / inc[1]) * inc[0]))
+        if "period" in wanted and period_guess is not None and period_guess.shape == x_saved.shape:
+            candidates.insert(1, ("period", period_guess))
+        if len(candidates) < 2:
+            return "last"  # the last state (already the iterate): nothing to compare
+        pb = self.run.problem
+        x = self.run.sp.w.x.array
+        best, best_r = "last", math.inf
+        best_x = x_saved
+        if (candidates[-1][0] == "extrapolation" and self._unseen > 0
+                and candidates[1][0] != "period"):
+            self._unseen -= 1  # it has won every comparison lately: take it unseen
+            self.extrapolation_unseen += 1
+            best, best_x = candidates[-1][0], candidates[-1][1]
+            candidates = []
+        for name, move in candidates:
+            x[:] = x_saved
+            if name == "translation":
+                move(h)
+            elif move is not None:
+                x[:] = move
+            pb.constraints.set_prescribed(x)
+            pb.assemble(need_matrix=False)
+            r = pb.br.norm()
+            if np.isfinite(r) and r < best_r:
+                best, best_r, best_x = name, r, x.copy()
+        x[:] = best_x
+        pb.constraints.set_prescribed(x)
+        self.predictor_used += best == "translation"
+        self.extrapolation_used += best == "extrapolation"
+        self.period_used += best == "period"
+        if candidates and candidates[-1][0] == "extrapolation":
+            self._streak = self._streak + 1 if best == "extrapolation" else 0
+            if 0 < self.unseen_after <= self._streak and self.extrapolation_guard > 0:
+                self._unseen = self.unseen_after
+        return best
+
+
+def translation_predictor(sp, L: float, H: float, velocity: float):
+    """Start iterate for a sliding step of a periodic cell: steady sliding carries the
+    deformation along with the surface, u_{n+1}(X) ~ u_n(X + v h) (periodic in x).  Nodes of
+    the structured block lie on rows of equal z; each row is interpolated in numpy.  Only the
+    Newton start changes; without it a step starts far from equilibrium on steep surfaces.
+    Returns predict(h), or None when the block is not structured."""
+    X, v = sp.node_X, velocity
+    d = sp.displacement_dofs()
+    x0 = X[:, 0].min()
+    rows = []
+    for z in np.unique(np.round(X[:, 1], 12)):
+        nodes = np.nonzero(np.abs(X[:, 1] - z) < 1e-9 * max(L, H))[0]
+        nodes = nodes[np.argsort(X[nodes, 0])]
+        data = nodes[:-1] if np.isclose(X[nodes[-1], 0] - X[nodes[0], 0], L) else nodes
+        rows.append((nodes, data))  # the right-edge node is the left one's periodic image
+    if sum(r[0].size for r in rows) < X.shape[0]:
+        return None  # not a structured block: no predictor
+
+    def predict(h: float) -> None:
+        shift = v * h
+        x = sp.w.x.array
+        for nodes, data in rows:
+            xd = X[data, 0] - x0
+            xe = (X[nodes, 0] - x0 + shift) % L
+            for c in (0, 1):
+                x[d[nodes, c]] = np.interp(xe, xd, x[d[data, c]], period=L)
+
+    return predict
