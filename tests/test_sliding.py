@@ -75,7 +75,7 @@ def _from_starts(spec: SlidingSpec, variants: dict[str, tuple[tuple[str, ...], i
 
 def test_the_start_iterate_changes_the_newton_path_not_the_answer():
     """The full-contact viscoelastic sinusoid (a unique solution) from each Newton start of
-    SlidingRun._start_iterate: the last state only, the last state and the translation (exact
+    steps.StepControl._start: the last state only, the last state and the translation (exact
     up to interpolation on this smooth surface), with the extrapolated increment unguarded, and
     as shipped (all three, the extrapolation guarded).  mu_force equal to 1e-6 (Newton's
     tolerance is 1e-8 of p L); the extrapolation, offered against the last state, is chosen in
@@ -103,7 +103,7 @@ def test_the_start_iterate_changes_the_newton_path_not_the_answer():
 
 def test_the_period_start_is_the_periodic_solution():
     """The state one period earlier at the same phase (the "period" start of
-    SlidingRun._start_iterate): on the full-contact viscoelastic sinusoid in its periodic steady
+    steps.StepControl._start): on the full-contact viscoelastic sinusoid in its periodic steady
     state (the Prony histories jump to it at every period end) it is the solution of the step up
     to Newton's tolerance, so from the second period on it wins the residual comparison in most
     steps; mu_force equals the run without it to 1e-6 (Newton's tolerance is 1e-8 of p L), and

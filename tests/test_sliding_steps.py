@@ -41,15 +41,16 @@ class ScriptedNewton:
 
 def scripted_control(newton: ScriptedNewton, max_cutbacks: int = 8) -> StepControl:
     """The step control of a run whose solid, contact and solver are scripted."""
-    run = SimpleNamespace()
-    run.spec = SimpleNamespace(max_cutbacks=max_cutbacks, stabilisation=0.0)
-    run.sp = SimpleNamespace(w=SimpleNamespace(x=SimpleNamespace(array=np.zeros(3))),
-                             prepare_step=lambda h: setattr(newton, "h", h),
-                             commit_step=lambda: 0.0)
-    run.contact = SimpleNamespace(set_time_step=lambda h: None, commit=lambda: None,
-                                  state=lambda: {})
-    run.newton, run.trust, run._inverted = newton, None, lambda: False
-    run._iterate_det_F, run._deadline = float("nan"), float("inf")
+    model = SimpleNamespace()
+    model.sp = SimpleNamespace(w=SimpleNamespace(x=SimpleNamespace(array=np.zeros(3))),
+                               prepare_step=lambda h: setattr(newton, "h", h),
+                               commit_step=lambda: 0.0)
+    model.contact = SimpleNamespace(set_time_step=lambda h: None, commit=lambda: None,
+                                    state=lambda: {})
+    model.newton, model.trust, model.inverted = newton, None, lambda: False
+    model.iterate_det_F = float("nan")
+    run = SimpleNamespace(model=model, _deadline=float("inf"),
+                          spec=SimpleNamespace(max_cutbacks=max_cutbacks, stabilisation=0.0))
     control = StepControl(run, start_candidates=("last",))  # Newton starts where it is
     control.h_next = 1.0
     return control

@@ -64,7 +64,7 @@ def slide_distance(spec, block_length: float) -> float:
 
 def window_mask(result, spec, block_length: float) -> np.ndarray:
     """Steps of the homogenisation window the run averaged over, s > stats ``window_start`` (as
-    in ``SlidingRun._result``: the fixed rule's window_start x distance, or the converged rule's
+    in ``result.window``: the fixed rule's window_start x distance, or the converged rule's
     last whole periods); without those stats the fixed rule."""
     s = np.asarray(result.series.get("s", np.zeros(0)), dtype=float)
     stats = getattr(result, "stats", None) or {}

@@ -28,20 +28,22 @@ COLUMNS = ("t", "s", "Fx", "Fz", "contact_length", "viscous_energy", "friction_e
            "mean_pressure", "stabilisation_energy", "stabilisation_impulse")
 
 
-def solvers(run: Any) -> list:
-    """The Newton solvers of the run's attempt (two in the hybrid)."""
-    return [run.newton] + ([run.trust] if run.trust not in (None, run.newton) else [])
+def solvers(model: Any) -> list:
+    """The Newton solvers of an attempt's model (two in the hybrid)."""
+    extra = model.trust not in (None, model.newton)
+    return [model.newton] + ([model.trust] if extra else [])
 
 
-def cpu_split(run: Any, cpu_start: float) -> dict[str, float]:
-    """CPU seconds of the run's attempt by part (stats ``cpu_*``): bulk forms, contact, P^T A P
-    (with PETSc's assembly calls), linear solves (numeric LU + triangular solves), history
-    update (eq. 3.76), and the whole attempt since ``cpu_start`` (set-up and Python included)."""
-    asm = run.problem.cpu
+def cpu_split(model: Any, cpu_start: float) -> dict[str, float]:
+    """CPU seconds of an attempt (its ``model``) by part (stats ``cpu_*``): bulk forms, contact,
+    P^T A P (with PETSc's assembly calls), linear solves (numeric LU + triangular solves),
+    history update (eq. 3.76), and the whole attempt since ``cpu_start`` (set-up and Python
+    included)."""
+    asm = model.problem.cpu
     return {"cpu_bulk": asm["bulk"], "cpu_contact": asm["hooks"],
             "cpu_condense": asm["condense"],
-            "cpu_linear": sum(n.cpu_linear for n in solvers(run)),
-            "cpu_history": run.sp.cpu_history,
+            "cpu_linear": sum(n.cpu_linear for n in solvers(model)),
+            "cpu_history": model.sp.cpu_history,
             "cpu_attempt": time.process_time() - cpu_start}
 
 
@@ -60,14 +62,15 @@ def window(spec: SlidingSpec, s_done: np.ndarray, distance: float,
 def assemble(run: Any, rows: list, distance: float, status: str, reason: str,
              t: float) -> SlidingResult:
     """The result of the run's attempt from its sliding rows (COLUMNS): series, window
-    averages and the stats of its step control (``run.steps``), periods (``run.periods``) and
-    set-up."""
-    steps, periods, L, spec = run.steps, run.periods, run.L, run.spec
+    averages and the stats of its model (``run.model``), step control (``run.steps``) and
+    periods (``run.periods``)."""
+    model, steps, periods, spec = run.model, run.steps, run.periods, run.spec
+    L = model.L
     arr = np.array(rows, dtype=float).reshape(-1, len(COLUMNS))
     series = {c: arr[:, i] for i, c in enumerate(COLUMNS)}
     res = SlidingResult(status, reason=reason, t_reached=t, series=series,
                         min_det_F=steps.min_det_F if math.isfinite(steps.min_det_F) else math.nan,
-                        road_intrusion=(run.intrusion / run.hc if run.intrusion >= 0.0
+                        road_intrusion=(run.intrusion / model.hc if run.intrusion >= 0.0
                                         else math.nan))
     lo, hi = window(spec, series["s"], distance, periods.window_used)
     res.stats = {"cutbacks": steps.cutbacks, "newton_iterations": steps.newton_iterations,
@@ -77,16 +80,16 @@ def assemble(run: Any, rows: list, distance: float, status: str, reason: str,
                  # extrapolated starts the guard rejected (solved again from the others)
                  "extrapolation_rejected": steps.guard_rejections,
                  "extrapolation_unseen": steps.extrapolation_unseen,
-                 "steps": len(rows), "h_contact": run.hc,
-                 "dofs": float(run.sp.w.x.array.size),
+                 "steps": len(rows), "h_contact": model.hc,
+                 "dofs": float(model.sp.w.x.array.size),
                  "stabilised_steps": steps.stabilised_steps,
-                 "lu_fallbacks": sum(n.lu_fallbacks for n in solvers(run)),
+                 "lu_fallbacks": sum(n.lu_fallbacks for n in solvers(model)),
                  # trial steps the trust region refused (newton = "trust-region" or "hybrid")
-                 "rejected_steps": float(run.trust.rejected if run.trust else 0),
+                 "rejected_steps": float(model.trust.rejected if model.trust else 0),
                  "trust_region_solves": float(steps.trust_solves),
                  "window_start": lo, "window_end": hi,
                  "compression_contact_fraction": run.compression_contact,
-                 "warm_start": float(run.warm_started), **cpu_split(run, run._cpu_start)}
+                 "warm_start": float(run.warm_started), **cpu_split(model, run._cpu_start)}
     if len(rows) == 0:
         return res
     Fz = series["Fz"]

@@ -46,25 +46,23 @@ contact length (area per unit depth) and its average (7.4), dissipation by depth
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 import warnings
 from collections.abc import Callable
-from typing import NamedTuple
 
 import numpy as np
 
-import ufl
-
-from rubberfriction.driver.fe.constraints import ConstraintMap, ConstraintSpec
-from rubberfriction.driver.fe.newton import LINEAR_SOLVERS, NewtonSettings, NewtonSolver
-from rubberfriction.driver.fe.solid import SolidProblem, SolidSettings
-from rubberfriction.driver.fe.stabilisation import ViscousStabilisation
-from rubberfriction.driver.fe.trust_region import TrustRegionSolver
+from rubberfriction.driver.fe.newton import LINEAR_SOLVERS
 from rubberfriction.driver.sliding import shortcut, steps
+from rubberfriction.driver.sliding.attempts import (
+    NEWTON_METHODS,
+    Attempt,
+    check_inputs,
+    fallback_chain,
+)
 from rubberfriction.driver.sliding.bodies import block_mesh, sliding_contact
-from rubberfriction.driver.sliding.intrusion import road_intrusion
+from rubberfriction.driver.sliding.model import SlidingModel
 from rubberfriction.driver.sliding.outputs import DissipationByDepth
 from rubberfriction.driver.sliding.periods import Periods, sliding_step
 from rubberfriction.driver.sliding.progress import StepReporter
@@ -73,56 +71,25 @@ from rubberfriction.driver.sliding.result import (
     pooled_contact_pressure,
     stabilisation_share,
 )
-from rubberfriction.driver.sliding.steps import EASY_STREAK, StepControl, WallLimit
-from rubberfriction.driver.sliding.temperature import (
-    MIN_ROW_FRACTION,
-    cell_temperatures,
-    check_layers,
-    mesh_levels,
-)
 from rubberfriction.driver.sliding.spec import (
-    MESH_REFINEMENT,
-    SOFT_TANGENT,
     STABILISE_AFTER,
     InitialState,
     SlidingResult,
     SlidingSpec,
-    default_h_contact,
-    has_friction,
-    mesh_digest,
-    penalty_modulus,
     refined,
     softened,
 )
-from rubberfriction.driver.sliding.window import WINDOW_QUANTITIES
-from rubberfriction.forms import jit
-from rubberfriction.forms.kinematics import deformation_gradient
+from rubberfriction.driver.sliding.steps import EASY_STREAK, StepControl, WallLimit
 
 __all__ = ["Attempt", "EASY_STREAK", "NEWTON_METHODS", "SlidingRun", "block_mesh",
            "pooled_contact_pressure", "run_sliding", "sliding_contact", "sliding_runner",
            "stabilisation_share"]
 
-#: trial steps (linear solves) a trust-region solve may take (driver.fe.trust_region)
-TRUST_REGION_STEPS = 60
-#: globalisations of the Newton solves (SlidingSpec.newton)
-NEWTON_METHODS = ("line-search", "trust-region", "hybrid")
 
-
-class Attempt(NamedTuple):
-    """One attempt of the fallback chain (:meth:`SlidingRun.attempts`)."""
-
-    formulation: str  # "mortar", "nts" or "surface" (driver.fe.contact.Contact)
-    step_factor: float = 1.0  # sliding steps this many times the spec's
-    refine: int = 1  # contact elements this many times shorter (spec.refined)
-    tangent: float = 1.0  # c_T this many times the spec's (spec.softened)
-
-    @property
-    def label(self) -> str:
-        """e.g. "mortar", "nts x0.25 step", "mortar x2 mesh", "mortar c_T x0.1"."""
-        return (self.formulation
-                + (f" x{self.step_factor:g} step" if self.step_factor != 1.0 else "")
-                + (f" x{self.refine} mesh" if self.refine != 1 else "")
-                + (f" c_T x{self.tangent:g}" if self.tangent != 1.0 else ""))
+def _of_model(name: str) -> property:
+    """A part of the current attempt's model (``driver.sliding.model``), read on the run."""
+    return property(lambda run: getattr(run.model, name),
+                    doc=f"``model.{name}`` of the current (or last) attempt")
 
 
 def _of_steps(name: str) -> property:
@@ -157,25 +124,7 @@ class SlidingRun:
 
     def __init__(self, spec: SlidingSpec, mesh_factory=None, contact_factory=None, progress=None,
                  observers=(), wall_limit: float = 0.0, linear_solver: str = "petsc"):
-        check_layers(spec.temperature_layers, spec.compound)  # bad input raises here
-        if not (np.isfinite(spec.edge_radius) and spec.edge_radius >= 0.0):
-            raise ValueError(f"edge_radius = {spec.edge_radius!r} mm: expected >= 0")
-        if spec.edge_radius > 0.0 and spec.period > 0:
-            raise ValueError("edge_radius: a periodic cell has no edges; round only a finite block "
-                             "(period = 0)")
-        if not (np.isfinite(spec.stabilisation) and spec.stabilisation >= 0.0):
-            raise ValueError(f"stabilisation = {spec.stabilisation!r}: expected beta >= 0 (0: off)")
-        if spec.window_quantity not in WINDOW_QUANTITIES:
-            raise ValueError(f"window_quantity = {spec.window_quantity!r}: expected one of "
-                             f"{tuple(WINDOW_QUANTITIES)}")
-        if spec.newton not in NEWTON_METHODS:
-            raise ValueError(f"newton = {spec.newton!r}: expected one of {NEWTON_METHODS}")
-        if spec.newton != "line-search" and spec.element == "Q1P0s":
-            raise ValueError(f"newton = {spec.newton!r} with element = 'Q1P0s': the trust region "
-                             "eliminates the cell pressures, which the pressure-jump term couples; "
-                             "expected element Q1P0 or Q1")
-        if not 0.0 <= spec.min_jacobian < 1.0:
-            raise ValueError(f"min_jacobian = {spec.min_jacobian!r}: expected 0 <= det F limit < 1")
+        check_inputs(spec)  # bad input raises here
         self.base_spec = spec
         self.spec = spec  # the current attempt's spec (base_spec, or a refined copy)
         self.refine = 1  # the current attempt's mesh refinement (InitialState.refine)
@@ -206,99 +155,40 @@ class SlidingRun:
         self.observers = list(observers)
         self.stabilise_after = STABILISE_AFTER  # cut-backs before a sub-step is stabilised
         self._mesh_factory = mesh_factory
-        self._detF = None  # det F at the quadrature points, compiled on first use per attempt
-        self._iterate_det_F = math.nan  # its smallest value at the last checked iterate
+        self.model: SlidingModel | None = None  # the current attempt's FE model (build)
         self.steps: StepControl | None = None  # the current attempt's step control
         self.periods: Periods | None = None  # and its sliding periods
         self._contact_factory = contact_factory
 
     # --- set-up ------------------------------------------------------------------------------
-    def _geometry(self) -> tuple[float, float, float]:
-        s = self.spec
-        L = s.block_length or s.period
-        if not L > 0:
-            raise ValueError("block_length: needs a positive value (or a periodic surface)")
-        H = s.block_height or L
-        hc = s.h_contact or default_h_contact(s)
-        return L, H, hc
-
     def build(self, contact_formulation: str) -> None:
-        s = self.spec
-        L, H, hc = self._geometry()
-        self.L, self.H, self.hc = L, H, hc
-        z0 = float(np.max(s.surface_h))  # block bottom rests on the highest asperity
-        options = {}  # only what the spec uses: custom factories need not know the rest
-        if s.temperature_layers:  # layer bounds become mesh lines where rows stay thick enough
-            options["levels"] = mesh_levels(s.temperature_layers, H, MIN_ROW_FRACTION * hc)
-        if s.edge_radius > 0.0:
-            options["edge_radius"] = s.edge_radius
-        body = self._mesh_factory(L, H, hc, s.grading, z0, **options)
-        self.mesh, self.facet_tags = body.mesh, body.facet_tags
-        # Q1P0s: the jump stabilisation scaled by the shear modulus at the run's excitation
-        # frequency (E* ~ 4 G, nearly incompressible), the modulus the cell's deformation sees
-        G_s = 0.25 * penalty_modulus(s) if s.element == "Q1P0s" else 0.0
-        self.sp = SolidProblem(self.mesh, self.facet_tags, s.compound,
-                               SolidSettings(element=s.element, stabilisation_modulus=G_s))
-        if s.temperature_layers:  # partitions over the height (thesis 8.3.3)
-            background = s.temperature if s.temperature is not None else s.compound.wlf.T_ref
-            lower, upper = self.sp.cell_bounds(axis=1) - z0  # depth spans of the cells
-            self.sp.set_temperature(cell_temperatures(s.temperature_layers, background, lower,
-                                                      upper))
-        elif s.temperature is not None and getattr(s.compound, "wlf", None) is not None:
-            self.sp.set_temperature(s.temperature)  # (without WLF data the relaxation has no T)
-        nfull = self.sp.W.dofmap.index_map.size_local * self.sp.W.dofmap.index_map_bs
-        X, d = self.sp.node_X, self.sp.displacement_dofs()
-        tol = 1e-9 * max(L, H)
-        self.top = np.nonzero(np.abs(X[:, 1] - (z0 + H)) < tol)[0]
-        spec = ConstraintSpec(nfull)
-        spec.fix(d[self.top, 0], 0.0)  # held in x: F_x is the reaction here
-        spec.tie(d[self.top, 1])
-        self.top_z_dof = int(d[self.top[0], 1])
-        if s.period > 0:
-            left = np.nonzero(np.abs(X[:, 0] - X[:, 0].min()) < tol)[0]
-            right = np.nonzero(np.abs(X[:, 0] - X[:, 0].max()) < tol)[0]
-            left, right = left[np.argsort(X[left, 1])], right[np.argsort(X[right, 1])]
-            if left.size != right.size or np.abs(X[left, 1] - X[right, 1]).max() > tol:
-                raise RuntimeError("periodic cell: left and right edge nodes do not match")
-            spec.equal(d[left, 0], d[right, 0])  # x_r - x_l = X_r - X_l, eq. (6.5)
-            spec.equal(d[left, 1], d[right, 1])
-        spec.fix(self.top_z_dof, 0.0)  # displacement control until contact carries load
-        self.cspec = spec
-        self.cmap = ConstraintMap(spec)
-        self.contact = self._contact_factory(self.sp, s, contact_formulation)
-        self.fext = np.zeros(nfull)
-        # inactive until a sub-step needs it; not on the top row: its reaction is the load
-        self.stabiliser = ViscousStabilisation(np.delete(d, self.top, axis=0), nfull)
-        self._stabilised_x = np.isin(self.stabiliser.dofs, d[:, 0])  # its x-dofs (net force)
-        self.problem = self.sp.nonlinear_problem(self.cmap,
-                                                 hooks=[self.contact.hook, self.stabiliser],
-                                                 extra_couplings=self.contact.couplings(),
-                                                 external_force=self.fext)
-        self.force_scale = s.pressure * L
-        # strict backtracking (no residual growth accepted): with friction a full step from trial
-        # slip can jump over the narrow stick cone into reverse slip and back (2-cycle); without,
-        # on steep rough samples, it also saves iterations (docs/performance.md)
-        # stagnation: cycling active sets are cut back after 8 iterations instead of 25
-        settings = NewtonSettings(rtol=1e-8, atol=1e-12 * self.force_scale, backtrack_growth=1.0,
-                                  stagnation=8, linear_solver=self.linear_solver)
-        self.trust = None  # the trust-region solver (newton = "trust-region" or "hybrid")
-        if s.newton in ("trust-region", "hybrid"):  # every trial step counts: more per solve
-            self.trust = TrustRegionSolver(
-                self.problem, dataclasses.replace(settings, max_iterations=TRUST_REGION_STEPS),
-                force_scale=self.force_scale, relax=self.sp.pressure_relaxation(),
-                displacement_dofs=self.sp.umap)
-        if s.newton == "trust-region":
-            self.newton = self.trust
-        else:
-            self.newton = NewtonSolver(self.problem, settings, force_scale=self.force_scale)
+        """This attempt's model (``driver.sliding.model``) with the contact formulation."""
+        self.model = SlidingModel(self.spec, self._mesh_factory, self._contact_factory,
+                                  self.linear_solver)
+        self.model.build(contact_formulation)
 
-    def _switch_to_force_control(self) -> None:
-        """The tied top u_z becomes an unknown loaded by F_ext (compression phase)."""
-        self.cspec.fixed.pop(self.top_z_dof)
-        self.cmap = ConstraintMap(self.cspec)
-        self.problem.set_constraints(self.cmap)  # the solver refactorises the new P^T A P
+    #: the current attempt's model, read on the run by observers and tests
+    mesh = _of_model("mesh")
+    sp = _of_model("sp")
+    contact = _of_model("contact")
+    L = _of_model("L")
+    H = _of_model("H")
+    hc = _of_model("hc")
+    top_z_dof = _of_model("top_z_dof")
+    fext = _of_model("fext")
+    newton = _of_model("newton")
+    trust = _of_model("trust")
+    problem = _of_model("problem")
+    stabiliser = _of_model("stabiliser")
 
-    # --- helpers of the parts --------------------------------------------------------------------
+    def _inverted(self) -> bool:
+        """``model.inverted``: an inverted or collapsed element at the iterate."""
+        return self.model.inverted()
+
+    def _bad_element_reason(self) -> str:
+        return self.model.bad_element_reason()
+
+    # --- observers and the wall clock ------------------------------------------------------------
     def exclude_from_wall_limit(self, seconds: float) -> None:
         """Time spent outside the run's own work (an observer's lower-scale cascades in the thermal
         loop) does not count against ``wall_limit``: the deadline moves by ``seconds``."""
@@ -318,68 +208,10 @@ class SlidingRun:
                               f"dropped for this run: {type(err).__name__}: {err}", stacklevel=2)
                 self.observers.remove(obs)
 
-    def _inverted(self) -> bool:
-        """Whether the iterate has an inverted or collapsed element: a quadrature point with
-        det F <= spec.min_jacobian (the smallest value is kept for the reason text)."""
-        if self._detF is None:
-            u, _ = self.sp.split()
-            self._detF = jit.expression(ufl.det(deformation_gradient(u)), self.sp.rule.points)
-            ncell = self.mesh.topology.index_map(2).size_local
-            self._cells = np.arange(ncell, dtype=np.int32)
-        self._iterate_det_F = float(self._detF.eval(self._cells).min())
-        return self._iterate_det_F <= self.spec.min_jacobian
-
-    def _bad_element_reason(self) -> str:
-        j = self._iterate_det_F
-        if not j > 0.0:
-            return "element inversion (det F <= 0)"
-        return f"element collapse (det F = {j:.3g} <= min_jacobian {self.spec.min_jacobian:g})"
-
-    def _road_intrusion(self) -> float:
-        """How deep the road reaches into the rubber face now (``intrusion.road_intrusion``)."""
-        slave, s = self.contact.slave, self.spec
-        x = slave.X + self.sp.w.x.array[slave.dofs]
-        ox, oz = self.contact.offset
-        return road_intrusion(x[:, 0], x[:, 1], np.asarray(s.surface_x) + ox,
-                              np.asarray(s.surface_h) + oz, s.period)
-
-    def _top_reaction(self) -> float:
-        """Vertical force the tied top edge carries (internal force sum at its u_z dofs)."""
-        d = self.sp.displacement_dofs()[self.top, 1]
-        return float(self.problem.reaction(d).sum())
-
     # --- the run -------------------------------------------------------------------------------
     def attempts(self) -> list[Attempt]:
-        """The fallback chain: contact formulation, sliding step factor, mesh refinement and
-        tangential penalty factor of each attempt.
-
-        Mortar, then (frictional runs) mortar with c_T SOFT_TANGENT times softer (stick/slip
-        cycling at the first sliding steps, see ``spec.SOFT_TANGENT``; a finite block tries the
-        soft one first), node-to-segment, smaller
-        sliding steps (stabilisation), then contact elements MESH_REFINEMENT times shorter with
-        each formulation: a slave bent over master features sharper than its elements (a peak
-        poking through a contact element) has no smooth solution path at that resolution, and no
-        step length fixes that.  A warm start whose state was computed on a refined mesh
-        (``InitialState.refine``) begins with that mesh: the same slot at the previous
-        temperature converged only there, and only there does its state fit.
-        """
-        base = self.base_spec.contact
-        first = [Attempt(base)]
-        if has_friction(self.base_spec):
-            soft = Attempt(base, tangent=SOFT_TANGENT)
-            # a finite block (macro scale) tries the soft stick first: its first sliding step puts
-            # the nodes far outside the stick cone (docs/performance.md)
-            first = [soft, Attempt(base)] if self.base_spec.period == 0 else [Attempt(base), soft]
-        if base == "mortar":
-            first.append(Attempt("nts"))
-        chain = first + [Attempt(first[-1].formulation, step_factor=0.25)]
-        formulations = dict.fromkeys(a.formulation for a in first)
-        chain += [Attempt(f, refine=MESH_REFINEMENT) for f in formulations]
-        state = self.base_spec.initial_state
-        if state is not None and state.refine > 1:
-            lead = first[0]._replace(refine=int(state.refine))
-            chain = [lead] + [a for a in chain if a != lead]
-        return chain
+        """The fallback chain of this run's spec (``attempts.fallback_chain``)."""
+        return fallback_chain(self.base_spec)
 
     def run(self) -> SlidingResult:
         """The attempts in turn until one succeeds.  Under a wall-time limit a refined attempt that
@@ -448,16 +280,17 @@ class SlidingRun:
             self.build(formulation)
         except (ValueError, RuntimeError) as err:
             return SlidingResult("failed", reason=f"set-up: {err}")
-        if s.period > 0 and hasattr(self.contact, "slave") and hasattr(self.contact, "offset"):
+        m = self.model
+        if s.period > 0 and hasattr(m.contact, "slave") and hasattr(m.contact, "offset"):
             self.intrusion = 0.0  # a periodic cell on the rigid road: measured (-1: not)
-        F_target = s.pressure * self.L
-        step_len = sliding_step(s, self.L, (s.step_length or 0.5 * self.hc) * step_factor)
-        t_p = s.compression_time or self.L / (2.0 * np.pi * s.velocity)
-        distance = s.slide_distance or 3.0 * (s.period if s.period > 0 else self.L)
+        F_target = s.pressure * m.L
+        step_len = sliding_step(s, m.L, (s.step_length or 0.5 * m.hc) * step_factor)
+        t_p = s.compression_time or m.L / (2.0 * np.pi * s.velocity)
+        distance = s.slide_distance or 3.0 * (s.period if s.period > 0 else m.L)
         warm = self._warm_state()
         self.t_planned = (0.0 if warm else t_p) + distance / s.velocity  # w/o initial contact
         if warm is not None:  # slide on from an earlier run's final state (spec.InitialState)
-            self._restore(warm, F_target)
+            m.restore(warm, F_target)
             t, offset0 = 0.0, warm.offset
         else:
             t, failed = self._load_from_rest(t_p, t_p / s.compression_steps, F_target)
@@ -473,7 +306,6 @@ class SlidingRun:
         self.periods = None
         self._cpu_start = time.process_time()
         self.compression_contact = float("nan")
-        self._detF = None
         self.intrusion = -1.0  # deepest road vertex inside the rubber face over the sliding steps
         self.warm_started = False  # slid on from spec.initial_state (_warm_state)
         return self.spec
@@ -482,36 +314,36 @@ class SlidingRun:
                warm: bool) -> SlidingResult:
         """Load history phase 3: sliding at v with p held, from time t and road offset offset0,
         until the distance is slid or the periods say stop; the attempt's result."""
-        s, control = self.spec, self.steps
+        s, m, control = self.spec, self.model, self.steps
         dt_slide = step_len / s.velocity
         nsteps = int(np.ceil(distance / step_len))
         t_s = t
-        keep = self.fext.copy()
-        predict = (steps.translation_predictor(self.sp, self.L, self.H, s.velocity)
+        keep = m.fext.copy()
+        predict = (steps.translation_predictor(m.sp, m.L, m.H, s.velocity)
                    if s.period > 0 else None)
         self.t_start, self.slide_distance, self.dt_slide, self.n_slide_steps = (
             t_s, distance, dt_slide, nsteps)
         self._notify("on_start")
         control.h_next, control.easy = dt_slide, 0
-        periods = self.periods = Periods(s, self.L, step_len, nsteps, self.sp.history, warm,
+        periods = self.periods = Periods(s, m.L, step_len, nsteps, m.sp.history, warm,
                                          self.wall_limit)
         rows: list[tuple] = []
         for k in range(1, nsteps + 1):
             control.begin_step()
 
             def load(tk):
-                self.fext[:] = keep
-                self.contact.set_master_offset(offset0 - s.velocity * (tk - t_s), 0.0)
+                m.fext[:] = keep
+                m.contact.set_master_offset(offset0 - s.velocity * (tk - t_s), 0.0)
 
             ok, reason, _ = control.solve(t, dt_slide, load, predict, adaptive=True,
                                           period_guess=periods.guess(k))
             if not ok:
                 return assemble(self, rows, distance, "failed", f"sliding: {reason}", t)
             t += dt_slide
-            periods.record(k, self.sp.w.x.array)
+            periods.record(k, m.sp.w.x.array)
             rows.append(self._row(t, s.velocity * (t - t_s)))
             if self.intrusion >= 0.0:
-                self.intrusion = max(self.intrusion, self._road_intrusion())
+                self.intrusion = max(self.intrusion, m.road_intrusion())
             self._notify("on_step", k, t)
             if self.progress:
                 self.progress(k, nsteps)
@@ -519,12 +351,12 @@ class SlidingRun:
                 break
         res = assemble(self, rows, distance, "ok", periods.out_of_reach, t)
         if s.keep_state:
-            res.final_state = self._final_state(offset0 - s.velocity * (t - t_s))
+            res.final_state = m.final_state(offset0 - s.velocity * (t - t_s), self.refine)
         return res
 
     def _row(self, t: float, slid: float) -> tuple:
         """The sliding step's row of the series (result.COLUMNS)."""
-        st, c = self.contact.state(), self.steps
+        st, c = self.model.contact.state(), self.steps
         return (t, slid, st["Fx"], st["Fz"], st["contact_length"], c.step_energy,
                 c.step_friction_energy, st["mean_pressure"], c.step_stabilisation_energy,
                 c.step_stabilisation_impulse)
@@ -544,22 +376,22 @@ class SlidingRun:
         """Load history phases 1 and 2 (module docstring): the initial contact under displacement
         control, then the compression to F_target over t_p.  Returns the time reached and None,
         or the failed result."""
-        s, t = self.spec, 0.0
+        s, m, t = self.spec, self.model, 0.0
         # 1. initial contact under displacement control
         delta, Fz = 0.0, 0.0
-        ddelta = 1e-4 * self.H
+        ddelta = 1e-4 * m.H
         for _ in range(60):
             target = delta + ddelta
 
             # loads are linear in time over the step, so a cut-back sub-step takes a part of it
             def load(tk, t0=t, lo=delta, hi=target):
-                self.cmap.update_value(self.top_z_dof, -(lo + (hi - lo) * (tk - t0) / dt_p))
+                m.cmap.update_value(m.top_z_dof, -(lo + (hi - lo) * (tk - t0) / dt_p))
 
             ok, reason, _ = self.steps.solve(t, dt_p, load)
             if not ok:
                 return t, SlidingResult("failed", reason=f"initial contact: {reason}", t_reached=t)
             t, delta = t + dt_p, target
-            Fz = -self._top_reaction()
+            Fz = -m.top_reaction()
             if Fz >= 0.02 * F_target:
                 break
             ddelta *= 2.0
@@ -567,56 +399,28 @@ class SlidingRun:
             return t, SlidingResult("failed", reason="initial contact: no load after 60 increments",
                                     t_reached=t)
         # 2. compression to p over t_p under force control
-        self._switch_to_force_control()
+        m.switch_to_force_control()
         F0 = min(Fz, F_target)
         for k in range(1, s.compression_steps + 1):
 
             def load(tk, t0=t, k=k):
                 Fk = F0 + (F_target - F0) * (k - 1 + (tk - t0) / dt_p) / s.compression_steps
-                self.fext[:] = 0.0
-                self.fext[self.top_z_dof] = -Fk
+                m.fext[:] = 0.0
+                m.fext[m.top_z_dof] = -Fk
 
             ok, reason, _ = self.steps.solve(t, dt_p, load)
             if not ok:
                 return t, SlidingResult("failed", reason=f"compression: {reason}", t_reached=t)
             t += dt_p
-        self.compression_contact = self.contact.state()["contact_length"] / self.L
+        self.compression_contact = m.contact.state()["contact_length"] / m.L
         return t, None
 
     def _warm_state(self) -> InitialState | None:
         """The spec's initial state if this attempt's mesh is the one it was computed on (a
         refined fallback attempt starts from rest); stats ``warm_start`` 1 or 0."""
         state = self.spec.initial_state
-        fits = (state is not None and state.mesh == mesh_digest(self.sp.node_X)
-                and state.w.shape == self.sp.w.x.array.shape)
-        self.warm_started = bool(fits)
-        return state if fits else None
-
-    def _restore(self, state: InitialState, F_target: float) -> None:
-        """Take an earlier run's final state as the converged state now: displacements and
-        pressures, the Prony histories at this run's temperatures, the contact's reference
-        positions at the road's offset then with its stick history, force control at
-        F_target."""
-        self._switch_to_force_control()
-        x = self.sp.w.x.array
-        x[:] = state.w
-        if self.sp.history is not None:
-            self.sp.history.restore(state.history, state.sbar)
-        self.problem.constraints.set_prescribed(x)
-        gap = state.elastic_gap if state.elastic_gap.size else None
-        self.contact.reset_history(x, (state.offset, 0.0), gap)
-        self.fext[:] = 0.0
-        self.fext[self.top_z_dof] = -F_target
-
-    def _final_state(self, offset: float) -> InitialState:
-        """This attempt's converged state now, for a later run to start from (spec.keep_state)."""
-        h = self.sp.history
-        empty = np.zeros(0)
-        return InitialState("", self.sp.w.x.array.copy(),
-                            h.H.copy() if h is not None else empty,
-                            h.Sbar_n.copy() if h is not None else empty,
-                            float(offset % self.L) if self.spec.period > 0 else float(offset),
-                            mesh_digest(self.sp.node_X), self.contact.elastic_gap(), self.refine)
+        self.warm_started = self.model.fits(state)
+        return state if self.warm_started else None
 
 
 def run_sliding(spec: SlidingSpec, progress=None, observers=(),

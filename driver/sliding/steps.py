@@ -57,10 +57,9 @@ class WallLimit(Exception):
 class StepControl:
     """Sub-stepping, cut-backs and Newton starts of one attempt, with their counters.
 
-    ``run`` provides the solid ``sp``, the ``contact``, the solvers ``newton`` and ``trust``,
-    the ``problem``, the ``stabiliser`` (with ``_stabilised_x``), the current ``spec``, the
-    element check ``_inverted()`` / ``_bad_element_reason()`` with ``_iterate_det_F``, and the
-    wall-clock ``_deadline``; they are read when used (the solvers exist only after set-up).
+    ``run`` provides the current ``spec``, the wall-clock ``_deadline`` and the attempt's
+    ``model`` (``driver.sliding.model``: the solid, contact, solvers, stabiliser and element
+    check), read when used (the deadline moves when an observer's time is excluded).
     """
 
     def __init__(self, run: Any, start_candidates: tuple[str, ...] = START_CANDIDATES,
@@ -107,8 +106,8 @@ class StepControl:
         the sub-step length is also remembered from step to step (sliding phase), so a step after
         a hard one does not first repeat its failed attempts.
         """
-        run = self.run
-        sp, spec = run.sp, run.spec
+        run, m = self.run, self.run.model
+        sp, spec = m.sp, run.spec
         cutbacks, t_cur = 0, t
         h = min(dt, self.h_next) if adaptive else dt
         while t_cur < t + dt - 1e-12 * dt:
@@ -118,29 +117,29 @@ class StepControl:
             x_saved = sp.w.x.array.copy()
             apply_load(t_cur + h)
             sp.prepare_step(h)
-            run.contact.set_time_step(h)
+            m.contact.set_time_step(h)
             full = abs(h - dt) <= 1e-12 * dt and t_cur == t  # the whole step: its phase is known
             start = (self._start(predict, h, x_saved,
                                  period_guess=period_guess if full else None)
                      if adaptive else "last")
-            hybrid = run.trust is not None and run.trust is not run.newton
+            hybrid = m.trust is not None and m.trust is not m.newton
             x_start = sp.w.x.array.copy() if hybrid else None
             if start == "extrapolation" and self.extrapolation_guard > 0:
                 res, redo_start = self._guarded(predict, h, x_saved)
                 if hybrid and redo_start is not None:
                     x_start = redo_start
             else:
-                res = run.newton.solve()
+                res = m.newton.solve()
             self.newton_iterations += res.iterations
             if not res.converged and hybrid:
                 # the sub-step again from the same start, with the trust region
                 sp.w.x.array[:] = x_start
-                res = run.trust.solve()
+                res = m.trust.solve()
                 self.newton_iterations += res.iterations
                 self.trust_solves += 1
             ok, reason = res.converged, res.reason
-            if ok and run._inverted():
-                ok, reason = False, run._bad_element_reason()
+            if ok and m.inverted():
+                ok, reason = False, m.bad_element_reason()
             floor = dt * 0.5**spec.max_cutbacks * (1.0 - 1e-9)
             if not ok and spec.stabilisation > 0.0 and (cutbacks >= self.stabilise_after
                                                         or 0.5 * h < floor):
@@ -148,10 +147,10 @@ class StepControl:
             if ok:
                 if "extrapolation" in self.start_candidates:  # only then is it read
                     self.last_increment = (sp.w.x.array - x_saved, h)
-                self.min_det_F = min(self.min_det_F, run._iterate_det_F)
+                self.min_det_F = min(self.min_det_F, m.iterate_det_F)
                 self.step_energy += sp.commit_step()
-                run.contact.commit()
-                self.step_friction_energy += float(run.contact.state().get("dissipation", 0.0))
+                m.contact.commit()
+                self.step_friction_energy += float(m.contact.state().get("dissipation", 0.0))
                 t_cur += h
                 self.easy = self.easy + 1 if res.iterations <= EASY_ITERATIONS else 0
                 if self.easy >= EASY_STREAK:
@@ -179,7 +178,7 @@ class StepControl:
         up the ladder spec.stabilisation x STABILISATION_LADDER until Newton converges; the
         dashpots' work and net x-force are added to the step's (series ``stabilisation_energy``,
         ``stabilisation_impulse``).  The load of the sub-step is already applied."""
-        newton = self.run.newton
+        newton = self.run.model.newton
         plain = newton.settings
         newton.settings = dataclasses.replace(plain, max_iterations=STABILISED_ITERATIONS,
                                               stagnation=STABILISED_STAGNATION)
@@ -187,12 +186,12 @@ class StepControl:
             return self._ladder(h, x_saved, predict, sliding)
         finally:
             newton.settings = plain
-            self.run.stabiliser.deactivate()
+            self.run.model.stabiliser.deactivate()
 
     def _ladder(self, h: float, x_saved: np.ndarray, predict,
                 sliding: bool = False) -> tuple[bool, object]:
-        run = self.run
-        pb, damper, x_now = run.problem, run.stabiliser, run.sp.w.x.array
+        run, m = self.run, self.run.model
+        pb, damper, x_now = m.problem, m.stabiliser, m.sp.w.x.array
         x_now[:] = x_saved
         damper.deactivate()
         pb.constraints.set_prescribed(x_now)
@@ -204,11 +203,11 @@ class StepControl:
             damper.activate(run.spec.stabilisation * factor, diagonal, x_saved)
             if sliding:  # not the extrapolation: unguarded, it may choose another branch
                 self._start(predict, h, x_saved, exclude=("extrapolation",))
-            res = run.newton.solve()
+            res = m.newton.solve()
             self.newton_iterations += res.iterations
-            if res.converged and not run._inverted():
-                x = run.sp.w.x.array
-                fx = float(np.sum(damper.forces(x)[run._stabilised_x]))
+            if res.converged and not m.inverted():
+                x = m.sp.w.x.array
+                fx = float(np.sum(damper.forces(x)[m.stabilised_x]))
                 self.step_stabilisation_energy += damper.energy(x)
                 self.step_stabilisation_impulse += fx * h
                 self.stabilised_steps += 1
@@ -225,13 +224,13 @@ class StepControl:
         sub-steps do without the extrapolation (where it does not pay, its rejections would
         otherwise double their cost).  Returns Newton's result and, after a rejection, the start
         of the solve again (None when the extrapolated start converged)."""
-        run = self.run
-        plain = run.newton.settings
-        run.newton.settings = dataclasses.replace(plain, max_iterations=self.extrapolation_guard)
+        m = self.run.model
+        plain = m.newton.settings
+        m.newton.settings = dataclasses.replace(plain, max_iterations=self.extrapolation_guard)
         try:
-            res = run.newton.solve()
+            res = m.newton.solve()
         finally:
-            run.newton.settings = plain
+            m.newton.settings = plain
         if res.converged:
             self._backoff = 0
             return res, None
@@ -240,10 +239,10 @@ class StepControl:
         self._backoff = min(2 * self._backoff or 1, MAX_BACKOFF)
         self._skip = self._backoff
         self.newton_iterations += res.iterations
-        run.sp.w.x.array[:] = x_saved
+        m.sp.w.x.array[:] = x_saved
         self._start(predict, h, x_saved, exclude=("extrapolation",))
-        redo_start = run.sp.w.x.array.copy()
-        return run.newton.solve(), redo_start
+        redo_start = m.sp.w.x.array.copy()
+        return m.newton.solve(), redo_start
 
     def _start(self, predict, h: float, x_saved: np.ndarray, exclude: tuple[str, ...] = (),
                period_guess: np.ndarray | None = None) -> str:
@@ -260,7 +259,7 @@ class StepControl:
         displacement path: on steep micro cells the other starts are far from the solution (the
         translation interpolates contact nodes into the road's flanks).  A start can choose the
         branch where the discrete equilibrium is not unique, so it is used through the guard only
-        and never in the stabilisation ladder (README "Start iterate").
+        and never in the stabilisation ladder (docs/history.md, "Start iterate").
 
         Period (``period_guess``, whole steps of a periodic cell from its second period on): the
         converged state one period earlier at the same phase plus the drift between the periods
@@ -281,8 +280,8 @@ class StepControl:
             candidates.insert(1, ("period", period_guess))
         if len(candidates) < 2:
             return "last"  # the last state (already the iterate): nothing to compare
-        pb = self.run.problem
-        x = self.run.sp.w.x.array
+        pb = self.run.model.problem
+        x = self.run.model.sp.w.x.array
         best, best_r = "last", math.inf
         best_x = x_saved
         if (candidates[-1][0] == "extrapolation" and self._unseen > 0
