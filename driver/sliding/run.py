@@ -35,8 +35,10 @@ elements twice as short.  A run that still fails returns `status="failed"` with 
 attempt that got furthest and the time reached (stats ``attempts`` lists every failed attempt's
 reason, also on a run that succeeded after them).  Nothing is raised through the caller.
 
-Periodic cells slid over whole periods (``driver.sliding.periods``): the converged-window rule at
-each period end, the steady-state history jump, the period start of the Newton solves.
+The parts: ``attempts`` (input checks, the fallback chain), ``model`` (an attempt's FE model:
+block, constraints, contact, solvers), ``steps`` (sub-steps, cut-backs, Newton starts), ``periods``
+(a periodic cell slid over whole periods: the converged-window rule at each period end, the
+steady-state history jump, the period start of the Newton solves) and ``result``.
 
 Outputs (``driver.sliding.result``): mu(t) = F_x/F_z (eq. 6.2) and mu from dissipated energy
 (eq. 2.8: viscous (+ frictional) energy per sliding distance over F_z), their averages over the
@@ -99,9 +101,9 @@ def _of_steps(name: str) -> property:
 
 
 class SlidingRun:
-    """Set-up, load history and fallback attempts of one sliding run; `run()` returns a
-    SlidingResult.  Each attempt has its step control (``steps``), its periods (``periods``)
-    and its result (``driver.sliding.result``)."""
+    """Load history and fallback attempts of one sliding run; `run()` returns a SlidingResult.
+    Each attempt has its FE model (``model``), its step control (``steps``), its periods
+    (``periods``) and its result (``driver.sliding.result``)."""
 
     #: Newton start candidates, extrapolation guard and unseen starts of the step control
     #: (``driver.sliding.steps``); an instance may set ``start_candidates``,
