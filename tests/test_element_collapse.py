@@ -25,6 +25,7 @@ import numpy as np
 import pytest
 
 from rubberfriction.driver.runtime.store import Store
+from rubberfriction.driver.sliding.model import SlidingModel
 from rubberfriction.driver.sliding.run import SlidingRun, block_mesh, sliding_contact
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.forms.material_files import load_compound
@@ -39,11 +40,11 @@ def sinusoid_spec(**kw) -> SlidingSpec:
                        h_contact=1.0 / 16, slide_distance=0.25, step_length=0.5 / 16, **kw)
 
 
-def squeezed(run: SlidingRun, s: float) -> None:
+def squeezed(model: SlidingModel, s: float) -> None:
     """u = (0, (s - 1) (Z - Z_0)): F = diag(1, s), det F = s everywhere."""
-    X = run.sp.node_X
-    d = run.sp.displacement_dofs()
-    x = run.sp.w.x.array
+    X = model.sp.node_X
+    d = model.sp.displacement_dofs()
+    x = model.sp.w.x.array
     x[:] = 0.0
     x[d[:, 1]] = (s - 1.0) * (X[:, 1] - X[:, 1].min())
 
@@ -52,33 +53,34 @@ def squeezed(run: SlidingRun, s: float) -> None:
 def built():
     run = SlidingRun(sinusoid_spec(), block_mesh, sliding_contact)
     run.build("mortar")
-    return run
+    return run.model  # the element check is the model's (driver.sliding.model)
 
 
 @pytest.mark.parametrize("s", [1.0, 0.5, 0.005])
 def test_a_squeezed_but_whole_block_is_accepted(built, s):
     squeezed(built, s)
-    assert not built._inverted()
-    assert built._iterate_det_F == pytest.approx(s, rel=1e-10)
+    assert not built.inverted()
+    assert built.iterate_det_F == pytest.approx(s, rel=1e-10)
 
 
 def test_a_collapsed_block_is_refused_naming_the_cause(built):
     squeezed(built, 5e-4)
-    assert built._inverted()
-    assert built._iterate_det_F == pytest.approx(5e-4, rel=1e-10)
-    assert built._bad_element_reason() == "element collapse (det F = 0.0005 <= min_jacobian 0.001)"
+    assert built.inverted()
+    assert built.iterate_det_F == pytest.approx(5e-4, rel=1e-10)
+    assert built.bad_element_reason() == "element collapse (det F = 0.0005 <= min_jacobian 0.001)"
     squeezed(built, -0.2)
-    assert built._inverted()
-    assert built._bad_element_reason() == "element inversion (det F <= 0)"
+    assert built.inverted()
+    assert built.bad_element_reason() == "element inversion (det F <= 0)"
 
 
 def test_limit_zero_is_the_inversion_rule():
     run = SlidingRun(sinusoid_spec(min_jacobian=0.0), block_mesh, sliding_contact)
     run.build("mortar")
-    squeezed(run, 1e-12)
-    assert not run._inverted()
-    squeezed(run, 0.0)
-    assert run._inverted() and "inversion" in run._bad_element_reason()
+    model = run.model
+    squeezed(model, 1e-12)
+    assert not model.inverted()
+    squeezed(model, 0.0)
+    assert model.inverted() and "inversion" in model.bad_element_reason()
 
 
 def test_a_run_reports_its_smallest_det_F(tmp_path):

@@ -183,13 +183,6 @@ class SlidingRun:
     problem = _of_model("problem")
     stabiliser = _of_model("stabiliser")
 
-    def _inverted(self) -> bool:
-        """``model.inverted``: an inverted or collapsed element at the iterate."""
-        return self.model.inverted()
-
-    def _bad_element_reason(self) -> str:
-        return self.model.bad_element_reason()
-
     # --- observers and the wall clock ------------------------------------------------------------
     def exclude_from_wall_limit(self, seconds: float) -> None:
         """Time spent outside the run's own work (an observer's lower-scale cascades in the thermal
