@@ -1,10 +1,11 @@
 """The finite-element model of one sliding attempt: the block, its constraints, the road contact.
 
-The block (bottom at the highest asperity) with its solid (thesis 3.4: mixed Q1P0 elements, Prony
-history), its top edge held in x and tied in z (first under a prescribed displacement, then under
-the force F_ext), on a periodic cell the periodic edges x_r - x_l = X_r - X_l (eq. 6.5), the
-contact with the rigid road, the viscous stabiliser (driver.fe.stabilisation) and the Newton
-solvers.  Also the element check (det F), the top reaction and the state a warm start takes over.
+The block (bottom at the highest asperity) with its solid (``driver.fe.solid``: the spec's element,
+Prony history, temperatures), its top edge held in x and tied in z (first under a prescribed
+displacement, then under the force F_ext), on a periodic cell the periodic edges
+x_r - x_l = X_r - X_l (eq. 6.5), the contact with the rigid road, the viscous stabiliser
+(driver.fe.stabilisation) and the Newton solvers.  Also the element check (det F), the top
+reaction and the state a warm start takes over.
 """
 
 from __future__ import annotations
@@ -63,6 +64,7 @@ class SlidingModel:
         self.iterate_det_F = math.nan  # its smallest value at the last checked iterate
 
     def build(self, contact_formulation: str) -> None:
+        """Mesh, solid, constraints, contact, stabiliser and solvers, in this order."""
         s = self.spec
         L, H, hc = geometry(s)
         self.L, self.H, self.hc = L, H, hc
