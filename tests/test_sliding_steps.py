@@ -52,6 +52,7 @@ def scripted_run(newton: ScriptedNewton, max_cutbacks: int = 8) -> SlidingRun:
     run.min_det_F, run._iterate_det_F = float("inf"), float("nan")
     run._deadline, run._h_next = float("inf"), 1.0
     run.start_candidates, run._last_increment = ("last",), None  # Newton starts where it is
+    run._period_guess = None  # no "period" start (SlidingRun._attempt sets it per step)
     return run
 
 

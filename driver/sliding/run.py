@@ -181,6 +181,7 @@ class SlidingRun:
         self.refine = 1  # the current attempt's mesh refinement (InitialState.refine)
         self.start_candidates = self.START_CANDIDATES
         self.extrapolation_guard = self.EXTRAPOLATION_GUARD
+        self._period_guess: np.ndarray | None = None  # the "period" start of the next step
         self.unseen_after = self.UNSEEN_AFTER
         # wall_limit > 0: seconds after which the run stops with a structured failure (failure
         # kind "wall_limit"; no further fallbacks). A machine-dependent control, so not in the spec.
