@@ -13,34 +13,19 @@ run's stored value.
 from __future__ import annotations
 
 import csv
-import textwrap
 from pathlib import Path
 
 import numpy as np
 import pytest
+
+from tiny_scenes import two_sines
 
 from rubberfriction.driver.multiscale.campaign import run_scene
 from rubberfriction.driver.multiscale.report import depth_edges
 from rubberfriction.driver.scenes import parse_scene
 from rubberfriction.driver.runtime.store import Store
 
-SCENE = textwrap.dedent("""
-    name = "diss"
-    [surface]
-    source = "sines"
-    amplitudes = [0.02, 0.002]
-    wavelengths = [2.0, 0.2]
-    [samples]
-    pressure = 1
-    friction = 1
-    [conditions]
-    pressures = [0.3]
-    velocities = [100.0]
-    [numerics]
-    elements_per_wavelength = 8
-    slide_periods = 1.5
-    step_per_element = 1.0
-""")
+SCENE = two_sines("diss", [100.0])
 
 
 def test_every_scale_records_its_dissipation_by_depth(tmp_path: Path):

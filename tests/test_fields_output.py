@@ -20,12 +20,13 @@ from __future__ import annotations
 
 import json
 import math
-import textwrap
 from pathlib import Path
 
 import h5py
 import numpy as np
 import pytest
+
+from tiny_scenes import two_sines
 
 from rubberfriction.driver.cli.main import main
 from rubberfriction.driver.multiscale.campaign import run_scene
@@ -33,23 +34,7 @@ from rubberfriction.driver.multiscale.fields import parse_selection, write_field
 from rubberfriction.driver.scenes import SceneError, load_scene, parse_scene
 
 #: two sines, one sample per branch, one speed: three runs of about a second in all
-SCENE = textwrap.dedent("""
-    name = "fields"
-    [surface]
-    source = "sines"
-    amplitudes = [0.02, 0.002]
-    wavelengths = [2.0, 0.2]
-    [samples]
-    pressure = 1
-    friction = 1
-    [conditions]
-    pressures = [0.3]
-    velocities = [100.0]
-    [numerics]
-    elements_per_wavelength = 8
-    slide_periods = 1.5
-    step_per_element = 1.0
-""")
+SCENE = two_sines("fields", [100.0])
 
 
 def _scene_file(tmp_path: Path) -> Path:

@@ -361,7 +361,14 @@ def test_all_files_load_and_match_tables() -> None:
         assert (mr.C10, mr.C01, mr.D1, mr.form) == (C10, C01, D1, "split")
         assert mr.mu == pytest.approx(2 * (C10 + C01), rel=1e-14)
         assert mr.K == pytest.approx(2 / D1, rel=1e-14)
-        assert c.prony is not None and c.prony == load_compound("tread_default").prony
+        assert c.prony is not None
+        if name not in DERIVED:  # c1..c6: derived spectra, pinned in test_derived_compounds.py
+            assert c.prony == load_compound("tread_default").prony
+        else:
+            assert c.prony != load_compound("tread_default").prony
+
+
+DERIVED = {"c1", "c2", "c3", "c4", "c5", "c6"}
 
 
 def test_thermal_and_wlf_tables() -> None:
@@ -373,8 +380,8 @@ def test_thermal_and_wlf_tables() -> None:
             assert c.wlf.T_ref == pytest.approx(293.15, abs=1e-12)
         else:
             assert c.wlf is None
-    assert load_compound("c1").wlf == load_compound("m1").wlf
-    assert "WLF: same as" in load_compound("c1").source
+    assert load_compound("A").wlf == load_compound("m1").wlf  # c1..c6: derived (test_derived_*)
+    assert "WLF: same as" in load_compound("A").source
 
 
 def test_default_compound_regenerates() -> None:

@@ -28,6 +28,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tiny_scenes import two_sines
+
 from rubberfriction.driver.multiscale.scales import PeriodicSample, sine_sample
 from rubberfriction.driver.runtime.farm import Executor, run_serial
 from rubberfriction.driver.theory.adhesion import BellLaw
@@ -441,24 +443,7 @@ def test_two_sine_multiscale_agrees_with_the_reference_and_is_cheaper(tmp_path: 
     assert (tmp_path / "out" / "comparison.png").is_file()
 
 
-SMALL_SCENE = textwrap.dedent("""
-    name = "small"
-    [surface]
-    source = "sines"
-    amplitudes = [0.02, 0.002]
-    wavelengths = [2.0, 0.2]
-    [samples]
-    pressure = 1
-    friction = 1
-    [conditions]
-    pressures = [0.3]
-    velocities = [10.0, 100.0]
-    [numerics]
-    elements_per_wavelength = 8
-    slide_periods = 1.5
-    step_per_element = 1.0
-    run_timeout = 600
-""")
+SMALL_SCENE = two_sines("small", [10.0, 100.0], run_timeout=600)
 
 
 @pytest.mark.mpi

@@ -19,6 +19,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tiny_scenes import two_sines
+
 from rubberfriction.driver.multiscale.cascade import relative_contact_area
 from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
@@ -34,25 +36,7 @@ from rubberfriction.driver.thermal.macro import MacroSettings, flat_road_spec
 from rubberfriction.forms.material_files import load_road
 
 T0 = 293.15
-SCENE = textwrap.dedent("""
-    name = "two_scale_thermal"
-    [surface]
-    source = "sines"
-    amplitudes = [0.02, 0.002]
-    wavelengths = [2.0, 0.2]
-    [samples]
-    pressure = 1
-    friction = 1
-    [conditions]
-    pressures = [0.3]
-    velocities = [1000.0]
-    T0 = 293.15
-    [numerics]
-    elements_per_wavelength = 8
-    slide_periods = 1.5
-    step_per_element = 1.0
-    run_timeout = 600
-""")
+SCENE = two_sines("two_scale_thermal", [1000.0], T0=293.15, run_timeout=600)
 
 
 class Case:

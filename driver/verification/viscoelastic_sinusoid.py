@@ -1,15 +1,9 @@
 """Viscoelastic block sliding frictionless in full contact over a small-amplitude sinusoid.
 
-Closed form (plane strain, linear viscoelastic half-space, steady sliding).  The surface
-z = h0 cos(k x) moves at -v relative to the block, so the rubber surface is excited at
-omega = k v.  The half-plane surface stiffness gives the pressure perturbation
-    p_1 = (E*_eff(omega) / 2) |k| h0,   E*_eff = E*/(1 - nu*^2) = 4 G* (3K + G*) / (3K + 4 G*),
-with the complex shear modulus G*(omega) = G_inf (1 + sum_k g_k i omega tau_k / (1 + i omega tau_k))
-(g_k = gamma_k / gamma_inf: the Mooney-Rivlin constants are long-term moduli) and the elastic bulk
-modulus K = 2/D1.  The horizontal force per length is <p dh/dx>, so with the mean pressure p0
-    mu = <p h'> / p0 = (k h0)^2 Im E*_eff(k v) / (4 p0).
-Only the loss part contributes; an elastic material gives mu = 0.  The block height is one
-wavelength (thesis 6.2.2), so the finite-height correction ~exp(-2 pi) is below 0.2 %.
+The closed form, mu = (k h0)^2 Im E*_eff(k v) / (4 p0) for plane strain, steady sliding and a
+linear viscoelastic half-space, and its derivation are in :mod:`rubberfriction.driver.sliding.
+sinusoid` (which also computes it); the block height is one wavelength (thesis 6.2.2), so the
+finite-height correction ~exp(-2 pi) is below 0.2 %.
 
 Temperature layers (``--layer THICKNESS:T``, thesis 8.3.3): the block's relaxation times are
 WLF-shifted layer by layer from the contact face up, the rest of the block at ``--temperature``.

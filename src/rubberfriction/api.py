@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from rubberfriction import __all__ as _package_names
 from rubberfriction.validation import InputError
 
 if TYPE_CHECKING:  # types of the signatures only; imported by the functions that need them
@@ -33,32 +34,8 @@ if TYPE_CHECKING:  # types of the signatures only; imported by the functions tha
     from rubberfriction.forms.compound import Compound
     from rubberfriction.forms.prony import PronyFit
 
-__all__ = [
-    "InputError",
-    "arrays",
-    "check",
-    "default_profile",
-    "default_road",
-    "fit_compound",
-    "fit_hdc",
-    "format_table",
-    "hdc",
-    "load_compound",
-    "load_profile",
-    "load_scene",
-    "modify_scene",
-    "psd",
-    "run",
-    "scene_from_toml",
-    "scene_schema",
-    "shipped_scenes",
-    "split_bands",
-    "table",
-    "theory",
-    "theory_curves",
-    "verification_cases",
-    "verify",
-]
+# the API's names: the one list is the package's (rubberfriction.__all__, loaded lazily)
+__all__ = list(_package_names)
 
 #: the tables of a campaign (``<output>/<name>.csv``; driver/multiscale/report/tables.py)
 TABLES = ("results", "scales", "samples")
