@@ -6,9 +6,9 @@ condensed with the constraint prolongation P (``constraints.py``) to  P^T A P du
 and solved with a direct LU factorisation: PETSc's own (minimum degree ordering, no pivoting),
 each solve checked by its residual, or MUMPS (threshold pivoting), which solves the system a
 pivot-free solve fails on (or misses ``LU_CHECK``) and the rest of that Newton solve.  On the
-sliding runs' reduced systems (1 500-3 300 unknowns) the linear solves are about twice as fast
-with PETSc's LU as with MUMPS, whose analysis and scaling cost more than the small fronts
-(``bench sliding --part linear-solvers``).  Convention: R(u) = F_int - F_ext, so hooks add
+sliding runs' small reduced systems PETSc's LU is the faster, MUMPS's analysis and scaling
+costing more than the small fronts (docs/performance.md; ``bench sliding --part
+linear-solvers``).  Convention: R(u) = F_int - F_ext, so hooks add
 dPi/du into the vector and its derivative into the matrix.
 
 The matrix sparsity is the bulk form's pattern plus every coupling a hook declares up front
