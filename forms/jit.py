@@ -5,7 +5,8 @@ The stresses of eqs. (3.77), (3.78) scale with J^(-2/3); FFCx writes that factor
 Jacobian of the viscoelastic Q1P0 form, 13 in its residual.  Under C's default ``math_errno``
 semantics pow may set ``errno``, so the C compiler must make every call.  ``-fno-math-errno``
 (nothing here reads ``errno``) lets it evaluate each distinct call once: the generated values are
-bitwise the same and the bulk assembly is 2.6 times faster (``rubberfriction bench bulk``).
+bitwise the same and the bulk assembly is faster (docs/performance.md; ``rubberfriction bench
+bulk``).
 """
 
 from __future__ import annotations

@@ -58,7 +58,8 @@ O(dt^2) of the trapezoid, like the external work).  A period-end jump of the his
 branch energy, not a finite-strain potential of the branches, so a step's D at a point may be
 negative; over whole periods of a steady state (and summed over the window's steps) it is the
 work the stress did there.  On sub-stepped runs the sum must run over the committed sub-steps,
-as here: a trapezoid over whole steps of two sub-steps missed 6 % on a steep macro run.
+as here: a trapezoid over whole steps of two sub-steps missed part of the dissipation on a
+steep macro run (docs/performance.md).
 """
 
 from __future__ import annotations

@@ -10,8 +10,7 @@ the workers' efficiency and the critical path (the wall time with unlimited rank
 tells: where more ranks stop paying (the cascade's stages wait for all samples of the stage
 before, and no run is split over ranks), before renting them.  The replay uses each run's time
 as measured where it ran (next to other runs on a busy machine a run takes longer); on the
-default scene it reproduces the measured 2-rank wall time within 0.1 % (950.4 s measured, 949.9
-s replayed).
+default scene it reproduces the measured 2-rank wall time (docs/performance.md, "More ranks").
 """
 
 from __future__ import annotations

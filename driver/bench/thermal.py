@@ -19,8 +19,8 @@ mesh study's case (first element 0.01 mm): the road r1 (E = 40 GPa) and, to show
 100 times softer (stated, not a material); mu, T_C, T_R, T_max, the road's sink under the
 contact and their differences from the rigid road (in %; T_R, which may be close to T0 behind
 a block whose trailing edge lifts, in K).  Run it with ``--edge-radius 1`` (thesis 8.5.1): with
-the square edge the corner's hot spot is not steady, and a deflection of 0.1 um moves T_C by
-10 % (measured after 10 mm; 0.2 % after 3 mm) -- that is the corner, not the road.
+the square edge the corner's hot spot is not steady, and a sub-micrometre deflection moves T_C
+(docs/performance.md) -- that is the corner, not the road.
 
 ``bulk``: the rubber bulk temperature study of thesis 8.5.2 (hyperelastic m2, 20 x 7 mm block with
 a 1 mm rounded leading edge, p = 0.3 MPa, v = 0.5 m/s, T0 = 20 degC, kappa = 1, h_c = 1e6, road r1,

@@ -6,9 +6,9 @@ condensed with the constraint prolongation P (``constraints.py``) to  P^T A P du
 and solved with a direct LU factorisation: PETSc's own (minimum degree ordering, no pivoting),
 each solve checked by its residual, or MUMPS (threshold pivoting), which solves the system a
 pivot-free solve fails on (or misses ``LU_CHECK``) and the rest of that Newton solve.  On the
-sliding runs' reduced systems (1 500-3 300 unknowns) the linear solves are about twice as fast
-with PETSc's LU as with MUMPS, whose analysis and scaling cost more than the small fronts
-(``bench sliding --part linear-solvers``).  Convention: R(u) = F_int - F_ext, so hooks add
+sliding runs' small reduced systems PETSc's LU is the faster, MUMPS's analysis and scaling
+costing more than the small fronts (docs/performance.md; ``bench sliding --part
+linear-solvers``).  Convention: R(u) = F_int - F_ext, so hooks add
 dPi/du into the vector and its derivative into the matrix.
 
 The matrix sparsity is the bulk form's pattern plus every coupling a hook declares up front
@@ -108,9 +108,9 @@ CPU_PARTS = ("bulk", "hooks", "condense", "linear")
 #: checked, MUMPS after a failure for the rest of that Newton solve), "petsc-nd" (the same with
 #: nested dissection, the former default), "mumps" (MUMPS with threshold pivoting and its own
 #: ordering, unchecked).  Minimum
-#: degree fills less than nested dissection on the sliding runs' reduced systems (1 200-3 300
-#: unknowns, a tied top row and periodic columns): the numeric factorisation is 1.6-2.2x faster
-#: on every scale of the default road (``rubberfriction bench sliding --part linear-solvers``)
+#: degree fills less than nested dissection on the sliding runs' reduced systems (a tied top row
+#: and periodic columns): a faster numeric factorisation on every scale of the default road
+#: (docs/performance.md; ``rubberfriction bench sliding --part linear-solvers``)
 LINEAR_SOLVERS = {"petsc": ("petsc", "amd"), "petsc-nd": ("petsc", "nd"),
                   "mumps": ("mumps", None)}
 #: relative residual ||A x - b|| / ||b|| a pivot-free solve must reach, else the solver turns to
@@ -282,8 +282,8 @@ class NewtonSolver:
         pivot-free solve that fails or misses LU_CHECK is done again with MUMPS, which then
         solves the rest of this Newton solve (the failures come in runs, the iterates of one hard
         sub-step); the next solve starts with the pivot-free LU again.  Staying with MUMPS for
-        good after the first failure made a micro2 run of the default road solve 1 380 of its
-        2 900 systems with MUMPS, at twice the cost each."""
+        good after the first failure sent much of a run's solves to the dearer MUMPS
+        (docs/performance.md)."""
         pb = self.problem
         if pb.Ar is not self._operator:
             if self._operator is not None:

@@ -20,12 +20,12 @@ constraints and contact hooks the driver adds.  The weak form is ``forms/bulk.py
   quadratic mortar segments: linear ones fail the contact patch test).  G_s is the shear modulus
   the deformation sees (``SolidSettings.stabilisation_modulus``; 0: the long-term one), beta =
   ``SolidSettings.stabilisation`` (Kechkar and Silvester: stable for any beta > 0).  Default 0.01:
-  the lowest non-uniform pressure mode of a confined block stays at lambda G = 0.07 under refinement
-  (``verify pressure-modes``), and the full-contact sinusoid is within 0.2 % of its closed form
-  at 16 elements per wavelength (beta = 0.05: 2 %; 0.25: 11 %, the jump term then acts as a
-  compressibility on the mesh scale).  The term is linear in p and constant, so it enters as a
-  Newton hook on the pressure dofs (:class:`PressureJump`): build the Newton problem with
-  :meth:`SolidProblem.nonlinear_problem`, which adds it (``residual`` is the bulk form alone).
+  the lowest non-uniform pressure mode of a confined block stays bounded below under refinement
+  (``verify pressure-modes``), and the full-contact sinusoid stays close to its closed form, where
+  a larger beta acts as a compressibility on the mesh scale (figures: docs/verification.md).
+  The term is linear in p and constant, so it enters as a Newton hook on the pressure dofs
+  (:class:`PressureJump`): build the Newton problem with :meth:`SolidProblem.nonlinear_problem`,
+  which adds it (``residual`` is the bulk form alone).
 * ``"Q1"``: displacement only, for comparison (locks when nearly incompressible).
 
 Bulk stress and residual: :func:`rubberfriction.forms.bulk.second_piola` and
@@ -384,8 +384,8 @@ class PressureJump:
 
     Assembled once on the pressure space alone (``forms.bulk.pressure_jump_stabilisation``), so it
     couples the pressures of neighbouring cells only.  The same integral in the mixed form would
-    couple every dof of two neighbouring cells: measured on a micro2 run, 82 against 18 ms per
-    Newton iteration, most of it LU fill (``bench sliding --part iterations --element Q1P0s``)."""
+    couple every dof of two neighbouring cells: a much dearer Newton iteration, most of it LU fill
+    (docs/performance.md; ``bench sliding --part iterations --element Q1P0s``)."""
 
     def __init__(self, W: fem.FunctionSpace, scale: float):
         Q, pmap = W.sub(1).collapse()

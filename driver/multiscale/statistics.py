@@ -58,9 +58,8 @@ def sample_stats(values: Sequence[float]) -> SampleStats:
 #: a run whose stabilising dashpots carry more than this share of its window's friction work
 #: (``SlidingResult.stabilisation_share``, driver.fe.stabilisation) is not averaged.  The
 #: tolerance ABAQUS applies to its adaptive stabilisation (stabilisation over strain energy) is
-#: 0.05 too; measured on the failing micro2 input f280d52c, variants of the stabilisation with
-#: shares of 0.7-1.4 % give mu within 2 % of each other, where single samples of a scale
-#: scatter by tens of per cent
+#: 0.05 too; below it the stabilisation moves mu far less than the samples of a scale scatter
+#: (docs/performance.md)
 STABILISATION_TOL = 0.05
 
 

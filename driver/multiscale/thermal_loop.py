@@ -20,9 +20,9 @@ D. the whole cascade runs again with those layers (pressure branch down, frictio
    slides on from the final state of the same run (branch, scale, sample) at the point before,
    the isothermal cascade's at the first (``LayeredSpecs``, ``SlidingSpec.initial_state``): the
    rubber keeps its deformation and Prony histories while it heats, as it does on the road,
-   and the run needs no compression and no run-in period: on ``tests/test_thermal_loop.py``'s
-   case 4 periods instead of 5 with the rule of the runs from rest, 2 with one-period blocks
-   (``warm_window``, the scenes' ``warm_window_periods = 1``).  The thesis restarted every
+   and the run needs no compression and no run-in period: fewer periods than from rest, fewer
+   still with one-period blocks (``warm_window``, the scenes' ``warm_window_periods = 1``;
+   docs/performance.md).  The thesis restarted every
    lower-scale run from rest; ``warm_start = false`` does that;
 E. the homogenised mu(s_i) goes back into the running macro contact (``Contact.set_friction``),
    which continues from its state at s_i (no recomputation from t = 0).
@@ -246,8 +246,8 @@ class CascadeRunner:
                  keep: bool = True) -> PointResult:
         """One cascade with these temperature layers; with warm starts (``states``) its runs
         slide on from the final states of ``parents`` (slot -> store key, :func:`run_slots`)
-        and keep their own final states if ``keep`` (False: no later cascade starts from them;
-        about 1.4 MB a run saved on the default road)."""
+        and keep their own final states if ``keep`` (False: no later cascade starts from them,
+        and the store stays smaller; docs/performance.md)."""
         return self.many([partitions], parents, keep)[0]
 
     def many(self, partitions: Sequence[Partitions | None],
@@ -464,8 +464,8 @@ class HotLayerResult:
         """The macro contact's mu at the end of the slide: mu_const + the mu(T_S) law at the macro
         run's contact temperature then (``T_contact``, pressure-weighted over the contact nodes),
         as the coupled loop's mu is mu_const + the lower scales' mu at the end.  Not F_x / F_z of
-        the macro block, which adds the block's own hysteresis and edge effects (+0.14 % on the
-        two-scale test case: as large as the lower scales' change for a 10 K rise)."""
+        the macro block, which adds the block's own hysteresis and edge effects (on the two-scale
+        test case as large as the lower scales' change for a 10 K rise; docs/verification.md)."""
         if self.macro is None or not self.macro.ok or not self.macro.series:
             return math.nan
         T_c = self.macro.series["T_contact"][-1]
@@ -486,9 +486,8 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
     temperature node by node, with no down-passing.
 
     No warm starts here: no physical path joins the grid's steady states, and slid on from the
-    T0 cascade's states the default road's micro runs at 1 m/s went astray (+10 K: 24 periods
-    without a stationary window; +40 K: 504 s of cut-backs to a micro mu of 0.21, 0.31 from rest;
-    +80 K: projected past an hour; README "Flash temperature on the default road")."""
+    T0 cascade's states the default road's micro runs at 1 m/s went astray (docs/performance.md;
+    README "Flash temperature on the default road")."""
     from rubberfriction.driver.fe.friction_law import fit_mu_pvT
 
     wall = time.perf_counter()

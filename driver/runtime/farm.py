@@ -46,9 +46,10 @@ Scaling (many nodes, thousands of runs): the work is embarrassingly parallel wit
 limits are (1) the number of runs ready at once -- in the rough-surface cascade that is
 (points x samples) per stage, so ranks beyond that idle until the next stage (run many (p, v,
 compound) points in one scene to fill a large allocation); (2) the longest single run (no run is
-split over ranks); (3) one dispatcher: each request costs it ~0.1 ms, negligible against runs of
-seconds to minutes even for thousands of ranks; (4) the store folder must be on a file system
-every rank sees (one small file per run; thousands are fine, millions would want an object store).
+split over ranks); (3) one dispatcher: each request costs it a fraction of a millisecond
+(docs/performance.md), negligible against runs of seconds to minutes even for thousands of ranks;
+(4) the store folder must be on a file system every rank sees (one small file per run; thousands
+are fine, millions would want an object store).
 """
 
 from __future__ import annotations
@@ -422,8 +423,8 @@ def replay(planner: Planner, outcome_of: Callable[[Task], tuple[Outcome, float]]
     MPI drivers, duplicates executed once), each task lasts the duration ``outcome_of`` gives with
     its outcome, and outcomes reach the planner when their run ends, which makes the next stage
     ready.  A finished campaign's stored runs and wall times answer "how long on N ranks" without
-    computing anything (``rubberfriction bench farm``); the dispatcher's own time (~0.1 ms per
-    request) is left out."""
+    computing anything (``rubberfriction bench farm``); the dispatcher's own time per request
+    is left out."""
     if workers < 1:
         raise ValueError(f"replay on {workers} workers: expected at least 1")
     book = _Book(planner, None)
@@ -470,10 +471,9 @@ def run_farm(make_planner: Callable[[], Planner], execute: Callable[[Task], Outc
 class _Nap:
     """Idle sleeps of a polling loop: none for SPIN seconds after an event (poll again at once),
     then MIN_NAP doubling up to QUICK_NAP until QUICK_WINDOW seconds after it (answers come
-    soon after an event), then up to ``poll``.  A sleep lasts ~0.1 ms or more whatever it asks
+    soon after an event), then up to ``poll``.  A sleep lasts much longer than a tiny nap asks
     for (more on a loaded machine), so an answer that waits for a few of them right after an
-    event is slow: 2000 no-op tasks from a dispatching rank 0 took 1.8 ms each with naps from
-    1 us, 0.25 ms with the spin."""
+    event is slow: the spin makes short tasks several times quicker (docs/performance.md)."""
 
     def __init__(self, poll: float):
         self.poll = poll

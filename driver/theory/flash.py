@@ -83,8 +83,8 @@ class FlashOptions:
         initial under-relaxation of the fixed-point iteration ``T <- T + relax (T_new - T)``,
         halved per speed when the update flips sign and shrinks by less than 20 %.  Friction
         falls as the rubber heats (on the rubbery side), a negative feedback whose loop gain
-        exceeds 1 at high speeds, so the undamped iteration oscillates; 0.5 converges in
-        ~15-20 iterations on the default road.
+        exceeds 1 at high speeds, so the undamped iteration oscillates; 0.5 converges on the
+        default road (docs/performance.md).
     tol:
         convergence tolerance on the scale temperatures (K).
     max_iter:

@@ -376,7 +376,7 @@ def persson_friction(
         prev_change = np.full(nv, np.inf)
         prev_step = np.zeros((nv, nq))
         # 2D: iterate on a half-size angle rule until the temperatures are within 100 tol, then
-        # on the full rule, so the fixed point is the full rule's (saves ~40 % of the time)
+        # on the full rule, so the fixed point is the full rule's (cheaper: docs/performance.md)
         ev_iter = ev
         if spectrum.dim == 2 and opts.n_phi >= 16:
             half = PerssonOptions(gamma=opts.gamma, n_phi=opts.n_phi // 2)

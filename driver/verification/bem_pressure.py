@@ -124,11 +124,10 @@ def compare(fractions=(0.07, 0.2, 0.3), n: int = 64, rms_slope: float = 0.03, se
     BEM's pressure for each contact fraction, ``refine`` contact elements per profile segment.
     The window is the whole slide (``window_start`` 0: an elastic frictionless run has no
     run-in), by default one period, so the FE measure is averaged over the road's offsets
-    against the mesh: at one offset a patch edge counts up to a node more or less, 10 % of the
-    contact on this profile at 7 % contact (measured, slide of a quarter period, 2 elements per
-    segment: 0.0627 against 0.0703).
-    Returns per fraction the BEM's and the FE's
-    contact fraction and mean contact pressure, and the FE's contact fraction after compression."""
+    against the mesh: at one offset a patch edge counts up to a node more or less, a sizeable
+    share of the contact at the lowest fraction (docs/verification.md).
+    Returns per fraction the BEM's and the FE's contact fraction and mean contact pressure, and
+    the FE's contact fraction after compression."""
     from rubberfriction.driver.sliding.run import run_sliding
     from rubberfriction.driver.sliding.spec import SlidingSpec
 

@@ -66,9 +66,8 @@ def gross_sliding_steps(*, mu: float, pressure: float, E: float, nu: float, heig
     slides as a whole: the top drags the block through its shear, gamma = mu p / G over the
     height H, and every node of the face through its elastic slip mu p / c_T (the tangential
     penalty, 4.17) -- 2 (mu p H / G + mu p / c_T), G = E / (2 (1 + nu)); at least `minimum`.
-    Before, the case took 12 steps whatever the block: the 20 x 8 mm block at 0.3 MPa (1.17 mm to
-    gross sliding) slid 1.5 mm with 80 contact elements and 1.0 mm with 120, its corner node still
-    sticking, and the periodic layer did not slip at all."""
+    A fixed 12 steps left a larger block's corner node sticking and the periodic layer not
+    slipping (docs/verification.md)."""
     G = E / (2.0 * (1.0 + nu))
     distance = mu * pressure * (height / G + 1.0 / c_T)
     return max(minimum, math.ceil(2.0 * distance / step))
@@ -89,33 +88,22 @@ def sliding_block(*, E: float = 6.0, nu: float = 0.45, pressure: float = 0.2,
        (non-uniform) pressure: every nodal traction p_A n_A + t_T tau_A (5.39-5.41) has
        |t_T| = mu p_A, so the sum is on the road's friction cone wherever the nodal frames are
        the road's.  The chain ends (the block's corners) take the master's normal as their frame
-       (cpp_contact/README.md, "Frame of a chain end").  Error of -F_x/F_z, 16 / 32 / 64 contact
-       elements: sharp -0.16 % / -0.16 % / -0.03 % (with the one-sided normal of the end
-       segment, which tilts under the corner's pressure peak, it was -1.2 % / -1.4 % / -1.8 %,
-       and 0.483 instead of 0.5 for the 20 x 8 mm block below); rounded (edge_radius = 0.2)
-       -0.21 % / +0.09 % / -0.02 %.  What remains is the averaged normal of the nodes next to
-       the corner or on the arc, tilted where the slave is not flat.  A note reports the leading
-       end node: its pressure over the mean and the tilt and length of its end segment.
+       (cpp_contact/README.md, "Frame of a chain end"; the one-sided normal of the end segment
+       tilts under the corner's pressure peak).  What error remains is the averaged normal of the
+       nodes next to the corner or on the arc, tilted where the slave is not flat (errors per
+       mesh: docs/verification.md).  A note reports the leading end node: its pressure over the
+       mean and the tilt and length of its end segment.
        Limit: a sharp leading edge carries a concentrated normal and friction force at its
-       corner node (10-20 x the mean pressure); at high p/E and fine meshes the front face, which
-       is not a contact surface, rolls under the road and the corner element folds.  20 x 8 mm,
-       E = 3 MPa, nu = 0.45, mu = 0.5, 0.3 MPa, default steps, slave frame: +0.47 / +0.50 /
-       -0.71 / -1.65 % with 40 / 60 / 80 / 120 contact elements (with 80 the corner's neighbour,
-       whose averaged normal follows the folded end segment, carries the whole deficit, and the
-       front face's first node ends 0.23 mm below the road).  Before the corner projected along
-       the road's normal (cpp_contact/README.md, "Frame of a chain end"): +0.42 / -1.66 / -2.71 /
-       -3.55 %, a bias growing under refinement.  Round the edge there, as the thesis' run-in
-       samples (6.5.1), or make the front face a contact surface.
+       corner node; at high p/E and fine meshes the front face, which is not a contact surface,
+       rolls under the road and the corner element folds, and the error grows under refinement
+       (the 20 x 8 mm block at 0.3 MPa: docs/verification.md).  Round the edge there, as the
+       thesis' run-in samples (6.5.1), or make the front face a contact surface.
        frame = "master" (``Contact(frame=)``): every node's frame is the road's normal, so in full
-       slip -F_x/F_z = mu exactly (to round-off) wherever the run converges: the default case and
-       the 20 x 8 mm block at 0.3 MPa with 40, 60 and 80 contact elements (80 stopped in Newton
-       at step 16 before the corner's projection normal was the road's; 120 still stops, at step
-       17 of 28).  That says nothing about the folded corner, only that every traction lies on
-       the road's friction cone.
+       slip -F_x/F_z = mu exactly (to round-off) wherever the run converges (which runs do:
+       docs/verification.md).  That says nothing about the folded corner, only that every
+       traction lies on the road's friction cone.
        steps (default: automatic) -- enough to slide each block twice as far as it must go
-       before it slides as a whole (``gross_sliding_steps``), at least 12: 12 for the default
-       case, 19 (finite) and 31 (layer) for the 20 x 8 mm block with 80 elements, whose corner
-       still stuck after 12.
+       before it slides as a whole (``gross_sliding_steps``), at least 12.
     2. Periodic layer (periodic sides: no edges, uniform pressure) with the friction law
        `law(p, v)` (default: a smooth spline in p and log v): the master slides at -velocity under
        the held block; in steady sliding every node has p = F_z/L and v = velocity, so

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from rubberfriction import __all__ as _package_names
+import rubberfriction as _package
 from rubberfriction.validation import InputError
 
 if TYPE_CHECKING:  # types of the signatures only; imported by the functions that need them
@@ -35,7 +35,7 @@ if TYPE_CHECKING:  # types of the signatures only; imported by the functions tha
     from rubberfriction.forms.prony import PronyFit
 
 # the API's names: the one list is the package's (rubberfriction.__all__, loaded lazily)
-__all__ = list(_package_names)
+__all__ = list(_package.__all__)
 
 #: the tables of a campaign (``<output>/<name>.csv``; driver/multiscale/report/tables.py)
 TABLES = ("results", "scales", "samples")

@@ -154,7 +154,8 @@ def sample_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
 
 
 #: |energy balance| above which the summary counts a run as not energy-consistent: converged runs
-#: on steep partial contact balance within 2 % (``forms.viscoelastic``, exact dissipation)
+#: on steep partial contact balance within it (``forms.viscoelastic``, exact dissipation;
+#: docs/notes-energy.md)
 ENERGY_BALANCE_TOL = 0.02
 
 
@@ -165,12 +166,10 @@ def energy_balance(o: Outcome) -> float:
     2.8), so 0 up to the O(dt^2) of the time integration.  The viscous dissipation is the exact
     one of the finite-strain model (``forms.viscoelastic``: branch stress work minus the change
     of the branches' stored energy; the small-strain density |H|^2 / (2 G tau) it replaced
-    overestimated on steep contact: +26 .. +48 % on 7 stored macro/meso runs of the default road,
-    now -1.1 .. +2.6 % on 5 of them and +4.5, +7.9 % at 300 and 100 mm/s, docs/notes-energy.md).
-    What is left is mostly the contact: on the two macro runs the dissipation equals the work
-    the contact forces do on the rubber (0.3 %) but that exceeds F_x ds, the mortar contact being
-    non-conservative at its resolution (with contact elements half as long the +7.9 % run
-    balances at -1.0 % and its mu_force rises by 24 %).  Besides: stored energy that changes over
+    overestimated on steep contact, docs/notes-energy.md).  What is left is mostly the contact:
+    the dissipation equals the work the contact forces do on the rubber, but that exceeds F_x ds,
+    the mortar contact being non-conservative at its resolution (finer contact elements close
+    most of the gap; docs/notes-energy.md).  Besides: stored energy that changes over
     the window (not a periodic steady state), the normal load's work while the block creeps,
     stabilised sub-steps (``stabilisation_share``), the time integration of both sides."""
     mf, me = o.value("mu_force"), o.value("mu_energy")
