@@ -120,6 +120,26 @@ def _column_index(header: list[str], col: str | int, path: Path) -> int:
     return header.index(col)
 
 
+def _read_table(path: Path, columns: Sequence[str | int], header: str = "column names"
+                ) -> tuple[list[str] | None, list[int], np.ndarray]:
+    """The table of a pyvisco-style CSV: a header row, an optional units row (no number in the
+    selected columns), then numbers.  Returns (units row or None,
+    indices of ``columns``, data of those columns); one clear error for each malformed part."""
+    rows = _read_rows(path)
+    if len(rows) < 3 or all(_is_number(c) for c in rows[0]):
+        raise V.InputError(f"{path}: expected a header row of {header} and data rows")
+    names, rows = rows[0], rows[1:]
+    idx = [_column_index(names, c, path) for c in columns]
+    numeric = [_is_number(rows[0][i]) for i in idx if i < len(rows[0])]
+    units = rows.pop(0) if not any(numeric) else None
+    try:
+        data = np.array([[float(r[i]) for i in idx] for r in rows])
+    except (ValueError, IndexError) as err:
+        raise V.InputError(f"{path}: non-numeric or missing value in the data rows "
+                           f"({err})") from None
+    return units, idx, data
+
+
 def read_dma_csv(path: str | Path, freq_unit: str = "Hz",
                  columns: Sequence[str | int] = ("f", "E_stor", "E_loss"),
                  modulus_unit: str | None = None,
@@ -139,18 +159,8 @@ def read_dma_csv(path: str | Path, freq_unit: str = "Hz",
                          f"{list(FREQ_UNITS)}")
     if len(columns) != 3:
         raise ValueError(f"read_dma_csv.columns = {columns!r}: expected three (frequency, E', E'')")
-    rows = _read_rows(path)
-    if len(rows) < 3 or all(_is_number(c) for c in rows[0]):
-        raise ValueError(f"{path}: expected a header row of column names and data rows")
-    header, rows = rows[0], rows[1:]
-    idx = [_column_index(header, c, path) for c in columns]
-    numeric = [_is_number(rows[0][i]) for i in idx if i < len(rows[0])]
-    units = rows.pop(0) if not any(numeric) else None
+    units, idx, data = _read_table(path, columns)
     scale_f, scale_E = _units_scales(path, units, idx, freq_unit, modulus_unit)
-    try:
-        data = np.array([[float(r[i]) for i in idx] for r in rows])
-    except (ValueError, IndexError) as err:
-        raise ValueError(f"{path}: non-numeric or missing value in the data rows ({err})") from None
     return validate_dma(data[:, 0] * scale_f, data[:, 1] * scale_E, data[:, 2] * scale_E, sort=sort)
 
 
@@ -383,23 +393,13 @@ def read_shift_factors(path: str | Path, columns: Sequence[str | int] = ("T", "l
     reference temperature).  Rows are sorted by temperature; repeated temperatures are refused.
     """
     path = Path(path)
-    rows = _read_rows(path)
-    if len(rows) < 3 or all(_is_number(c) for c in rows[0]):
-        raise V.InputError(f"{path}: expected a header row (T, log_aT) and data rows")
-    header, rows = rows[0], rows[1:]
-    idx = [_column_index(header, c, path) for c in columns]
-    units = rows.pop(0) if not _is_number(rows[0][idx[0]]) else None
+    units, idx, data = _read_table(path, columns, header="(T, log_aT)")
     unit = units[idx[0]] if units is not None else T_unit
     if units is not None and T_unit is not None and unit != T_unit:
         raise V.InputError(f"{path}: the units row gives T in {unit!r} but T_unit = {T_unit!r}")
     if unit not in TEMPERATURE_UNITS:
         raise V.InputError(f"{path}: temperature unit {unit!r}: expected a units row or T_unit "
                            f"of {' or '.join(map(repr, TEMPERATURE_UNITS))}")
-    try:
-        data = np.array([[float(r[i]) for i in idx] for r in rows])
-    except (ValueError, IndexError) as err:
-        raise V.InputError(f"{path}: non-numeric or missing value in the data rows "
-                           f"({err})") from None
     if len(data) < 3 or not np.isfinite(data).all():
         raise V.InputError(f"{path}: expected at least 3 rows of finite numbers")
     T, log_aT = data[:, 0] + TEMPERATURE_UNITS[unit], data[:, 1]
@@ -505,21 +505,11 @@ def read_relaxation_csv(path: str | Path, columns: Sequence[str | int] = ("t", "
     path = Path(path)
     if len(columns) != 2:
         raise V.InputError(f"read_relaxation_csv.columns = {columns!r}: expected two (time, E)")
-    rows = _read_rows(path)
-    if len(rows) < 3 or all(_is_number(c) for c in rows[0]):
-        raise V.InputError(f"{path}: expected a header row of column names and data rows")
-    header, rows = rows[0], rows[1:]
-    idx = [_column_index(header, c, path) for c in columns]
-    units = rows.pop(0) if not _is_number(rows[0][idx[0]]) else None
+    units, idx, data = _read_table(path, columns)
     tu, mu = (units[idx[0]], units[idx[1]]) if units is not None else ("s", modulus_unit or "MPa")
     if tu not in TIME_UNITS or mu not in MODULUS_UNITS:
         raise V.InputError(f"{path}: units {tu!r}, {mu!r}: expected time in {list(TIME_UNITS)} "
                            f"and modulus in {list(MODULUS_UNITS)}")
-    try:
-        data = np.array([[float(r[i]) for i in idx] for r in rows])
-    except (ValueError, IndexError) as err:
-        raise V.InputError(f"{path}: non-numeric or missing value in the data rows "
-                           f"({err})") from None
     t, E = data[:, 0] * TIME_UNITS[tu], data[:, 1] * MODULUS_UNITS[mu]
     _check_relaxation(t, E, str(path))
     return t, E
