@@ -12,11 +12,10 @@ fails when the committed ``docs/scene-reference.md`` differs.
 from __future__ import annotations
 
 import argparse
-import math
 from pathlib import Path
 from typing import Any
 
-from rubberfriction.driver.scenes import SCENE_WIDE_NUMERICS, SCHEMA, Key
+from rubberfriction.driver.scenes import SCENE_WIDE_NUMERICS, SCHEMA, Key, toml_value
 
 #: The command that writes the committed page (named in the page and in the drift test).
 REGENERATE = "rubberfriction scene reference --out docs/scene-reference.md"
@@ -123,25 +122,13 @@ def _default(value: Any) -> str:
         return "omitted"
     if value == {}:
         return "{}"
-    return f"`{_toml(value)}`"
-
-
-def _toml(value: Any) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, str):
-        return f'"{value}"'
-    if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(_toml(v) for v in value) + "]"
-    if isinstance(value, float):
-        return f"{value:.6g}" if math.isfinite(value) else repr(value)
-    return str(value)
+    return f"`{toml_value(value, short=True)}`"
 
 
 def _allowed(key: Key) -> str:
     """The admissible values as the validation checks them (``scenes.schema.check_value``)."""
     if key.choices:
-        return "one of " + ", ".join(f"`{_toml(c)}`" for c in key.choices)
+        return "one of " + ", ".join(f"`{toml_value(c, short=True)}`" for c in key.choices)
     if key.kind == "bool":
         return "true, false"
     if key.kind == "cutoff":
@@ -150,11 +137,11 @@ def _allowed(key: Key) -> str:
                None)
     text = ""
     if low is not None and key.maximum is not None:
-        text = f"{low[1]}{_toml(low[0])}, {_toml(key.maximum)}]"
+        text = f"{low[1]}{toml_value(low[0], short=True)}, {toml_value(key.maximum, short=True)}]"
     elif low is not None:
-        text = (">" if low[1] == "(" else ">=") + f" {_toml(low[0])}"
+        text = (">" if low[1] == "(" else ">=") + f" {toml_value(low[0], short=True)}"
     elif key.maximum is not None:
-        text = f"<= {_toml(key.maximum)}"
+        text = f"<= {toml_value(key.maximum, short=True)}"
     if key.nonempty:
         text = "non-empty" + (f", each {text}" if text else "")
     return text

@@ -50,6 +50,7 @@ from rubberfriction.driver.scenes.schema import (
     check_value,
     schema_text,
     section_values,
+    toml_value,
 )
 from rubberfriction.driver.scenes.thermal import ThermalSceneConfig, parse_thermal
 from rubberfriction.driver.scenes.thermal_loop import LOOP_MODES, check_loop_table
@@ -60,5 +61,5 @@ __all__ = [
     "SamplesConfig", "Scene", "SceneError", "SeparatedConfig", "SurfaceConfig",
     "ThermalSceneConfig", "check_loop_table", "check_value", "load_scene", "override",
     "parse_scene", "parse_thermal", "schema_text", "section_values", "shipped_scenes",
-    "surface_scale_names", "with_surface",
+    "surface_scale_names", "toml_value", "with_surface",
 ]

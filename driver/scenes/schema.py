@@ -6,6 +6,7 @@ against it (unknown keys rejected with a did-you-mean suggestion).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -405,7 +406,7 @@ def schema_text() -> str:
         if section:
             lines.append(f"\n[{section}]")
         for name, key in keys.items():
-            default = _toml_value(key.default)
+            default = toml_value(key.default)
             extra = f" (one of {', '.join(map(str, key.choices))})" if key.choices else ""
             lines.append(f"{name} = {default}  # {key.doc}{extra}")
         if section == "numerics":
@@ -414,7 +415,9 @@ def schema_text() -> str:
     return "\n".join(lines).lstrip() + "\n"
 
 
-def _toml_value(v: Any) -> str:
+def toml_value(v: Any, short: bool = False) -> str:
+    """A value as TOML text (``<unset>`` for None): the schema listing (exact numbers) and, with
+    ``short``, the scene reference (finite floats to 6 significant digits)."""
     if v is None:
         return "<unset>"
     if isinstance(v, bool):
@@ -422,7 +425,9 @@ def _toml_value(v: Any) -> str:
     if isinstance(v, str):
         return f'"{v}"'
     if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+        return "[" + ", ".join(toml_value(x, short) for x in v) + "]"
+    if short and isinstance(v, float) and math.isfinite(v):
+        return f"{v:.6g}"
     return repr(v)
 
 
