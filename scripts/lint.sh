@@ -5,16 +5,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
-missing=()
-for p in flake8 clang-format; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
-if ((${#missing[@]})); then
-  echo "[lint] installing apt packages: ${missing[*]}"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+bash "$ROOT/scripts/apt-install.sh" lint flake8 clang-format
 status=0
 /usr/bin/python3 -m flake8 src driver forms meshes tests scripts setup.py || status=1
 clang-format --dry-run -Werror cpp_contact/*.cpp cpp_contact/*.hpp || status=1

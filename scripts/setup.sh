@@ -12,16 +12,7 @@ APT_PACKAGES=(python3-dolfinx python3-gmsh python3-petsc4py python3-mpi4py pytho
   python3-wheel libdolfinx-dev pybind11-dev libeigen3-dev cmake g++ make pkg-config python3-dev
   openmpi-bin)
 
-missing=()
-for p in "${APT_PACKAGES[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
-if ((${#missing[@]})); then
-  echo "[setup] installing apt packages: ${missing[*]}"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+bash "$ROOT/scripts/apt-install.sh" setup "${APT_PACKAGES[@]}"
 
 # The project: an editable install of this checkout (re-done when the packaging files change or
 # another checkout is installed), then an incremental CMake build of the extension.
