@@ -1,10 +1,11 @@
 """Wall-time estimate of ``run --check`` (driver/multiscale/estimate.py, issue 45 item 5).
 
 Exact properties of the estimate, not its accuracy (that is measured in docs/performance.md):
-the plan holds exactly the runs ``runs_per_point`` counts; the model scales as N^2 P / s
-(elements, periods, step per element); a stored run of the current version with the same
-label costs nothing, the other samples and points of that branch and scale get the measured
-mean; the wall time is max(CPU / ranks, critical path).
+the plan holds exactly the runs ``runs_per_point`` counts; without stored runs a run costs
+SECONDS_PER_UNIT x ``cost_model`` of its scale's first sample; a stored run of the current
+version with the same label costs nothing, the other samples and points of that branch and
+scale get the measured mean, the other scales the model weight times the measured ratio
+(``CostEstimate``); the wall time is max(CPU / ranks, critical path).
 """
 
 from __future__ import annotations
@@ -18,21 +19,29 @@ import pytest
 
 from rubberfriction.driver.multiscale.campaign import check_scene, runs_per_point
 from rubberfriction.driver.multiscale.specs import points
-from rubberfriction.driver.multiscale.estimate import (
-    SECONDS_PER_ELEMENT_STEP,
-    estimate_wall_time,
-    model_seconds,
-)
-from rubberfriction.driver.scenes import load_scene
+from rubberfriction.driver.multiscale.estimate import SECONDS_PER_UNIT, estimate_wall_time
+from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
 from rubberfriction.driver.runtime.store import Store
+from rubberfriction.driver.scenes import load_scene
+from rubberfriction.driver.sliding.spec import cost_model
 
 
-def test_model_scales_with_elements_squared_periods_and_step() -> None:
-    base = model_seconds(50.0, 0.5, 4.0)
-    assert base == pytest.approx(SECONDS_PER_ELEMENT_STEP * 50.0 ** 2 * 4.0 / 0.5, rel=1e-12)
-    assert model_seconds(100.0, 0.5, 4.0) == pytest.approx(4.0 * base, rel=1e-12)
-    assert model_seconds(50.0, 0.5, 8.0) == pytest.approx(2.0 * base, rel=1e-12)
-    assert model_seconds(50.0, 1.0, 4.0) == pytest.approx(0.5 * base, rel=1e-12)
+def _weight(scene, scales, i: int) -> float:
+    """cost_model of scale i's first sample, as RoughCascade.plan weighs its stages."""
+    pt = points(scene)[0]
+    spec = SpecBuilder(scene, load_compounds(scene))(pt, i, scales.sets[i].samples[0],
+                                                     pt.pressure, None, "down")
+    return cost_model(spec)
+
+
+def test_the_model_is_the_cascade_weight_in_seconds() -> None:
+    scene = load_scene("default")
+    scales = check_scene(scene)
+    est = estimate_wall_time(scene, scales)
+    for i, sc in enumerate(scales.sets):
+        runs = [r for r in est.runs if r.scale == sc.name]
+        expected = SECONDS_PER_UNIT * _weight(scene, scales, i)
+        assert runs and all(r.seconds == pytest.approx(expected, rel=1e-12) for r in runs)
 
 
 def test_the_plan_holds_the_runs_of_the_scene() -> None:
@@ -65,6 +74,12 @@ def test_stored_runs_are_reused_or_measured(tmp_path: Path) -> None:
     others = [r for r in est.runs if r.branch == "up" and r.scale == scales.sets[1].name
               and r.basis != "stored"]
     assert others and all(r.basis == "measured" and r.seconds == 30.0 for r in others)
+    # the other scale: its model weight times the measured seconds per weight
+    ratio = 30.0 / _weight(scene, scales, 1)
+    macro = [r for r in est.runs if r.scale == scales.sets[0].name]
+    assert all(r.basis == "measured" for r in macro)
+    assert all(r.seconds == pytest.approx(_weight(scene, scales, 0) * ratio, rel=1e-12)
+               for r in macro)
 
 
 def test_run_check_prints_the_estimate() -> None:

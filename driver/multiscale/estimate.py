@@ -1,40 +1,38 @@
 """How long a rough-surface campaign will take: the wall-time estimate of ``run --check``.
 
-Every planned single-scale run (per point: the pressure branch on all but the lowest scale with
-k samples, the friction branch on every scale with j samples) gets a cost in CPU seconds:
+The plan is the cascade's own (``RoughCascade.plan``: per point the pressure branch down, the
+friction branch up, each stage with its run count and the model weight of its runs,
+``sliding.spec.cost_model``).  Every planned run gets a cost in CPU seconds:
 
 * **stored**: a run of this campaign with the same label (point, branch, scale, sample) stored
   by the current code version is taken as reused (0 s; the cascade reuses it when its inputs
   are unchanged, which ``--check`` cannot know without running the branch above);
-* **measured**: else the mean wall time of the stored successful runs of the same branch and
-  scale (any point) of this store;
-* **model**: else the cost model below, from the settings alone.
+* **measured**: else what the campaign's progress line expects from finished runs
+  (``runtime.progress.CostEstimate`` fed with the stored successful runs of this campaign: the
+  mean of the same branch and scale, else of the scale, else the weight times their ratio);
+* **model**: with no stored run, the weight times :data:`SECONDS_PER_UNIT`, calibrated on the
+  default scene (docs/performance.md); it holds to about a factor 2-3 across scenes, glassy
+  high-speed runs and micro cells that settle slowly being the slow side.
 
-Cost model.  A run slides ``P`` periods over a sample with ``N = period / h_contact`` contact
-elements in steps of ``step_per_element`` elements; each step's Newton iterations assemble and
-factorise a graded mesh whose unknowns grow with ``N``.  The CPU time is taken as
-``c N^2 P / step_per_element`` (steps x unknowns, the factorisation's log factor and the
-iterations per step in ``c``), with ``P`` the expected periods (a window of 2 + 2 periods,
-bounded by the scene's limits).  ``c`` (:data:`SECONDS_PER_ELEMENT_STEP`) is calibrated on the
-default scene (docs/performance.md); the model holds to about a factor 2-3 across scenes,
-glassy high-speed runs being the slow side.  The wall time on ``R`` ranks is the larger of the
-CPU time over ``R`` and the cascade's critical path (stages run one after another per point).
+The wall time on ``R`` ranks is the larger of the CPU time over ``R`` and the cascade's critical
+path (the stages of a point run one after another, each waiting for its slowest run).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
-from typing import Any
 
+from rubberfriction.driver.multiscale.cascade import RoughCascade
 from rubberfriction.driver.multiscale.scales import Scales
-from rubberfriction.driver.scenes import Scene
 from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds, points
+from rubberfriction.driver.runtime.progress import CostEstimate
 from rubberfriction.driver.runtime.store import Store, code_version
+from rubberfriction.driver.scenes import Scene
 
-#: CPU seconds per (contact element x step) of the cost model, calibrated on the default scene.
-SECONDS_PER_ELEMENT_STEP = 1.3e-3
-#: Periods a run is expected to slide when its window converges (2 + 2, thesis 6.3.3).
-EXPECTED_PERIODS = 4
+#: CPU seconds per unit of ``sliding.spec.cost_model`` (the weights of ``RoughCascade.plan``),
+#: calibrated on the default scene's measured run time (docs/performance.md).
+SECONDS_PER_UNIT = 1.15e-5
 
 
 @dataclass(frozen=True)
@@ -82,63 +80,41 @@ def _minutes(seconds: float) -> str:
     return f"{seconds:.0f} s" if seconds < 90 else f"{seconds / 60:.1f} min"
 
 
-def model_seconds(n_elements: float, step_per_element: float, periods: float) -> float:
-    """CPU seconds of one run by the cost model (module docstring)."""
-    return SECONDS_PER_ELEMENT_STEP * n_elements ** 2 * periods / step_per_element
-
-
-def _expected_periods(spec: Any) -> float:
-    limit = spec.slide_distance / spec.period if spec.period > 0 else EXPECTED_PERIODS
-    return float(min(EXPECTED_PERIODS, max(limit, 1.0)))
-
-
 def estimate_wall_time(scene: Scene, scales: Scales, ranks: int = 1,
                        store: Store | None = None) -> WallTimeEstimate:
     """Estimated wall time of a rough-surface scene's campaign (module docstring)."""
     if scene.variant != "rough":
         raise ValueError("the estimate covers rough-surface (cascade) scenes")
     builder = SpecBuilder(scene, load_compounds(scene))
-    n = len(scales.sets)
     k, j = scene.samples.pressure, scene.samples.friction
-    stored: dict[tuple, float] = {}
-    measured: dict[tuple[str, str], list[float]] = {}
+    plans = [RoughCascade(scene.name, pt, scales.sets, builder, k, j, adhesion=scene.adhesion,
+                          max_failed_fraction=scene.samples.max_failed_fraction).plan()
+             for pt in points(scene)]
+    weight = {st.group: st.weight for plan in plans for st in plan}
+    stored: set[tuple] = set()
+    measured = CostEstimate()
     if store is not None:
         version = code_version()
         for run in store.iter_runs():
             lab = run.label
-            if lab.get("campaign") != scene.name:
+            if lab.get("campaign") != scene.name or not run.ok:
                 continue
-            wall = float(run.provenance.get("wall_time", 0.0))
-            if run.ok:
-                measured.setdefault((lab.get("branch"), lab.get("scale_name")), []).append(wall)
-            if run.ok and run.provenance.get("code_version") == version:
-                stored[(lab.get("point"), lab.get("branch"), lab.get("scale_name"),
-                        lab.get("sample"))] = wall
+            group = (lab.get("branch"), lab.get("scale_name"))
+            measured.observe(group, weight.get(group, 0.0),
+                             float(run.provenance.get("wall_time", 0.0)))
+            if run.provenance.get("code_version") == version:
+                stored.add((lab.get("point"), *group, lab.get("sample")))
     runs: list[PlannedRun] = []
     critical = 0.0
-    for pt in points(scene):
-        stages = [("down", i, k) for i in range(n - 1)] + [("up", i, j) for i in reversed(range(n))]
-        if n == 1 and scene.physics.adhesion:
-            stages.insert(0, ("down", 0, k))
+    for plan in plans:
         path = 0.0
-        for branch, i, count in stages:
-            name = scales.sets[i].name
-            longest = 0.0
-            for s in range(count):
-                sample = scales.sets[i].samples[s]
-                if (pt.id, branch, name, s) in stored:
-                    sec, basis = 0.0, "stored"
-                elif measured.get((branch, name)):
-                    times = measured[(branch, name)]
-                    sec, basis = sum(times) / len(times), "measured"
-                else:
-                    spec = builder(pt, i, sample, pt.pressure, None, branch)
-                    n_el = spec.period / spec.h_contact
-                    sec = model_seconds(n_el, spec.step_length / spec.h_contact,
-                                        _expected_periods(spec))
-                    basis = "model"
-                runs.append(PlannedRun(pt.id, branch, name, s, sec, basis))
-                longest = max(longest, sec)
-            path += longest
+        for st in plan:
+            expected = measured.expect(st.group, st.weight)
+            basis = "model" if math.isnan(expected) else "measured"
+            sec = st.weight * SECONDS_PER_UNIT if basis == "model" else expected
+            costs = [(0.0, "stored") if (st.chain, *st.group, s) in stored else (sec, basis)
+                     for s in range(st.runs)]
+            runs += [PlannedRun(st.chain, *st.group, s, c, b) for s, (c, b) in enumerate(costs)]
+            path += max(c for c, _ in costs)
         critical = max(critical, path)
     return WallTimeEstimate(runs, ranks, critical)
