@@ -73,7 +73,8 @@ class WallTimeEstimate:
                  if self.count(b)]
         return (f"estimated wall time: {_minutes(self.wall_seconds)} on {self.ranks} rank(s) "
                 f"({self.cpu_seconds:.0f} CPU-s over {len(self.runs)} runs: "
-                + ", ".join(parts) + "; the model holds to a factor 2-3)")
+                + ", ".join(parts)
+                + ("; the model holds to a factor 2-3)" if self.count("model") else ")"))
 
 
 def _minutes(seconds: float) -> str:
