@@ -120,8 +120,11 @@ def test_import_is_cheap() -> None:
 
 
 def test_verify_names_a_bad_case_or_parameter() -> None:
+    """An unknown case or parameter, and an impossible value (the command line's checks,
+    ``driver.verification.parameters``), each raise one InputError naming it."""
     for call, expected in (((lambda: rf.verify("herz")), "did you mean 'hertz'"),
-                           ((lambda: rf.verify("hertz", radius=1.0)), "radius")):
+                           ((lambda: rf.verify("hertz", radius=1.0)), "radius"),
+                           ((lambda: rf.verify("hertz", R=-1.0)), "--R -1")):
         try:
             call()
         except rf.InputError as err:

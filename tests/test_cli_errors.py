@@ -288,7 +288,7 @@ def test_option_message_and_option_check() -> None:
 def test_verify_defaults_pass_the_checks() -> None:
     """The parameter checks reject nothing a case runs with by default (every case, every
     option at its default, material files included)."""
-    from rubberfriction.driver.cli.verify import check_parameters
+    from rubberfriction.driver.verification.parameters import check_parameters
 
     parser = cli_main.build_parser()
     verify = parser._subparsers._group_actions[0].choices["verify"]

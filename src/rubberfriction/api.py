@@ -446,6 +446,7 @@ def verify(case: str, **parameters: Any) -> dict[str, Any]:
         raise InputError(f"verify({case!r}): no such case{hint} (cases: {', '.join(cases)})")
     _mpi()
     from rubberfriction.driver.verification import CASES
+    from rubberfriction.driver.verification.parameters import check_parameters
 
     module = importlib.import_module(CASES[case][0])
     parser = argparse.ArgumentParser(prog=f"rubberfriction verify {case}")
@@ -460,4 +461,5 @@ def verify(case: str, **parameters: Any) -> dict[str, Any]:
                              f"(parameters: {', '.join(known)})")
         setattr(args, key, list(value) if isinstance(value, tuple) else value)
     args.case, args.json = case, None
+    check_parameters(parser, args)  # an impossible value: one InputError naming the option
     return module.run(args)
