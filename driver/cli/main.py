@@ -24,6 +24,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "rubberfriction.driver.cli.material",
     "rubberfriction.driver.cli.theory",
     "rubberfriction.driver.cli.adhesion",
+    "rubberfriction.driver.cli.study",
     "rubberfriction.driver.cli.bench",
     "rubberfriction.driver.cli.scene",
 )

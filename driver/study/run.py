@@ -1,0 +1,211 @@
+"""``rubberfriction study trends``: run the trend cases, collect the evidence, write the table.
+
+The campaigns (``driver/study/cases.py``) run one after the other, each farmed over all ranks
+like ``rubberfriction run`` and each with its own store under ``<out>/<case>/``, so a second call
+resumes: finished runs are reused, and the table is rebuilt from them.  A case that fails (a
+failed point, a failed thermal loop) leaves its rows "missing" with the reason; the study goes
+on.  The sawtooth pair (two single-scale runs) runs on rank 0 and is kept in
+``<out>/sawtooth.json``.  Everything the table reads is saved in ``<out>/evidence.json``;
+``<out>/trends.txt``, ``trends.json`` and ``trends.png`` are the table.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from mpi4py import MPI
+
+from rubberfriction.driver.scenes import Scene, SceneError, parse_scene
+from rubberfriction.driver.study.cases import (
+    MATERIALS,
+    TrendSettings,
+    lowest_scale,
+    scene_texts,
+)
+from rubberfriction.driver.study.evidence import (
+    Evidence,
+    SawtoothValue,
+    SpreadValue,
+    flash_values,
+    point_key,
+    point_value,
+    strict_json,
+)
+from rubberfriction.driver.study.trends import TrendRow, build_rows, table_text, trends
+
+
+@dataclass
+class StudyResult:
+    """What ``study trends`` returns on rank 0."""
+
+    rows: list[TrendRow]
+    evidence: Evidence
+    output: Path
+    files: list[Path]
+    wall_time: float
+    case_times: dict[str, float]
+
+
+def study_scenes(settings: TrendSettings, out: Path) -> dict[str, Scene]:
+    """The cases' scenes, read from the TOML texts saved in ``<out>/scenes`` (rank 0 writes)."""
+    folder = out / "scenes"
+    scenes = {}
+    for case, text in scene_texts(settings).items():
+        path = folder / f"{case}.toml"
+        if MPI.COMM_WORLD.Get_rank() == 0:
+            folder.mkdir(parents=True, exist_ok=True)
+            path.write_text(text)
+        scene = parse_scene(text, str(path), folder)
+        scenes[case] = scene.with_output(out / case)
+    return scenes
+
+
+def _log(quiet: bool) -> Callable[[str], None]:
+    def log(msg: str) -> None:
+        if not quiet and MPI.COMM_WORLD.Get_rank() == 0:
+            print(f"[study trends] {msg}", flush=True)
+    return log
+
+
+def run_trends(settings: TrendSettings, out: str | Path, *, quiet: bool = False,
+               fresh: bool = False, comm: Any = None) -> StudyResult | None:
+    """Run (or resume) the trend study; every rank calls this, rank 0 returns the result."""
+    from rubberfriction.driver.multiscale.campaign import run_sample_study, run_scene
+    from rubberfriction.driver.multiscale.thermal_loop_scene import run_coupled_scene
+
+    comm = MPI.COMM_WORLD if comm is None else comm
+    rank = comm.Get_rank()
+    out = Path(out)
+    log = _log(quiet)
+    t0 = time.perf_counter()
+    scenes = study_scenes(settings, out)
+    if rank == 0:
+        (out / "settings.json").write_text(json.dumps(settings.to_dict(), indent=1) + "\n")
+    ev = Evidence(settings.to_dict())
+    times: dict[str, float] = {}
+    low = lowest_scale(settings)
+    n_cases = len(scenes) + 1
+    for i, case in enumerate(("materials", "rough", "polished"), 1):
+        log(f"case {i}/{n_cases}: {case}: {scenes[case].description}")
+        t = time.perf_counter()
+        res = run_scene(scenes[case], quiet=quiet, fresh=fresh, comm=comm)
+        times[case] = time.perf_counter() - t
+        if res is not None:
+            for pt in res.points:
+                ev.points[point_key(case, pt.point.compound, pt.point.velocity)] = point_value(pt)
+    log(f"case 4/{n_cases}: spread: {settings.spread_samples} samples of {low} at "
+        f"{settings.spread_pressure:g} MPa, {settings.spread_velocity:g} mm/s")
+    t = time.perf_counter()
+    try:
+        sp = run_sample_study(scenes["spread"], scale=low, n=settings.spread_samples,
+                              pressure=settings.spread_pressure,
+                              velocity=settings.spread_velocity, compound="c3", quiet=quiet,
+                              comm=comm)
+    except ValueError as err:  # fewer than two samples succeeded: the row says so
+        sp = None
+        ev.notes.append(f"samples: the spread study failed: {err}")
+    times["spread"] = time.perf_counter() - t
+    if sp is not None:
+        st = sp["study"]
+        if st.values.size > 10:
+            ev.spread = SpreadValue(low, int(st.values.size), float(st.S[0]), float(st.S[9]),
+                                    float(st.S_exact[9]), float(st.mean_ref))
+            ev.notes.append(f"samples: {st.values.size} samples; for independent samples "
+                            f"S(1) / S(10) = sqrt(10 (N - 1) / (N - 10)) = "
+                            f"{math.sqrt(10 * (st.values.size - 1) / (st.values.size - 10)):.2f}"
+                            " (the thesis' N = 287: 3.21)")
+        else:
+            ev.notes.append(f"samples: only {st.values.size} samples succeeded (> 10 needed)")
+    if "flash" in scenes:
+        log(f"case 5/{n_cases}: flash: {scenes['flash'].description}")
+        t = time.perf_counter()
+        try:
+            results = run_coupled_scene(scenes["flash"], quiet=quiet, comm=comm, fresh=fresh)
+        except SceneError as err:
+            results = None
+            ev.notes.append(f"speed: the flash case was refused: {err}")
+        times["flash"] = time.perf_counter() - t
+        for r in results or []:
+            iso, hot = flash_values(r)
+            ev.points[point_key("flash", r.point.compound, r.point.velocity)] = iso
+            ev.points[point_key("flash_hot", r.point.compound, r.point.velocity)] = hot
+    if rank != 0:
+        return None
+    log(f"case {n_cases}/{n_cases}: sawtooth: {settings.sawtooth_compound}, "
+        f"{settings.sawtooth_pressure:g} MPa, {settings.sawtooth_velocity:g} mm/s (2 runs)")
+    t = time.perf_counter()
+    ev.sawtooth = sawtooth_value(settings, out / "sawtooth.json")
+    times["sawtooth"] = time.perf_counter() - t
+    ev.notes += material_notes(settings)
+    return write_table(ev, out, settings, time.perf_counter() - t0, times)
+
+
+def sawtooth_value(settings: TrendSettings, path: Path) -> SawtoothValue:
+    """The sawtooth pair of ``verify sawtooth`` (thesis 6.4.1), kept in ``path`` for a rerun."""
+    key = {"compound": settings.sawtooth_compound, "pressure": settings.sawtooth_pressure,
+           "velocity": settings.sawtooth_velocity}
+    if path.is_file():
+        stored = json.loads(path.read_text())
+        if stored.get("key") == key:
+            return SawtoothValue(**stored["value"])
+    from rubberfriction.driver.verification.sawtooth import sawtooth_mu
+    from rubberfriction.forms.material_files import load_compound
+
+    try:
+        res = sawtooth_mu(load_compound(settings.sawtooth_compound),
+                          pressure=settings.sawtooth_pressure,
+                          velocity=settings.sawtooth_velocity)
+        sharp, smooth = res["sharp"], res["smooth"]
+        ok = sharp.status == "ok" and smooth.status == "ok"
+        value = SawtoothValue(float(sharp.mu_force), float(smooth.mu_force), ok,
+                              "" if ok else f"sharp {sharp.status}, smooth {smooth.status}")
+    except Exception as err:  # noqa: BLE001 -- one failed case never ends the study
+        value = SawtoothValue(math.nan, math.nan, False, f"{type(err).__name__}: {err}")
+    path.write_text(json.dumps(strict_json({"key": key, "value": value.__dict__})) + "\n")
+    return value
+
+
+def material_notes(settings: TrendSettings) -> list[str]:
+    """Evidence for the material rows: each compound's E' and tan delta at the excitation
+    frequency of the lowest scale, omega = 2 pi v / lambda_cut, and of the macro band's long
+    edge, 2 pi v / 20 mm (20 degC, eq. 3.34)."""
+    from rubberfriction.forms.material_files import load_compound
+
+    v = settings.compare_velocity
+    w_low, w_macro = 2 * math.pi * v / settings.cutoff, 2 * math.pi * v / 20.0
+    parts = []
+    for name in MATERIALS:
+        c = load_compound(name)
+        lo, ma = c.complex_modulus(w_low), c.complex_modulus(w_macro)
+        parts.append(f"{name} E' {lo.real:.3g} / {ma.real:.3g} MPa, tan d "
+                     f"{lo.imag / lo.real:.3f} / {ma.imag / ma.real:.3f}")
+    return [f"materials: at omega = {w_low:.3g} / {w_macro:.3g} rad/s (2 pi v over "
+            f"{settings.cutoff:g} / 20 mm, v = {v:g} mm/s): " + "; ".join(parts)]
+
+
+def write_table(ev: Evidence, out: Path, settings: TrendSettings, wall: float,
+                times: dict[str, float]) -> StudyResult:
+    """``evidence.json``, ``trends.txt``, ``trends.json`` and ``trends.png`` from the evidence."""
+    from rubberfriction.driver.study.plots import plot_trends
+
+    table = trends(min(settings.velocities), max(settings.velocities),
+                   settings.compare_velocity, settings.flash_compound)
+    rows = build_rows(ev, table)
+    header = (f"thesis trend table, {settings.describe()}; wall time {wall:.0f} s ("
+              + ", ".join(f"{k} {v:.0f} s" for k, v in times.items()) + ")")
+    files = [ev.save(out / "evidence.json")]
+    text = table_text(rows, header)
+    (out / "trends.txt").write_text(text + "\n")
+    (out / "trends.json").write_text(json.dumps(strict_json(
+        {"settings": settings.to_dict(), "wall_time_s": wall, "case_times_s": times,
+         "agree_in_sign": sum(r.verdict == "agrees" for r in rows),
+         "rows": [r.to_dict() for r in rows]}), indent=1) + "\n")
+    files += [out / "trends.txt", out / "trends.json", plot_trends(rows, out / "trends.png",
+                                                                   settings.describe())]
+    return StudyResult(rows, ev, out, files, wall, times)

@@ -1,0 +1,185 @@
+"""The trend study's table builder (driver/study): exact, never the outcome of a trend.
+
+What is pinned: the ratio of two evidence values and its sign against the thesis' direction,
+the spread test (|r - 1| against the two 95 % half widths in quadrature), the factor-1.5 ratio
+test, a failed or absent case giving a "missing" row with its reason, evidence.json round trips
+(NaN included), and that the evidence read from a finished campaign is the campaign's own
+numbers (results.csv).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import pytest
+
+from rubberfriction.driver.study.cases import (
+    TrendSettings,
+    lowest_scale,
+    quick_settings,
+    scene_texts,
+)
+from rubberfriction.driver.study.evidence import (
+    Evidence,
+    PointValue,
+    SawtoothValue,
+    SpreadValue,
+    point_key,
+)
+from rubberfriction.driver.study.trends import RATIO_FACTOR, build_rows, table_text, trends
+
+TABLE = trends(100.0, 1000.0, 1000.0, "m1")
+
+
+def _evidence(**mu: float) -> Evidence:
+    """Materials c1..c6 and the other cases at 1000 mm/s, mu given per compound (default 0.5)."""
+    ev = Evidence({})
+    for c in ("c1", "c2", "c3", "c4", "c5", "c6"):
+        ev.points[point_key("materials", c, 1000.0)] = PointValue(mu.get(c, 0.5), ci95=0.01,
+                                                                  contact=0.2)
+    ev.points[point_key("rough", "c3", 1000.0)] = PointValue(mu.get("rough", 0.6), ci95=0.01)
+    ev.points[point_key("polished", "c3", 1000.0)] = PointValue(mu.get("polished", 0.45),
+                                                                ci95=0.01, contact=0.3)
+    for v, iso, hot in ((100.0, 0.5, 0.45), (1000.0, 0.6, 0.40)):
+        ev.points[point_key("flash", "m1", v)] = PointValue(iso)
+        ev.points[point_key("flash_hot", "m1", v)] = PointValue(hot)
+    ev.spread = SpreadValue("micro1", 30, 0.047, 0.015, 0.0149, 0.3)
+    ev.sawtooth = SawtoothValue(0.3, 0.2)
+    return ev
+
+
+def _row(rows, key):
+    return next(r for r in rows if r.key == key)
+
+
+def test_eight_rows_with_thesis_statements():
+    assert [t.key for t in TABLE] == ["speed", "glass", "hardness", "filler", "rough",
+                                      "sawtooth", "samples", "polish"]
+    assert all(t.thesis and t.comparisons for t in TABLE)
+
+
+def test_ratios_signs_and_verdicts_are_exact():
+    rows = build_rows(_evidence(c1=0.6, c4=0.5, c2=0.55, c5=0.5, c6=0.7, c3=0.4,
+                                polished=0.35), TABLE)
+    glass = _row(rows, "glass")
+    assert glass.comparisons[0].ratio == pytest.approx(0.6 / 0.5, rel=1e-12)
+    assert glass.comparisons[1].ratio == pytest.approx(0.55 / 0.5, rel=1e-12)
+    assert glass.verdict == "agrees"
+    hardness = _row(rows, "hardness")  # c6 / c2 > 1 agrees, c3 / c1 = 0.4 / 0.6 < 1 does not
+    assert [c.sign for c in hardness.comparisons] == [True, False]
+    assert hardness.verdict == "partly"
+    assert any("c3 / c1" in w for w in hardness.why)  # the disagreement says why
+    speed = _row(rows, "speed")  # isothermal 0.6 / 0.5 rises, flash 0.40 / 0.45 falls
+    assert speed.comparisons[0].ratio == pytest.approx(1.2)
+    assert speed.comparisons[1].ratio == pytest.approx(0.40 / 0.45)
+    assert speed.verdict == "agrees"
+    polish = _row(rows, "polish")  # mu 0.35 / 0.4 falls, contact 0.3 / 0.2 rises
+    assert polish.comparisons[1].ratio == pytest.approx(1.5)
+    assert polish.verdict == "agrees"
+    assert "7 of 8 trends agree in sign" in table_text(rows, "header")
+
+
+def test_information_only_pairs_do_not_count():
+    # filler: c1 / c2 counts; c3 / c6 and c4 / c5 (missed by the thesis too) are information
+    rows = build_rows(_evidence(c1=0.6, c2=0.5, c3=0.1, c6=0.9, c4=0.1, c5=0.9), TABLE)
+    filler = _row(rows, "filler")
+    assert [c.counts for c in filler.comparisons] == [True, False, False]
+    assert [c.sign for c in filler.comparisons] == [True, False, False]
+    assert filler.verdict == "agrees"
+
+
+def test_spread_test_uses_both_half_widths():
+    ev = _evidence(c1=0.505, c4=0.5)
+    ev.points[point_key("materials", "c1", 1000.0)].ci95 = 0.03
+    ev.points[point_key("materials", "c4", 1000.0)].ci95 = 0.04
+    c = _row(build_rows(ev, TABLE), "glass").comparisons[0]
+    assert c.uncertainty == pytest.approx(math.hypot(0.03 / 0.505, 0.04 / 0.5), rel=1e-12)
+    assert c.sign is True and c.significant is False  # 1 % against about 10 %
+    one_sample = _evidence()
+    one_sample.points[point_key("materials", "c1", 1000.0)].ci95 = math.nan
+    assert _row(build_rows(one_sample, TABLE), "glass").comparisons[0].significant is None
+
+
+def test_thesis_ratio_within_a_factor():
+    ev = _evidence()
+    ev.sawtooth = SawtoothValue(1.4 * RATIO_FACTOR * 1.01, 1.0)
+    saw = _row(build_rows(ev, TABLE), "sawtooth")
+    assert saw.verdict == "agrees" and saw.ratio_ok is False
+    ev.sawtooth = SawtoothValue(1.4 * RATIO_FACTOR * 0.99, 1.0)
+    assert _row(build_rows(ev, TABLE), "sawtooth").ratio_ok is True
+    samples = _row(build_rows(ev, TABLE), "samples")
+    assert samples.comparisons[0].ratio == pytest.approx(0.047 / 0.015)
+    assert samples.ratio_ok is True
+
+
+def test_failed_or_absent_case_is_missing_with_its_reason():
+    ev = _evidence()
+    ev.points[point_key("materials", "c5", 1000.0)] = PointValue(math.nan, ok=False,
+                                                                 reason="micro1: no window")
+    del ev.points[point_key("flash_hot", "m1", 1000.0)]
+    rows = build_rows(ev, TABLE)
+    glass = _row(rows, "glass")
+    assert glass.verdict == "missing"
+    assert any("micro1: no window" in w for w in glass.why)
+    assert _row(rows, "speed").verdict == "missing"
+    assert any("not run" in w for w in _row(rows, "speed").why)
+
+
+def test_evidence_round_trip(tmp_path):
+    ev = _evidence()
+    ev.points["x:c1@10"] = PointValue(math.nan, ok=False, reason="r",
+                                      scale_mu={"macro": 0.5, "meso": 0.25})
+    ev.notes.append("materials: note")
+    back = Evidence.load(ev.save(tmp_path / "evidence.json"))
+    assert back.spread == ev.spread and back.sawtooth == ev.sawtooth
+    assert back.notes == ev.notes
+    assert math.isnan(back.points["x:c1@10"].mu)
+    assert back.points["x:c1@10"].scale_mu == {"macro": 0.5, "meso": 0.25}
+    assert back.points[point_key("materials", "c2", 1000.0)] == \
+        ev.points[point_key("materials", "c2", 1000.0)]
+    assert "NaN" not in (tmp_path / "evidence.json").read_text()  # strict JSON
+
+
+def test_settings_and_cases():
+    full, quick = TrendSettings(), quick_settings()
+    assert lowest_scale(full) == "micro1" and lowest_scale(quick) == "meso"
+    texts = scene_texts(full)
+    assert set(texts) == {"materials", "rough", "polished", "spread", "flash"}
+    assert 'compounds = ["c1", "c2", "c3", "c4", "c5", "c6"]' in texts["materials"]
+    assert "height_scale = 1.25" in texts["rough"]
+    assert 'polish_scales = ["micro1"]' in texts["polished"]
+    assert 'mode = "hot-layer"' in texts["flash"]
+    assert all("cutoff = 0.04" in t for t in texts.values())
+
+
+def test_every_case_scene_is_valid(tmp_path):
+    from rubberfriction.driver.scenes import parse_scene
+
+    for settings in (TrendSettings(), quick_settings()):
+        for case, text in scene_texts(settings).items():
+            scene = parse_scene(text, case, tmp_path)
+            assert scene.n_scales == {"micro1": 3, "meso": 2}[lowest_scale(settings)], case
+
+
+def test_evidence_of_a_campaign_is_its_results_csv(tmp_path):
+    """point_value reads mu, its spread, the contact and mu per scale of a finished campaign:
+    the same numbers as the campaign's results.csv / scales.csv (printed to 6 digits)."""
+    from mpi4py import MPI  # noqa: F401  (before DOLFINx)
+
+    from rubberfriction.driver.multiscale.campaign import run_scene
+    from rubberfriction.driver.scenes import parse_scene
+    from rubberfriction.driver.study.evidence import point_value
+    from tiny_scenes import two_sines
+
+    scene = parse_scene(two_sines("study_tiny", [10.0]), "tiny", tmp_path).with_output(tmp_path)
+    res = run_scene(scene, quiet=True)
+    pv = point_value(res.points[0])
+    with open(Path(res.output) / "results.csv") as f:
+        row = next(csv.DictReader(f))
+    assert pv.ok and pv.mu == pytest.approx(float(row["mu"]), rel=1e-5)  # the CSV prints 6 digits
+    with open(Path(res.output) / "scales.csv") as f:
+        scales = list(csv.DictReader(f))
+    assert pv.scale_mu == pytest.approx({s["name"]: float(s["mu"]) for s in scales}, rel=1e-5)
+    assert pv.contact == pytest.approx(float(scales[-1]["contact_fraction"]), rel=1e-5)
