@@ -135,13 +135,16 @@ def _allowed(key: Key) -> str:
         return '`"slope"`, `"resolution"` or a wavelength > 0'
     low = next(((v, s) for v, s in ((key.above, "("), (key.minimum, "[")) if v is not None),
                None)
+    high = next(((v, s) for v, s in ((key.below, ")"), (key.maximum, "]")) if v is not None),
+                None)
     text = ""
-    if low is not None and key.maximum is not None:
-        text = f"{low[1]}{toml_value(low[0], short=True)}, {toml_value(key.maximum, short=True)}]"
+    if low is not None and high is not None:
+        text = (f"{low[1]}{toml_value(low[0], short=True)}, "
+                f"{toml_value(high[0], short=True)}{high[1]}")
     elif low is not None:
         text = (">" if low[1] == "(" else ">=") + f" {toml_value(low[0], short=True)}"
-    elif key.maximum is not None:
-        text = f"<= {toml_value(key.maximum, short=True)}"
+    elif high is not None:
+        text = ("<" if high[1] == ")" else "<=") + f" {toml_value(high[0], short=True)}"
     if key.nonempty:
         text = "non-empty" + (f", each {text}" if text else "")
     return text

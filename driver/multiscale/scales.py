@@ -7,7 +7,7 @@ carries the periodic samples its runs slide over.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -15,7 +15,7 @@ import numpy as np
 from rubberfriction.driver.multiscale.results import ScaleSet
 from rubberfriction.driver.scenes import Scene, SceneError, surface_scale_names
 from rubberfriction.driver.surfaces.roads import road_builder, tip_rows
-from rubberfriction.driver.surfaces import SurfaceError, extract_samples
+from rubberfriction.driver.surfaces import SurfaceError, extract_samples, polish_sample
 
 
 @dataclass(frozen=True)
@@ -59,12 +59,31 @@ class Scales:
 
 
 def build_scales(scene: Scene, n_samples: int) -> Scales:
-    """Band-pass scales (eq. 6.10, 6.14) and ``n_samples`` periodic samples per scale (6.3.1)."""
+    """Band-pass scales (eq. 6.10, 6.14) and ``n_samples`` periodic samples per scale (6.3.1).
+
+    The road's heights are ``[surface] height_scale`` times the stated road's (thesis 6.5.2;
+    sines: the amplitudes); the samples of the polished scales have their tips truncated
+    (``polish_fraction``, thesis 6.5.3, :func:`~rubberfriction.driver.surfaces.polish.
+    truncate_tips`).  Both settings are in the provenance (``campaign.json``)."""
+    scales = _build_scales(scene, n_samples)
     s = scene.surface
+    polished = set(s.polished)
+    scales.sets = [replace(ss, samples=tuple(polish_sample(smp, s.polish_fraction)
+                                             for smp in ss.samples))
+                   if ss.name in polished else ss for ss in scales.sets]
+    scales.provenance["height_scale"] = s.height_scale
+    scales.provenance["polish"] = {"fraction": s.polish_fraction, "scales": list(s.polished)}
+    return scales
+
+
+def _build_scales(scene: Scene, n_samples: int) -> Scales:
+    """The scales and their samples of :func:`build_scales` before polishing."""
+    s = scene.surface
+    k = s.height_scale
     if s.source == "sines":
         sets = []
         names = surface_scale_names(s)
-        for i, (a, lam) in enumerate(zip(s.amplitudes, s.wavelengths)):
+        for i, (a, lam) in enumerate(zip([k * a for a in s.amplitudes], s.wavelengths)):
             L = s.block_lengths[i] if s.block_lengths else s.periods_per_block * lam
             if abs(L / lam - round(L / lam)) > 1e-9:
                 raise SceneError(f"{scene.source}: [surface].block_lengths[{i}] = {L:g}: expected "
@@ -78,8 +97,9 @@ def build_scales(scene: Scene, n_samples: int) -> Scales:
             if abs(L0 / lam - round(L0 / lam)) > 1e-9:
                 break
         else:
-            full = sine_sample(list(s.amplitudes), list(s.wavelengths), L0, s.points_per_wavelength)
-        desc = "sines: " + " + ".join(f"{a:g} sin(2 pi x / {lam:g})" for a,
+            full = sine_sample([k * a for a in s.amplitudes], list(s.wavelengths), L0,
+                               s.points_per_wavelength)
+        desc = "sines: " + " + ".join(f"{k * a:g} sin(2 pi x / {lam:g})" for a,
                                       lam in zip(s.amplitudes, s.wavelengths))
         return Scales(sets, full, desc, {"source": "sines", "amplitudes": list(s.amplitudes),
                                          "wavelengths": list(s.wavelengths)})
@@ -118,7 +138,7 @@ def _multiscale_road(scene: Scene) -> Any:
     edges its cut-off rule kept."""
     s = scene.surface
     return road_builder(s.source, s.files, surface_scale_names(s), s.block_lengths,
-                        scene.name)(tuple(s.edges))
+                        scene.name, s.height_scale)(tuple(s.edges))
 
 
 def macro_road(scene: Scene, start: float, length: float,
@@ -129,7 +149,7 @@ def macro_road(scene: Scene, start: float, length: float,
     s = scene.surface
     x = np.arange(0.0, length + 0.5 * dx, dx)
     if s.source == "sines":
-        a, lam = s.amplitudes[0], s.wavelengths[0]
+        a, lam = s.height_scale * s.amplitudes[0], s.wavelengths[0]
         return x, a * np.sin(2.0 * np.pi * (x + start) / lam)
     try:
         band = _multiscale_road(scene).scales[0].profile

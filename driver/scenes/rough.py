@@ -73,6 +73,12 @@ class SurfaceConfig:
     points_per_wavelength: int
     cutoff: str | float = "slope"
     max_slope: float = 1.3
+    #: every height of the road times this (thesis 6.5.2); sines: the amplitudes
+    height_scale: float = 1.0
+    #: fraction of each polished sample's points the flat tops cover (thesis 6.5.3); 0: none
+    polish_fraction: float = 0.0
+    #: scales whose samples are polished; empty: every scale below the coarsest two
+    polish_scales: tuple[str, ...] = ()
     #: edges as the scene states them; ``edges`` are those the cut-off rule keeps
     stated_edges: tuple[float, ...] = ()
     #: what the rule did, band by band (None for sines)
@@ -83,6 +89,14 @@ class SurfaceConfig:
     @property
     def n_scales(self) -> int:
         return len(self.wavelengths) if self.source == "sines" else len(self.edges) - 1
+
+    @property
+    def polished(self) -> tuple[str, ...]:
+        """The scales whose samples are polished: ``polish_scales``, or every scale below the
+        coarsest two when it is empty; none when ``polish_fraction`` is 0."""
+        if self.polish_fraction == 0.0:
+            return ()
+        return self.polish_scales or tuple(surface_scale_names(self)[2:])
 
 
 @dataclass(frozen=True)
@@ -385,7 +399,38 @@ def _parse_surface(origin: str, base: Path | None, doc: dict, s: dict[str, Any],
     if surface.source in ROAD_SOURCES:
         surface = _cut(origin, surface, name=name)
         warnings.extend(_steep_band_warnings(surface.cutoff_report))
+    _check_road_changes(origin, surface, stated_names, warnings)
     return surface, stated_names
+
+
+def _check_road_changes(origin: str, surface: SurfaceConfig, stated_names: Sequence[str],
+                        warnings: list[str]) -> None:
+    """``height_scale`` and the polish keys: the factor and the fraction in range, the polished
+    scales among those the cut-off keeps."""
+    if not surface.height_scale > 0:
+        raise SceneError(f"{origin}: [surface].height_scale = {surface.height_scale!r}: expected "
+                         "a factor > 0")
+    f = surface.polish_fraction
+    if not 0.0 <= f < 1.0:
+        raise SceneError(f"{origin}: [surface].polish_fraction = {f!r}: expected a fraction "
+                         "0 <= f < 1")
+    names = surface_scale_names(surface)
+    for i, nm in enumerate(surface.polish_scales):
+        if nm in names:
+            continue
+        why = (f"the cut-off rule ({_cutoff_text(surface)}) dropped scale {nm}"
+               if nm in stated_names else f"no scale of that name{V.suggest(nm, names)}")
+        raise SceneError(f"{origin}: [surface].polish_scales[{i}] = {nm!r}: {why}; expected "
+                         f"names of the scene's scales ({', '.join(names)})")
+    if len(set(surface.polish_scales)) != len(surface.polish_scales):
+        raise SceneError(f"{origin}: [surface].polish_scales = {list(surface.polish_scales)}: "
+                         "expected each scale once")
+    if f == 0.0 and surface.polish_scales:
+        warnings.append("[surface].polish_scales is ignored: polish_fraction = 0")
+    elif f > 0.0 and not surface.polished:
+        warnings.append(f"[surface].polish_fraction = {f:g} polishes no scale: the scene has "
+                        f"{len(names)} scale(s) ({', '.join(names)}) and an empty polish_scales "
+                        "means those below the coarsest two; name the scales in polish_scales")
 
 
 def _parse_conditions(origin: str, base: Path | None, c: dict[str, Any]) -> ConditionsConfig:
@@ -507,7 +552,8 @@ def _cut(origin: str, surface: SurfaceConfig, name: str) -> SurfaceConfig:
     try:
         rule = parse_cutoff(surface.cutoff, surface.max_slope)
         road, report = resolve_road(surface.source, surface.files, surface.edges, names,
-                                    surface.block_lengths, rule, title=name)
+                                    surface.block_lengths, rule, title=name,
+                                    height_scale=surface.height_scale)
     except SurfaceError as err:
         raise SceneError(f"{origin}: [surface] (source = {surface.source!r}, edges = "
                          f"{list(surface.edges)}, {_cutoff_text(surface)}): {err}") from None
@@ -519,7 +565,8 @@ def _cut(origin: str, surface: SurfaceConfig, name: str) -> SurfaceConfig:
 
 def with_surface(scene: Scene, **changes: Any) -> Scene:
     """The scene with ``[surface]`` keys changed (``edges`` as stated, ``cutoff``, ``max_slope``,
-    ...) and its cut-off rule applied again (for studies of the lowest scale)."""
+    ``height_scale``, ``polish_fraction``, ``polish_scales`` (a tuple), ...) and its cut-off
+    rule applied again (for studies of the lowest scale and of road trends)."""
     base = scene.surface.stated or scene.surface
     bad = set(changes) - {f.name for f in fields(base)}
     if bad:
@@ -527,6 +574,7 @@ def with_surface(scene: Scene, **changes: Any) -> Scene:
     surface = replace(base, **changes)
     if surface.source in ROAD_SOURCES:
         surface = _cut(scene.source, surface, name=scene.name)
+    _check_road_changes(scene.source, surface, surface_scale_names(base), [])
     return replace(scene, surface=surface)
 
 

@@ -28,6 +28,7 @@ class Key:
     minimum: float | None = None  # value >= minimum
     above: float | None = None  # value > above
     maximum: float | None = None  # value <= maximum
+    below: float | None = None  # value < below
     nonempty: bool = False
     unit: str = ""  # of a number or its list elements, "1": dimensionless (from UNITS below)
 
@@ -83,6 +84,21 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "points_per_wavelength": Key("int", 64,
                                      "source = sines: vertices of the rigid polyline "
                                      "per wavelength", minimum=8),
+        "height_scale": Key("float", 1.0, "every height of the road times this factor (all "
+                            "bands, measured and generated; sines: the amplitudes) before bands "
+                            "and samples are cut: a rougher (> 1) or smoother (< 1) road, thesis "
+                            "6.5.2.  Band rms heights and slopes scale with it, so cutoff = "
+                            "\"slope\" sees steeper bands and may keep fewer scales: compare "
+                            "roads at the same scales with a wavelength cutoff", above=0.0),
+        "polish_fraction": Key("float", 0.0, "polishing (thesis 6.5.3, fig. 6.26, 6.28: flattened "
+                               "asperities): on every sample of the polish_scales the heights "
+                               "above the level this fraction of the sample's points exceed are "
+                               "set to that level (flat tops covering this fraction of the "
+                               "sample; driver.surfaces.polish.truncate_tips); 0: unpolished",
+                               minimum=0.0, below=1.0),
+        "polish_scales": Key("strs", [], "scales whose samples polish_fraction truncates (names "
+                             "of scales the cut-off keeps); empty: every scale below the coarsest "
+                             "two (the micro scales)"),
     },
     "samples": {
         "pressure": Key("int", 2, "k: surface samples per scale on the frictionless pressure "
@@ -356,7 +372,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
 UNITS: dict[str, str] = {
     "[surface].cutoff": "mm", "[surface].max_slope": "1", "[surface].edges": "mm",
     "[surface].block_lengths": "mm", "[surface].top_fraction": "1", "[surface].amplitudes": "mm",
-    "[surface].wavelengths": "mm",
+    "[surface].wavelengths": "mm", "[surface].height_scale": "1", "[surface].polish_fraction": "1",
     "[samples].max_failed_fraction": "1",
     "[conditions].pressures": "MPa", "[conditions].velocities": "mm/s",
     "[conditions].T0": "K or degC (T0_unit)",
@@ -443,7 +459,7 @@ def _where(section: str, key: str) -> str:
 def check_value(origin: str, section: str, name: str, key: Key, value: Any) -> Any:
     where = f"{origin}: {_where(section, name)}"
     bounds = {"minimum": key.minimum, "above": key.above, "maximum": key.maximum,
-              "error": SceneError}
+              "below": key.below, "error": SceneError}
     k = key.kind
     if k == "str":
         V.text(where, value, error=SceneError)

@@ -13,7 +13,7 @@ Modules: :mod:`.profile` (container, units, detrending), :mod:`.readers` (text/C
 :mod:`.defects` (dropouts, outliers, resampling), :mod:`.psd`, :mod:`.hdc`, :mod:`.bands`,
 :mod:`.closure` (periodic spline closure), :mod:`.samples`, :mod:`.multiscale`,
 :mod:`.generators`, :mod:`.reconstruction` (fig. 6.5 alternatives), :mod:`.default_road`,
-:mod:`.plots`.
+:mod:`.polish` (truncated asperity tips, thesis 6.5.3), :mod:`.plots`.
 """
 
 from rubberfriction.driver.surfaces.bands import (
@@ -58,6 +58,7 @@ from rubberfriction.driver.surfaces.multiscale import (
     Scale,
     multiscale_from_measurements,
 )
+from rubberfriction.driver.surfaces.polish import polish_sample, truncate_tips
 from rubberfriction.driver.surfaces.profile import Profile, detrend, unit_factor
 from rubberfriction.driver.surfaces.psd import (
     PowerLawFit,
@@ -116,6 +117,7 @@ __all__ = [
     "log_bin",
     "lowpass",
     "multiscale_from_measurements",
+    "polish_sample",
     "profile_from_psd",
     "psd_1d",
     "psd_iso_from_1d",
@@ -131,6 +133,7 @@ __all__ = [
     "self_affine_profile",
     "self_affine_psd",
     "sinusoid_sum_profile",
+    "truncate_tips",
     "two_sine_profile",
     "unit_factor",
 ]

@@ -2,7 +2,8 @@
 
 A scene states its scale edges and a cut-off rule (:mod:`rubberfriction.driver.surfaces.cutoff`);
 :func:`resolve_road` builds the road (the default road, the four-scale road or measured
-profiles), applies the rule and returns the road with the kept edges and the rule's report.
+profiles; its heights times the scene's ``height_scale``), applies the rule and returns the road
+with the kept edges and the rule's report.
 :func:`tip_rows` says per scale how the sharpest asperity tip of its samples compares with the
 scale's contact element size.
 """
@@ -18,6 +19,7 @@ import numpy as np
 
 from rubberfriction.driver.surfaces import default_road, load_profile, multiscale_from_measurements
 from rubberfriction.driver.surfaces.cutoff import CutoffReport, CutoffRule, apply_cutoff
+from rubberfriction.driver.surfaces.errors import SurfaceError
 from rubberfriction.driver.surfaces.four_scale import four_scale_road
 from rubberfriction.driver.surfaces.multiscale import MultiScaleSurface
 
@@ -29,10 +31,18 @@ ROAD_SOURCES = ("default_road", "four_scale", "files")
 
 
 def road_builder(source: str, files: Sequence[Path], names: Sequence[str],
-                 block_lengths: Sequence[float], title: str = ""
+                 block_lengths: Sequence[float], title: str = "", height_scale: float = 1.0
                  ) -> Callable[[tuple[float, ...]], MultiScaleSurface]:
     """``build(edges)`` for a road source; the scales keep the stated ``names`` and
-    ``block_lengths`` (empty: the bands' long edges) whatever edges the cut-off leaves."""
+    ``block_lengths`` (empty: the bands' long edges) whatever edges the cut-off leaves.
+
+    ``height_scale`` (scene ``[surface] height_scale``, thesis 6.5.2: a rougher road) multiplies
+    every band profile and carrier.  The band split is linear, so this is the road's heights
+    multiplied before the bands are cut; band rms heights and slopes scale by the factor, and a
+    slope cut-off rule sees the steeper bands.  1 leaves the road exactly as built."""
+    k = float(height_scale)
+    if not k > 0:
+        raise SurfaceError(f"height_scale = {height_scale!r}: expected a factor > 0")
     profiles = [load_profile(p) for p in files] if source == "files" else []
 
     def build(edges: tuple[float, ...]) -> MultiScaleSurface:
@@ -47,6 +57,12 @@ def road_builder(source: str, files: Sequence[Path], names: Sequence[str],
             sc.name = names[i]
             if block_lengths:
                 sc.block_length = float(block_lengths[i])
+            if k != 1.0:
+                sc.profile = sc.profile.with_h(k * sc.profile.h)
+                if sc.carrier is not None:
+                    sc.carrier = sc.carrier.with_h(k * sc.carrier.h)
+        if k != 1.0:
+            road.provenance["height_scale"] = k
         assert len(road.scales) == n
         return road
 
@@ -55,9 +71,11 @@ def road_builder(source: str, files: Sequence[Path], names: Sequence[str],
 
 def resolve_road(source: str, files: Sequence[Path], edges: Sequence[float],
                  names: Sequence[str], block_lengths: Sequence[float], rule: CutoffRule,
-                 title: str = "") -> tuple[MultiScaleSurface, CutoffReport]:
-    """The road of a scene's ``[surface]`` with its cut-off applied (SurfaceError if impossible)."""
-    build = road_builder(source, files, names, block_lengths, title)
+                 title: str = "", height_scale: float = 1.0
+                 ) -> tuple[MultiScaleSurface, CutoffReport]:
+    """The road of a scene's ``[surface]`` with its cut-off applied (SurfaceError if impossible);
+    the rule sees the bands of the road with its heights times ``height_scale``."""
+    build = road_builder(source, files, names, block_lengths, title, height_scale)
     return apply_cutoff(build, edges, rule, names)
 
 

@@ -43,9 +43,11 @@ def _unit(unit: str) -> str:
 
 def number(where: str, value: Any, *, what: str = "a number", minimum: float | None = None,
            above: float | None = None, maximum: float | None = None,
-           shown: Any = None, error: type[InputError] = InputError) -> float:
+           below: float | None = None, shown: Any = None,
+           error: type[InputError] = InputError) -> float:
     """A finite real number (not a bool) with optional bounds: ``>= minimum``, ``> above``,
-    ``<= maximum``.  ``shown`` is the value printed in the message (default: ``value``)."""
+    ``<= maximum``, ``< below``.  ``shown`` is the value printed in the message (default:
+    ``value``)."""
     show = value if shown is None else shown
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         fail(where, show, what, error)
@@ -58,6 +60,8 @@ def number(where: str, value: Any, *, what: str = "a number", minimum: float | N
         fail(where, show, f"{what} > {above:g}", error)
     if maximum is not None and v > maximum:
         fail(where, show, f"{what} <= {maximum:g}", error)
+    if below is not None and v >= below:
+        fail(where, show, f"{what} < {below:g}", error)
     return v
 
 
