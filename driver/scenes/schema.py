@@ -390,6 +390,7 @@ UNITS: dict[str, str] = {
     "[thermal].first_layer": "mm", "[thermal].grading": "1", "[thermal].probes_x": "mm",
     "[thermal].probes_z": "mm", "[thermal].pauses": "s", "[thermal].points": "mm",
     "[thermal].auto_dT": "K", "[thermal].partition_depth": "mm", "[thermal].mu_const": "1",
+    "[thermal].stationary_tol": "1",
     "[thermal].hot_layer_rises": "K", "[thermal].hot_layer": "mm",
     "[thermal].hot_transition": "mm",
     "[separated].pressures": "MPa", "[separated].pressure_factors": "1",

@@ -120,7 +120,8 @@ class ThermalMacroResult:
     contact_dissipation (the contact's cumulative frictional dissipation, mJ/mm), road_sink (mean
     road surface deflection u_z under the contact, pressure-weighted, mm; 0 on a rigid road),
     T_active (eq. 8.1 at the surface: the plain mean of the block surface temperature over
-    the heat interface nodes in contact, K), probes (K); the final profiles along the interface; stats."""
+    the heat interface nodes in contact, K), probes (K); the final profiles along the interface;
+    stats."""
 
     sliding: SlidingResult
     series: dict[str, np.ndarray] = field(default_factory=dict)
