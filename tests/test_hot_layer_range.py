@@ -44,7 +44,9 @@ class Cascade:
 def _run(monkeypatch: pytest.MonkeyPatch, T_contact_max: float):
     def macro(spec, rubber, thermal, wall_limit=0.0):
         macro.law = spec.friction
-        return SimpleNamespace(ok=True, series={"T_contact": np.array([T_contact_max - 1.0])},
+        T = np.array([T_contact_max - 1.0])
+        return SimpleNamespace(ok=True, series={"T_contact": T, "T_active": T,
+                                                "s": np.array([1.0])},
                                stats={"T_contact_max": T_contact_max})
 
     monkeypatch.setattr(TL, "run_thermal_macro", macro)

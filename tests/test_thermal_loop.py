@@ -31,6 +31,7 @@ from rubberfriction.driver.multiscale.thermal_loop import (CascadeRunner, Layere
 from rubberfriction.driver.runtime.farm import Executor
 from rubberfriction.driver.runtime.store import Store
 from rubberfriction.driver.sliding.run import sliding_runner
+from rubberfriction.driver.sliding.window import stationary_mean
 from rubberfriction.driver.theory.adhesion import BellLaw, mu_adhesion
 from rubberfriction.driver.thermal.macro import MacroSettings, flat_road_spec
 from rubberfriction.forms.material_files import load_road
@@ -211,7 +212,10 @@ def test_coupled_scene_writes_mu_with_and_without_flash_temperature(tmp_path: Pa
     assert main(["run", str(path), "--quiet"]) == 0
     folder = tmp_path / "out" / "thermal"
     rows = list(csv.DictReader(open(folder / "loop_results.csv")))
-    assert len(rows) == 1 and rows[0]["status"] == "ok"
+    # two homogenisation points cannot show a stationary mu: the row says so, and its mu is the
+    # last half's, the last point's cascade
+    assert len(rows) == 1 and rows[0]["status"] == "not stationary"
+    assert rows[0]["stationary"] == "False" and rows[0]["macro_road"] == "flat"
     assert float(rows[0]["mu_flash"]) < float(rows[0]["mu_isothermal"])
     # the coupled point's cost against the isothermal point's (its cascade), a wall clock for
     # each: the coupled point runs that cascade and more (warm-started cascades cost less than
@@ -319,10 +323,14 @@ def test_hot_layer_mode_agrees_with_the_coupled_loop(case: Case):
     assert hot.T_law_max == hot.temperatures[-1]
     assert hot.macro.stats["T_contact_max"] <= hot.T_law_max
     assert not any("hot-layer law" in n for n in hot.notes), hot.notes
-    assert T_c > T0 + 1.0 and hot.mu == pytest.approx(
+    assert T_c > T0 + 1.0 and hot.mu_end == pytest.approx(
         0.6 + np.interp(T_c, hot.temperatures, hot.mu_lower), rel=1e-14)
+    # the point's mu: the stationary mean of the law at eq. (8.1)'s T_S per step
+    s, T_S = hot.macro.series["s"], hot.macro.series["T_active"]
+    assert hot.mu == pytest.approx(
+        stationary_mean(s, 0.6 + np.interp(T_S, hot.temperatures, hot.mu_lower)).mean, rel=1e-12)
     coupled = case.loop(1000.0, LoopSettings(divisions=2, mu_const=0.6))
-    lower_hot, lower_coupled = hot.mu - 0.6, coupled.mu - 0.6
+    lower_hot, lower_coupled = hot.mu_end - 0.6, coupled.mu_end - 0.6
     assert abs(lower_hot - lower_coupled) < 0.05 * lower_coupled, (lower_hot, lower_coupled)
 
 
@@ -339,7 +347,8 @@ def test_hot_layer_scene_writes_its_law(tmp_path: Path):
         'mode = "coupled"', 'mode = "hot-layer"\nhot_layer_rises = [0.0, 20.0]'))
     assert main(["run", str(path), "--quiet"]) == 0
     rows = list(csv.DictReader(open(tmp_path / "out" / "thermal" / "loop_results.csv")))
-    assert rows[0]["mode"] == "hot-layer" and rows[0]["status"] == "ok"
+    assert rows[0]["mode"] == "hot-layer" and rows[0]["status"] in ("ok", "not stationary")
+    assert (rows[0]["status"] == "ok") == (rows[0]["stationary"] == "True")
     assert 0 < 2 * float(rows[0]["wall_isothermal"]) < 1.5 * float(rows[0]["wall"])  # two cascades
     law = list(csv.DictReader(open(
         tmp_path / "out" / "thermal" / "tread_default_p0.3_v1000" / "hot_layer.csv")))

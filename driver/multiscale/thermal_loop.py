@@ -27,8 +27,23 @@ D. the whole cascade runs again with those layers (pressure branch down, frictio
 E. the homogenised mu(s_i) goes back into the running macro contact (``Contact.set_friction``),
    which continues from its state at s_i (no recomputation from t = 0).
 
-The last point is the end of the slide; its mu is the result, mu_const + mu(s_end).  Points:
-``divisions`` equal parts of the slide (n_d, thesis 8.4.3) or an explicit list.
+The last point is the end of the slide.  Points: ``divisions`` equal parts of the slide (n_d,
+thesis 8.4.3) or an explicit list.
+
+The macro road (``rough``): flat (the cascade's own macro scale stands for the road's macro band
+and the macro contact gets the whole cascade's mu), or the rough macro band of the scene's road
+(thesis figs. 8.2, 8.17 a; ``thermal_scene.macro_inputs``, the road of the given mode): the macro
+block then IS the macro scale, its contact gets the mu the cascade hands to its macro scale
+(:func:`lower_mu`: the scales below plus alpha mu_A) and its own hysteresis on the band enters
+through F_x / F_z.
+
+The point's mu (thesis 8.5.3: "time homogenization after a stationary coefficient of friction was
+reached in the macroscopic simulation"): the time average of the macro mu over the stationary
+part of the slide (``window.stationary_mean``, the converged rule on equal blocks of the slide),
+with its window, drift and whether it is stationary; the macro mu is F_x / F_z on the rough road
+and the contact's mu on the flat one (there the block adds only its edges).  On the rough road the
+isothermal reference is the same macro run with the isothermal mu and the bulk at T0 (thesis
+8.5.3's mechanical macro run), averaged by the same rule.
 
 Resume and MPI: the macro run is deterministic and runs on rank 0; every lower-scale run goes
 through the store, so a rerun of a killed loop recomputes the macro run (seconds) and only the
@@ -53,6 +68,7 @@ from rubberfriction.driver.multiscale.cascade import CampaignPlanner, RoughCasca
 from rubberfriction.driver.multiscale.results import Point, PointResult, ScaleSet
 from rubberfriction.driver.runtime.farm import run_farm
 from rubberfriction.driver.sliding.spec import InitialState, SlidingSpec
+from rubberfriction.driver.sliding.window import STATIONARY_BLOCKS, StationaryMean, stationary_mean
 from rubberfriction.driver.theory.adhesion import BellLaw
 from rubberfriction.driver.thermal.conduction import block_levels
 from rubberfriction.driver.thermal.macro import (
@@ -88,8 +104,13 @@ class LoopSettings:
     mu_const: float = 0.0
     auto_dT: float = 0.0
     max_points: int = 16
+    rough: bool = False  # the macro block on the rough macro band (module doc)
+    blocks: int = STATIONARY_BLOCKS  # the stationary mean's blocks of the slide
+    tol: float = 0.01  # and its tolerance (relative)
 
     def __post_init__(self) -> None:
+        V.integer("blocks", self.blocks, minimum=1)
+        V.positive("tol", self.tol)
         V.nonnegative("auto_dT", self.auto_dT, "K")
         V.integer("max_points", self.max_points, minimum=1)
         V.integer("divisions", self.divisions, minimum=1)
@@ -141,23 +162,81 @@ class ThermalLoopResult:
     error: str = ""  # the loop stopped (an exception in a homogenisation step)
     wall_isothermal: float = math.nan  # s in the isothermal cascade (the isothermal point's cost)
     s_final: float = math.inf  # sliding distance of the last homogenisation point (the slide's end)
+    average: StationaryMean | None = None  # the point's mu: stationary mean of the macro mu
+    iso_macro: ThermalMacroResult | None = None  # rough road: the isothermal macro run
+    iso_average: StationaryMean | None = None  # and its stationary mean
 
     @property
     def mu_isothermal(self) -> float:
+        """Flat road: mu_const + the isothermal cascade's mu; rough road: the stationary mean of
+        the isothermal macro run's F_x / F_z (nan where it did not run)."""
+        if self.settings.rough:
+            return _mean(self.iso_average)
         return self.settings.mu_const + _mu(self.isothermal)
 
     @property
-    def mu(self) -> float:
-        """mu_const + the lower scales' mu at the end of the slide; nan unless the macro run
-        finished, every homogenisation point was reached and the last cascade succeeded."""
+    def mu_end(self) -> float:
+        """mu_const + the lower scales' mu at the end of the slide (the last cascade's, on the
+        rough road the part handed to the macro scale); nan unless the macro run finished, every
+        homogenisation point was reached and the last cascade succeeded."""
         if (self.macro is None or not self.macro.ok or self.error or not self.intervals
                 or self.intervals[-1].s_end < self.s_final * (1.0 - 1e-6)):
             return math.nan
         return self.settings.mu_const + self.intervals[-1].mu_out
 
     @property
+    def mu(self) -> float:
+        """The point's mu: the stationary mean of the macro mu (module doc); nan where
+        :attr:`mu_end` is (a loop that did not finish).  ``stationary`` says whether a window
+        passed; if not, this is the last half's mean and the point says so in its notes."""
+        return _mean(self.average) if np.isfinite(self.mu_end) else math.nan
+
+    @property
+    def stationary(self) -> bool:
+        return self.average is not None and self.average.stationary
+
+    @property
     def ok(self) -> bool:
         return np.isfinite(self.mu)
+
+
+def _mean(avg: StationaryMean | None) -> float:
+    return avg.mean if avg is not None else math.nan
+
+
+def lower_mu(result: PointResult, rough: bool) -> float:
+    """The lower scales' mu on the macro contact (without mu_const): the whole cascade's on the
+    flat road; on the rough macro band the mu the cascade hands to its macro scale
+    (``friction_in``: its scale below plus alpha mu_A, eq. 7.8), since the macro block is the
+    macro scale there (its hysteresis on the band would count twice).  nan if the cascade failed."""
+    if not rough:
+        return _mu(result)
+    if not result.ok or not result.scales:
+        return math.nan
+    return float(result.scales[0].friction_in)
+
+
+def isothermal_macro(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings, friction: float,
+                     wall_limit: float = 0.0) -> ThermalMacroResult:
+    """The isothermal macro run of thesis 8.5.3 (rough road): constant ``friction``, the bulk at
+    T0 (``bulk_wlf`` off): the heat field is computed but acts on nothing mechanical."""
+    return run_thermal_macro(dataclasses.replace(spec, friction=friction), rubber,
+                             dataclasses.replace(thermal, bulk_wlf=False), wall_limit=wall_limit)
+
+
+def macro_average(macro: ThermalMacroResult | None, contact_mu: np.ndarray | None,
+                  blocks: int, tol: float) -> StationaryMean | None:
+    """The stationary mean of a macro run's mu: its F_x / F_z (``contact_mu`` None: the rough
+    road) or the contact's mu per step (the flat road)."""
+    if macro is None or not macro.series:
+        return None
+    y = macro.series["mu"] if contact_mu is None else contact_mu
+    return stationary_mean(macro.series["s"], y, blocks, tol)
+
+
+def average_note(what: str, avg: StationaryMean | None) -> str:
+    """The point's note on its averaging window."""
+    return f"{what}: {avg.describe()}" if avg is not None else f"{what}: no series to average"
 
 
 def _mu(result: PointResult) -> float:
@@ -345,7 +424,7 @@ class LoopObserver:
         self.parents.update(run_slots(result))  # a slot whose run failed keeps its last state
         wall = time.perf_counter() - wall
         run.exclude_from_wall_limit(wall)  # the macro run's wall clock counts its own work only
-        mu_out = _mu(result)
+        mu_out = lower_mu(result, self.settings.rough)
         iv = Interval(i + 1, s, t, self.mu_now, profile, parts, result, mu_out, wall)
         self.intervals.append(iv)
         if self.log:
@@ -380,7 +459,7 @@ def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
     iso = cascade(isothermal_partitions(spec, thermal, loop))  # A: isothermal mu(T0)
     out = ThermalLoopResult(cascade.point, iso, None, settings=loop,
                             wall_isothermal=time.perf_counter() - wall)
-    mu0 = _mu(iso)
+    mu0 = lower_mu(iso, loop.rough)
     if not np.isfinite(mu0):
         out.notes.append(f"isothermal cascade failed: {iso.reason}")
         out.wall = time.perf_counter() - wall
@@ -402,8 +481,34 @@ def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
         out.notes.append(f"the slide's end (s = {out.s_final:g} mm) was not reached as a "
                          "homogenisation point "
                          f"({out.macro.sliding.reason or 'no active contact there'})")
+    if loop.rough:
+        out.average = macro_average(out.macro, None, loop.blocks, loop.tol)
+        out.iso_macro = isothermal_macro(spec, rubber, thermal, loop.mu_const + mu0, wall_limit)
+        out.iso_average = macro_average(out.iso_macro, None, loop.blocks, loop.tol)
+        out.notes.append(average_note("isothermal macro mu", out.iso_average))
+    else:
+        blocks = (len(distances) if not loop.points and loop.auto_dT == 0 else loop.blocks)
+        out.average = macro_average(out.macro, contact_steps(out), blocks, loop.tol)
+    out.notes.append(average_note("macro mu", out.average))
     out.wall = time.perf_counter() - wall
     return out
+
+
+def contact_steps(res: ThermalLoopResult) -> np.ndarray | None:
+    """The flat road's macro mu per macro step: mu_const + the lower scales' mu of the interval
+    (s_i-1, s_i] the step ends in, the cascade's at s_i (its mu_in where that cascade failed);
+    nan beyond the last point.  With the points at equal divisions these are the blocks of the
+    stationary mean: its rule compares the last points' mu."""
+    if res.macro is None or not res.macro.series:
+        return None
+    s = res.macro.series["s"]
+    ends = np.array([iv.s_end for iv in res.intervals])
+    vals = np.array([iv.mu_out if np.isfinite(iv.mu_out) else iv.mu_in for iv in res.intervals])
+    k = np.searchsorted(ends * (1 + 1e-9) + 1e-12, s)
+    y = np.full(s.shape, math.nan)
+    inside = k < len(ends)
+    y[inside] = res.settings.mu_const + vals[k[inside]]
+    return y
 
 
 # ----------------------------------------------------------------------------------------------
@@ -421,8 +526,13 @@ class HotLayerSettings:
     layer: float = 0.005
     transition: float = 0.020
     mu_const: float = 0.0
+    rough: bool = False  # the macro block on the rough macro band (module doc)
+    blocks: int = STATIONARY_BLOCKS  # the stationary mean's blocks of the slide
+    tol: float = 0.01  # and its tolerance (relative)
 
     def __post_init__(self) -> None:
+        V.integer("blocks", self.blocks, minimum=1)
+        V.positive("tol", self.tol)
         r = np.asarray(self.rises, float)
         if r.size < 2 or r[0] != 0.0 or np.any(np.diff(r) <= 0):
             raise V.InputError(f"rises = {list(self.rises)!r} K: expected at least two "
@@ -454,22 +564,51 @@ class HotLayerResult:
     notes: list[str] = field(default_factory=list)
     law: Any = None  # mu_const + mu_lower as mu(p, v, T), linear in T (the macro run's friction)
     T_law_max: float = math.nan  # the law's highest surface temperature, K (constant beyond)
+    average: StationaryMean | None = None  # the point's mu: stationary mean of the macro mu
+    iso_macro: ThermalMacroResult | None = None  # rough road: the isothermal macro run
+    iso_average: StationaryMean | None = None  # and its stationary mean
 
     @property
     def mu_isothermal(self) -> float:
+        """Flat road: mu_const + the isothermal cascade's mu; rough road: the stationary mean of
+        the isothermal macro run's F_x / F_z."""
+        if self.settings.rough:
+            return _mean(self.iso_average)
         return self.settings.mu_const + float(self.mu_lower[0])
 
     @property
-    def mu(self) -> float:
+    def mu_end(self) -> float:
         """The macro contact's mu at the end of the slide: mu_const + the mu(T_S) law at the macro
-        run's contact temperature then (``T_contact``, pressure-weighted over the contact nodes),
-        as the coupled loop's mu is mu_const + the lower scales' mu at the end.  Not F_x / F_z of
-        the macro block, which adds the block's own hysteresis and edge effects (on the two-scale
-        test case as large as the lower scales' change for a 10 K rise; docs/verification.md)."""
+        run's contact temperature then (``T_contact``, pressure-weighted over the contact nodes).
+        Not F_x / F_z of the macro block, which on the flat road adds the block's own hysteresis
+        and edge effects (on the two-scale test case as large as the lower scales' change for a
+        10 K rise; docs/verification.md)."""
         if self.macro is None or not self.macro.ok or not self.macro.series:
             return math.nan
         T_c = self.macro.series["T_contact"][-1]
         return float(self.law(self.point.pressure, self.point.velocity, T_c))
+
+    def contact_mu(self) -> np.ndarray | None:
+        """The flat road's macro mu per macro step: the law at the surface temperature T_S of
+        eq. (8.1), the plain mean over the contact nodes (series ``T_active``)."""
+        if self.macro is None or not self.macro.series:
+            return None
+        p, v = self.point.pressure, self.point.velocity
+        return np.array([float(self.law(p, v, T)) if np.isfinite(T) else math.nan
+                         for T in self.macro.series["T_active"]])
+
+    @property
+    def mu(self) -> float:
+        """The point's mu: the stationary mean of the macro mu (module doc): F_x / F_z on the rough
+        road, :meth:`contact_mu` on the flat one; nan unless the macro run finished.
+        ``stationary`` says whether a window passed (if not: the last half's mean, noted)."""
+        if self.macro is None or not self.macro.ok or not self.macro.series:
+            return math.nan
+        return _mean(self.average)
+
+    @property
+    def stationary(self) -> bool:
+        return self.average is not None and self.average.stationary
 
     @property
     def ok(self) -> bool:
@@ -483,7 +622,9 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
     ranks, every run from rest), a mu(T_S) law (linear in T between the grid points, constant
     beyond, with a warning in ``notes`` when the contact got hotter: :func:`law_range_note`),
     then the thermomechanical macro run with that law: mu follows the computed surface
-    temperature node by node, with no down-passing.
+    temperature node by node, with no down-passing.  The point's mu: the module doc's stationary
+    mean (flat road: of the law at eq. 8.1's T_S per step; rough: of F_x / F_z, beside the
+    isothermal macro run's).
 
     No warm starts here: no physical path joins the grid's steady states, and slid on from the
     T0 cascade's states the default road's micro runs at 1 m/s went astray (docs/performance.md;
@@ -494,7 +635,7 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
     T0 = thermal.T0
     temps = T0 + np.asarray(hot.rises, float)
     results = cascade.many([hot_layer_partitions(T_S, T0, hot) for T_S in temps])  # side by side
-    mus = [_mu(r) for r in results]
+    mus = [lower_mu(r, hot.rough) for r in results]
     if log:
         for T_S, r, mu in zip(temps, results, mus):
             log(f"  hot layer T_S = {T_S:.2f} K: lower scales' mu {mu:.4g} "
@@ -517,6 +658,14 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
     note = law_range_note(out.T_law_max, out.macro.stats.get("T_contact_max", math.nan), T0)
     if note:
         out.notes.append(note)
+    if hot.rough:
+        out.average = macro_average(out.macro, None, hot.blocks, hot.tol)
+        out.iso_macro = isothermal_macro(spec, rubber, thermal, float(m[0]), wall_limit)
+        out.iso_average = macro_average(out.iso_macro, None, hot.blocks, hot.tol)
+        out.notes.append(average_note("isothermal macro mu", out.iso_average))
+    else:
+        out.average = macro_average(out.macro, out.contact_mu(), hot.blocks, hot.tol)
+    out.notes.append(average_note("macro mu", out.average))
     out.wall = time.perf_counter() - wall
     return out
 

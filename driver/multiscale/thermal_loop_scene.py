@@ -8,10 +8,14 @@ temperatures) and ``thermal/``:
 
 * ``mu_v.png`` -- the lower scales' mu(v) with and without flash temperature and the relative
   change, beside Persson's line-roughness theory with and without its flash temperature;
-* ``loop_results.csv`` -- one row per point: mu without flash temperature (the isothermal
-  cascade plus mu_const) and with it (mu_const + the lower scales' mu at the end of the slide),
-  their relative difference, the final surface temperature of the profile (eq. 8.1), the macro
-  run's stabilised sub-steps and the dashpots' share of its friction work, wall time, the
+* ``loop_results.csv`` -- one row per point: the macro road (``road_surface``: flat or rough),
+  status (ok, "not stationary": no stationary window, mu is the last half's mean, or failed),
+  mu without flash temperature (flat road: the isothermal cascade plus mu_const; rough road: the
+  isothermal macro run's stationary mean) and with it (the stationary mean of the macro mu,
+  ``thermal_loop`` module doc), their relative difference, whether the window was stationary,
+  the window (s from, to, mm) and its drift, mu_end (the macro contact's mu at the slide's
+  end), the final surface temperature of the profile (eq. 8.1), the macro run's stabilised
+  sub-steps and the dashpots' share of its friction work, wall time, the
   isothermal cascade's wall time (what the isothermal point costs; hot-layer mode: the sum of its
   runs' times, its cascades run side by side) and the ratio of the two (nan where the store
   answered runs: ``reused_runs``);
@@ -24,8 +28,7 @@ temperatures) and ``thermal/``:
 * ``<point>/series.csv``, ``interface.csv``, ``temperature.xdmf``, ``thermal.png`` -- the macro run
   (as in the given mode, ``thermal_scene.write_run``);
 * hot-layer mode: ``<point>/hot_layer.csv`` (T_S, the lower scales' mu and the per-scale mu) and
-  ``hot_layer.png`` (mu(T_S) and the macro mu(s)) instead of the interval files; the row's mu with
-  flash temperature is the macro contact's mu at the end of the slide.
+  ``hot_layer.png`` (mu(T_S) and the macro mu(s)) instead of the interval files.
 
 MPI: rank 0 runs the macro runs and the loop; every cascade is farmed over all ranks.
 """
@@ -69,13 +72,16 @@ def loop_settings(scene: Scene) -> LoopSettings:
     t = scene.thermal
     return LoopSettings(divisions=t.divisions, points=tuple(t.points), n_partitions=t.partitions,
                         partition_depth=t.partition_depth, mu_const=t.mu_const, auto_dT=t.auto_dT,
-                        max_points=t.max_points)
+                        max_points=t.max_points, rough=t.road_surface == "macro",
+                        blocks=t.stationary_blocks, tol=t.stationary_tol)
 
 
 def hot_layer_settings(scene: Scene) -> HotLayerSettings:
     t = scene.thermal
     return HotLayerSettings(rises=tuple(t.hot_layer_rises), layer=t.hot_layer,
-                            transition=t.hot_transition, mu_const=t.mu_const)
+                            transition=t.hot_transition, mu_const=t.mu_const,
+                            rough=t.road_surface == "macro", blocks=t.stationary_blocks,
+                            tol=t.stationary_tol)
 
 
 def run_coupled_scene(scene: Scene, *, quiet: bool = False, comm: Any = None,
@@ -172,7 +178,7 @@ def _points(scene, loop, scales, make_spec, executor, comm, quiet,
         if log:
             r = rows[-1]
             log(f"[thermal loop]   mu {r['mu_isothermal']:.4g} without, {r['mu_flash']:.4g} with "
-                f"flash temperature ({100 * r['change']:+.2f} %), surface "
+                f"flash temperature ({100 * r['change']:+.2f} %; {r['status']}), surface "
                 f"{r['T_surface'] - T0:+.3g} K, "
                 f"{res.wall:.1f} s{'; ' + '; '.join(res.notes) if res.notes else ''}")
     _write_rows(folder / "loop_results.csv", rows)
@@ -205,10 +211,17 @@ def _row(name: str, p: float, v: float, res, T0: float) -> dict:
     # a store that answered runs makes the times say nothing about the cost
     reused = sum(o.reused for c in cascades for runs in c.runs.values() for _, o in runs)
     cost = res.wall / wall_iso if wall_iso > 0 and not reused else math.nan
+    avg = res.average
+    status = ("failed" if not res.ok else "ok" if res.stationary else "not stationary")
     return {"compound": name, "pressure": p, "velocity": v, "mode": mode,
-            "status": "ok" if res.ok else "failed",
+            "macro_road": "rough" if res.settings.rough else "flat", "status": status,
             "mu_isothermal": iso, "mu_flash": res.mu,
             "change": res.mu / iso - 1.0 if iso else math.nan,
+            "stationary": bool(res.stationary),
+            "mu_window_start": avg.lo if avg else math.nan,
+            "mu_window_end": avg.hi if avg else math.nan,
+            "mu_window_drift": avg.drift if avg else math.nan,
+            "mu_end": res.mu_end,
             "mu_const": res.settings.mu_const, "points": points, "T_surface": T_s,
             "T_surface_std": T_std,
             **_macro_stabilisation(res.macro), "wall": res.wall, "wall_isothermal": wall_iso,

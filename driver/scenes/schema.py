@@ -268,8 +268,12 @@ SCHEMA: dict[str, dict[str, Key]] = {
                               choices=("rigid", "elastic")),
         "road_surface": Key("str", "flat", "flat, or macro: the block slides over the macro band "
                                            "(the first scale) of the scene's [surface], from "
-                                           "road_start on (mode = given only: the lower scales' "
-                                           "mu is the given one)",
+                                           "road_start on (thesis figs. 8.2, 8.17 a); given: the "
+                                           "given mu is that of the scales below; coupled, "
+                                           "hot-layer: the block is the cascade's macro scale, "
+                                           "its contact gets the mu the cascade hands to it and "
+                                           "the point's mu is its F_x / F_z "
+                                           "(driver/multiscale/thermal_loop.py)",
                             choices=("flat", "macro")),
         "road_start": Key("float", 0.0, "macro road: where along the band profile the road "
                                         "starts, mm",
@@ -325,6 +329,14 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "mu_const": Key("float", 0.0, "coupled: constant friction added on the macro scale to the "
                                       "lower scales' mu (thesis 8.3.2 adhesive part, 8.4.3: 0.6)",
                         minimum=0.0),
+        "stationary_blocks": Key("int", 10, "coupled, hot-layer: the point's mu is the macro mu "
+                                            "averaged over its stationary part, by the converged "
+                                            "rule on this many equal blocks of the slide "
+                                            "(driver/sliding/window.py stationary_mean; coupled "
+                                            "with divisions: the intervals are the blocks)",
+                                 minimum=1),
+        "stationary_tol": Key("float", 0.01, "coupled, hot-layer: the relative tolerance of that "
+                                             "rule", above=0.0),
         "bulk_wlf": Key("bool", True, "the macro block's relaxation times follow its temperature "
                                       "cell by cell (WLF)"),
         "hot_layer_rises": Key("floats", [0.0, 5.0, 10.0, 20.0, 40.0, 80.0],
@@ -394,6 +406,7 @@ UNITS: dict[str, str] = {
     "[thermal].first_layer": "mm", "[thermal].grading": "1", "[thermal].probes_x": "mm",
     "[thermal].probes_z": "mm", "[thermal].pauses": "s", "[thermal].points": "mm",
     "[thermal].auto_dT": "K", "[thermal].partition_depth": "mm", "[thermal].mu_const": "1",
+    "[thermal].stationary_tol": "1",
     "[thermal].hot_layer_rises": "K", "[thermal].hot_layer": "mm",
     "[thermal].hot_transition": "mm",
     "[separated].pressures": "MPa", "[separated].pressure_factors": "1",

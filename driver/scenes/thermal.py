@@ -53,6 +53,8 @@ class ThermalSceneConfig:
     road_mechanics: str = "rigid"  # or "elastic"
     road_surface: str = "flat"  # or "macro": the first band of [surface]
     road_start: float = 0.0
+    stationary_blocks: int = 10  # loop modes: the point's stationary mean (window.stationary_mean)
+    stationary_tol: float = 0.01
 
 
 def parse_thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
@@ -115,4 +117,5 @@ def parse_thermal(origin: str, doc: dict, t: dict) -> ThermalSceneConfig:
         hot_transition=t["hot_transition"], auto_dT=t["auto_dT"], max_points=t["max_points"],
         warm_start=t["warm_start"], warm_window_periods=t["warm_window_periods"],
         road_mechanics=t["road_mechanics"], road_surface=t["road_surface"],
-        road_start=t["road_start"])
+        road_start=t["road_start"], stationary_blocks=t["stationary_blocks"],
+        stationary_tol=t["stationary_tol"])

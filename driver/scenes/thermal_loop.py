@@ -20,7 +20,7 @@ LOOP_MODES = ("coupled", "hot-layer")
 def check_loop_table(where: str, t: dict[str, Any]) -> None:
     """Checks across the [thermal] keys of a loop mode (``where`` = "<origin>: [thermal]"): the
     hot layer's temperature rises and thickness, no given mu, the homogenisation points within
-    the slide, one slide on a flat road."""
+    the slide, one slide (on the flat road or the macro band, ``road_surface``)."""
     if t["mode"] == "hot-layer":
         r = t["hot_layer_rises"]
         if len(r) < 2 or r[0] != 0.0 or any(b <= a for a, b in zip(r[:-1], r[1:])):
@@ -41,7 +41,3 @@ def check_loop_table(where: str, t: dict[str, Any]) -> None:
     if t["slides"] > 1:
         raise SceneError(f"{where}: mode = '{t['mode']}' with slides = {t['slides']}: the loop "
                          "runs one slide (repeated slides take a given mu)")
-    if t["road_surface"] != "flat":
-        raise SceneError(f"{where}: mode = '{t['mode']}' with road_surface = "
-                         f"'{t['road_surface']}': the loop's cascade already holds the macro "
-                         "band; a rough macro road takes a given mu (mode = 'given')")

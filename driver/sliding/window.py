@@ -29,6 +29,7 @@ the larger contact the compression left.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -162,3 +163,56 @@ def error_estimate(means: np.ndarray, window_periods: int) -> float:
     lag = 0.5 * (window_periods - 1)  # periods between the window's centre and its last period
     err = abs(d) * (lag + r / (1.0 - r))
     return err / abs(window_mean) if window_mean and math.isfinite(err) else math.nan
+
+
+#: the stationary mean's default: blocks of the slide compared by the converged rule
+STATIONARY_BLOCKS = 10
+
+
+@dataclass(frozen=True)
+class StationaryMean:
+    """The time average of a series over its stationary part (:func:`stationary_mean`): the mean
+    over (lo, hi] of the sliding distance, that window's drift (second half against first half
+    over the mean), the blocks averaged, and whether the converged rule passed (False: the mean
+    is over the last half of the slide and is NOT a stationary value)."""
+
+    mean: float
+    lo: float
+    hi: float
+    drift: float
+    blocks: int
+    stationary: bool
+
+    def describe(self) -> str:
+        """One line for logs and notes."""
+        what = "stationary" if self.stationary else "NOT stationary (no window passed; last half)"
+        return (f"mean over s = {self.lo:.4g}-{self.hi:.4g} mm ({self.blocks} blocks), drift "
+                f"{100 * self.drift:+.2g} %, {what}")
+
+
+def stationary_mean(s: np.ndarray, y: np.ndarray, blocks: int = STATIONARY_BLOCKS,
+                    tol: float = 0.01, window_blocks: int = 1) -> StationaryMean:
+    """Time average of ``y`` (one value per step ending at sliding distance ``s``) over the
+    stationary part of a slide (thesis 8.5.3: time homogenisation after the macro mu became
+    stationary), by the converged rule of the periodic runs (:func:`converged_window`) on
+    ``blocks`` equal blocks of the slide (0, s_end] in place of periods: the first block is the
+    run-in; the last w blocks are averaged for the smallest w >= ``window_blocks`` whose mean
+    agrees with the w blocks before within ``tol`` (relative) and whose halves agree within
+    DRIFT_FACTOR * tol.  None passing: the mean of the last half of the slide, marked not
+    stationary (so always with fewer than 4 blocks: a run-in and two blocks to compare).  A series
+    that drifts linearly by d per block passes only for d <= tol (w = 1)."""
+    s, y = np.asarray(s, dtype=float), np.asarray(y, dtype=float)
+    keep = np.isfinite(y)
+    if s.size == 0 or not keep.any():
+        return StationaryMean(math.nan, math.nan, math.nan, math.nan, 0, False)
+    end = float(s[-1])
+    length = end / blocks
+    means = period_means(s, y, length)[:blocks]
+    halves = period_means(s, y, 0.5 * length)[:2 * blocks]
+    w = converged_window(means, tol, window_blocks, halves) if means.size == blocks else 0
+    stationary = w > 0 and bool(np.all(np.isfinite(means[-2 * w:])))
+    if not stationary:
+        w = max(blocks // 2, 1)
+    lo = end - w * length
+    return StationaryMean(weighted_mean(s, y, lo, end), lo, end, window_drift(s, y, lo, end), w,
+                          stationary)

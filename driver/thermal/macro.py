@@ -119,7 +119,9 @@ class ThermalMacroResult:
     heat_block, heat_road (stored, mJ/mm), friction_energy (cumulative heat input, mJ/mm),
     contact_dissipation (the contact's cumulative frictional dissipation, mJ/mm), road_sink (mean
     road surface deflection u_z under the contact, pressure-weighted, mm; 0 on a rigid road),
-    probes (K); the final profiles along the interface; stats."""
+    T_active (eq. 8.1 at the surface: the plain mean of the block surface temperature over
+    the heat interface nodes in contact, K), probes (K); the final profiles along the interface;
+    stats."""
 
     sliding: SlidingResult
     series: dict[str, np.ndarray] = field(default_factory=dict)
@@ -269,6 +271,7 @@ class ThermalCoupler:
             self._deflect_road(run, st, t)
         p = st["pressure"] * st["weight"] * st["active"]
         T_contact = float(p @ slave_T / p.sum()) if p.sum() > 0 else float("nan")
+        T_active = float(Tb[active].mean()) if active.any() else float("nan")  # eq. (8.1), z = 0
         if np.any(st["active"] > 0):
             self.T_active_max = float(np.fmax(self.T_active_max,
                                               np.max(slave_T[st["active"] > 0])))
@@ -280,7 +283,7 @@ class ThermalCoupler:
         self.surface_rows.append((Tb, Tr))
         self.rows.append((t, float(run.spec.velocity) * (t - run.t_start), mu, T_contact,
                           float(Tb.mean()), float(Tb.max()), float(Tr[self.behind]), eb, er,
-                          self.energy, self.dissipation, self.road_sink,
+                          self.energy, self.dissipation, self.road_sink, T_active,
                           *[float(self.heat.T.x.array[d]) for d in self.probe_dofs]))
         mean = lambda v: (L @ v) / np.maximum(self.count, 1.0)  # noqa: E731 -- per interface node
         self._last = {"x": self.heat.interface.x + self.x0, "T_block": Tb,
@@ -379,7 +382,7 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: MacroSetting
     if coupler.heat is None:
         return out
     cols = ["t", "s", "mu", "T_contact", "T_surface", "T_max", "T_road_behind", "heat_block",
-            "heat_road", "friction_energy", "contact_dissipation", "road_sink"]
+            "heat_road", "friction_energy", "contact_dissipation", "road_sink", "T_active"]
     cols += [f"probe_{i}" for i in range(len(settings.probes))]
     arr = np.array(coupler.rows, float).reshape(-1, len(cols))
     out.series = {c: arr[:, i] for i, c in enumerate(cols)}
