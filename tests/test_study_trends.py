@@ -183,3 +183,17 @@ def test_evidence_of_a_campaign_is_its_results_csv(tmp_path):
         scales = list(csv.DictReader(f))
     assert pv.scale_mu == pytest.approx({s["name"]: float(s["mu"]) for s in scales}, rel=1e-5)
     assert pv.contact == pytest.approx(float(scales[-1]["contact_fraction"]), rel=1e-5)
+
+
+def test_flash_values_of_a_loop_result():
+    from types import SimpleNamespace
+
+    from rubberfriction.driver.study.evidence import flash_values
+
+    res = SimpleNamespace(ok=True, mu=0.41, mu_isothermal=0.52,
+                          notes=["macro mu: not stationary, mean of the last half"])
+    iso, hot, notes = flash_values(res)
+    assert (iso.mu, hot.mu, iso.ok, hot.ok) == (0.52, 0.41, True, True)
+    assert notes == res.notes
+    failed = SimpleNamespace(ok=False, mu=math.nan, mu_isothermal=0.52, notes=["no law"])
+    assert flash_values(failed)[1].reason == "no law" and not flash_values(failed)[1].ok

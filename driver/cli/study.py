@@ -92,14 +92,26 @@ def _trends(args: argparse.Namespace) -> int:
 
 
 def _check(settings, out: Path) -> int:
-    """The cases' scenes validated (surface samples are not cut) and listed."""
-    from rubberfriction.driver.study.run import study_scenes
+    """The cases' scenes validated and listed; for the three cascade campaigns their samples
+    are cut and the wall time estimated as ``run --check`` does (one rank per core)."""
+    import os
 
-    if MPI.COMM_WORLD.Get_rank() == 0:
-        print(f"trend study: {settings.describe()}; output {out}")
+    from rubberfriction.driver.multiscale.campaign import check_scene
+    from rubberfriction.driver.multiscale.estimate import estimate_wall_time
+    from rubberfriction.driver.runtime.store import Store
+    from rubberfriction.driver.study.run import CAMPAIGNS, study_scenes
+
+    if MPI.COMM_WORLD.Get_rank() != 0:
+        return 0
+    print(f"trend study: {settings.describe()}; output {out}")
+    ranks = os.cpu_count() or 1
     for case, scene in study_scenes(settings, out).items():
-        if MPI.COMM_WORLD.Get_rank() == 0:
-            print(f"  {case}: {scene.description} -> {out / 'scenes' / (case + '.toml')}")
+        print(f"  {case}: {scene.description} -> {out / 'scenes' / (case + '.toml')}")
+        if case in CAMPAIGNS:
+            folder = scene.output / "store"
+            est = estimate_wall_time(scene, check_scene(scene), ranks,
+                                     Store(folder) if folder.is_dir() else None)
+            print(f"    {est.line()}")
     return 0
 
 

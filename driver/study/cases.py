@@ -32,7 +32,7 @@ class TrendSettings:
     cutoff: float = 0.04  # mm: the four-scale road kept to micro1 (three scales)
     seed: int = 1  # sample positions
     pressure: float = 0.3  # MPa (thesis 6.5.1)
-    velocities: tuple[float, ...] = (100.0, 1000.0)  # mm/s: the rise above 0.1 m/s
+    velocities: tuple[float, ...] = (100.0, 1000.0)  # mm/s: mu(v) with and without flash
     compare_velocity: float = 1000.0  # mm/s: material and surface rows (thesis fig. 6.19 b)
     pressure_samples: int = 1
     friction_samples: int = 3
@@ -45,6 +45,7 @@ class TrendSettings:
     flash_compound: str = "m1"
     flash_rises: tuple[float, ...] = (0.0, 20.0, 40.0, 80.0)  # K: hot-layer T_S - T0
     flash_slide: float = 10.0  # mm: the thermal macro block's slide
+    flash_road: str = "macro"  # the macro block on the road's macro band (8.17 a) or "flat"
     sawtooth_compound: str = "m2"
     sawtooth_pressure: float = 0.3  # MPa (thesis fig. 6.10)
     sawtooth_velocity: float = 500.0  # mm/s (thesis fig. 6.10)
@@ -63,9 +64,10 @@ class TrendSettings:
 
 def quick_settings() -> TrendSettings:
     """``--quick``: two scales (cut at 0.3 mm), 1 + 2 samples, 20 spread samples, three hot-layer
-    temperatures, a shorter thermal slide.  About ten minutes on 2 cores; every table says so."""
+    temperatures, a shorter thermal slide on the flat road; every table says so."""
     return replace(TrendSettings(), quick=True, cutoff=0.3, friction_samples=2,
-                   spread_samples=20, flash_rises=(0.0, 40.0, 80.0), flash_slide=6.0)
+                   spread_samples=20, flash_rises=(0.0, 40.0, 80.0), flash_slide=6.0,
+                   flash_road="flat")
 
 
 def _surface(s: TrendSettings, *, height_scale: float = 1.0,
@@ -136,6 +138,7 @@ def _hot_layer(s: TrendSettings) -> str:
         "mu_const = 0.0", f"hot_layer_rises = {toml_value([float(r) for r in s.flash_rises])}",
         "kappa = 0.8", "h_c = 1.6", 'road = "r1"', "block_length = 20.0", "block_height = 8.0",
         "edge_radius = 1.0", f"slide_distance = {toml_value(s.flash_slide)}",
+        f"road_surface = {toml_value(s.flash_road)}",
         "h_contact = 0.25", "road_depth = 10.0", "road_ahead = 2.0", "road_behind = 20.0"])
 
 
@@ -145,7 +148,7 @@ def scene_texts(s: TrendSettings) -> dict[str, str]:
     base = _surface(s)
     texts = {
         "materials": _scene("trend_materials", "compounds c1..c6 of thesis table 6.1 (6.5.1)", s,
-                            base, list(MATERIALS), sorted({*s.velocities, s.compare_velocity})),
+                            base, list(MATERIALS), [s.compare_velocity]),
         "rough": _scene("trend_rough", f"c3 on the four-scale road with heights x "
                         f"{s.rough_scale:g} (the rougher surface, 6.5.2)", s,
                         _surface(s, height_scale=s.rough_scale), ["c3"], [s.compare_velocity]),

@@ -119,10 +119,11 @@ def point_value(point: Any) -> PointValue:
         ok=bool(point.status == "ok"), reason=(point.reason or "").strip().split("\n")[0])
 
 
-def flash_values(result: Any) -> tuple[PointValue, PointValue]:
-    """Without and with flash temperature, from a hot-layer (or coupled) loop result."""
+def flash_values(result: Any) -> tuple[PointValue, PointValue, list[str]]:
+    """Without and with flash temperature, from a hot-layer (or coupled) loop result, and the
+    loop's notes (its averaging windows and whether the macro mu became stationary)."""
     ok = bool(result.ok)
     reason = "; ".join(result.notes) if not ok else ""
     iso = PointValue(mu=_num(result.mu_isothermal), ok=math.isfinite(_num(result.mu_isothermal)))
     hot = PointValue(mu=_num(result.mu), ok=ok, reason=reason)
-    return iso, hot
+    return iso, hot, list(result.notes)

@@ -40,6 +40,10 @@ from rubberfriction.driver.study.evidence import (
 from rubberfriction.driver.study.trends import TrendRow, build_rows, table_text, trends
 
 
+#: the cases that are multiscale campaigns (``rubberfriction run`` scenes), in run order
+CAMPAIGNS = ("materials", "rough", "polished")
+
+
 @dataclass
 class StudyResult:
     """What ``study trends`` returns on rank 0."""
@@ -91,7 +95,7 @@ def run_trends(settings: TrendSettings, out: str | Path, *, quiet: bool = False,
     times: dict[str, float] = {}
     low = lowest_scale(settings)
     n_cases = len(scenes) + 1
-    for i, case in enumerate(("materials", "rough", "polished"), 1):
+    for i, case in enumerate(CAMPAIGNS, 1):
         log(f"case {i}/{n_cases}: {case}: {scenes[case].description}")
         t = time.perf_counter()
         res = run_scene(scenes[case], quiet=quiet, fresh=fresh, comm=comm)
@@ -132,9 +136,11 @@ def run_trends(settings: TrendSettings, out: str | Path, *, quiet: bool = False,
             ev.notes.append(f"speed: the flash case was refused: {err}")
         times["flash"] = time.perf_counter() - t
         for r in results or []:
-            iso, hot = flash_values(r)
+            iso, hot, notes = flash_values(r)
             ev.points[point_key("flash", r.point.compound, r.point.velocity)] = iso
             ev.points[point_key("flash_hot", r.point.compound, r.point.velocity)] = hot
+            ev.notes += [f"speed: {r.point.compound} at {r.point.velocity:g} mm/s: {n}"
+                         for n in notes]
     if rank != 0:
         return None
     log(f"case {n_cases}/{n_cases}: sawtooth: {settings.sawtooth_compound}, "

@@ -42,7 +42,7 @@ class Trend:
     thesis: str  # the thesis' figure or sentence
     comparisons: tuple[Comparison, ...]
     thesis_ratio: float | None = None  # where the thesis gives a number
-    notes_from: tuple[str, ...] = ()  # evidence notes (``<key>: ...``) that explain this row
+    notes_from: tuple[str, ...] = ()  # evidence notes (``<key>: ...``) shown on a disagreement
 
 
 @dataclass
@@ -194,7 +194,8 @@ def build_rows(ev: Evidence, table: tuple[Trend, ...]) -> list[TrendRow]:
             for c, r in zip(t.comparisons, results):
                 if r.counts and (r.sign is False or ratio_ok is False):
                     why.append(_scale_line(ev, c) or f"{c.label}: {r.ratio:.3f}")
-            why += [n for n in ev.notes if n.split(":")[0] in (t.key, *t.notes_from)]
+            why += [n for n in ev.notes if n.split(":")[0] in t.notes_from]
+        why += [n for n in ev.notes if n.split(":")[0] == t.key]
         for r in results:
             if r.counts and r.sign is not None and r.significant is False:
                 why.append(f"{r.label}: {r.ratio:.3f} is within the samples' spread "
