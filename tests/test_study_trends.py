@@ -197,3 +197,10 @@ def test_flash_values_of_a_loop_result():
     assert notes == res.notes
     failed = SimpleNamespace(ok=False, mu=math.nan, mu_isothermal=0.52, notes=["no law"])
     assert flash_values(failed)[1].reason == "no law" and not flash_values(failed)[1].ok
+
+
+def test_api_refuses_an_unknown_setting():
+    import rubberfriction as rf
+
+    with pytest.raises(rf.InputError, match="did you mean 'cutoff'"):
+        rf.study_trends(cutof=0.04)

@@ -35,6 +35,7 @@ __all__ = [
     "scene_schema",
     "shipped_scenes",
     "split_bands",
+    "study_trends",
     "table",
     "theory",
     "theory_curves",

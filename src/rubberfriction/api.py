@@ -463,3 +463,32 @@ def verify(case: str, **parameters: Any) -> dict[str, Any]:
     args.case, args.json = case, None
     check_parameters(parser, args)  # an impossible value: one InputError naming the option
     return module.run(args)
+
+
+def study_trends(*, quick: bool = False, output: str | Path | None = None,
+                 quiet: bool = False, fresh: bool = False, **settings: Any) -> Any:
+    """Run (or resume) the thesis' trend study, as ``rubberfriction study trends`` does
+    (``docs/trends.md``): ``quick`` for its two-scale variant, ``output`` the folder (default
+    ``rf-results/trends`` or ``rf-results/trends-quick``), ``settings`` any field of
+    ``driver.study.cases.TrendSettings`` (``cutoff=0.04`` mm, ``friction_samples=3``,
+    ``flash=False``, ...).  Returns a ``StudyResult`` (``.rows``: one ``TrendRow`` per trend
+    with ``.verdict``, ``.comparisons`` (each ``.ratio``, ``.sign``) and ``.why``; ``.files``)
+    on rank 0, None elsewhere.  An unknown setting raises an :class:`InputError`.
+
+    Delegates to ``driver.study.run.run_trends``."""
+    from rubberfriction.driver.study.cases import TrendSettings, quick_settings
+
+    base = quick_settings() if quick else TrendSettings()
+    known = [f.name for f in fields(base)]
+    for key in settings:
+        if key not in known:
+            close = difflib.get_close_matches(key, known, n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise InputError(f"study_trends({key}=...): not a setting{hint} (settings: "
+                             f"{', '.join(known)})")
+    _mpi()
+    from rubberfriction.driver.study.run import run_trends
+
+    folder = output if output is not None else (
+        "rf-results/trends-quick" if quick else "rf-results/trends")
+    return run_trends(replace(base, **settings), folder, quiet=quiet, fresh=fresh)
