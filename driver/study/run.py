@@ -1,8 +1,10 @@
 """``rubberfriction study trends``: run the trend cases, collect the evidence, write the table.
 
 The campaigns (``driver/study/cases.py``) run one after the other, each farmed over all ranks
-like ``rubberfriction run`` and each with its own store under ``<out>/<case>/``, so a second call
-resumes: finished runs are reused, and the table is rebuilt from them.  A case that fails (a
+like ``rubberfriction run``, with their reports in ``<out>/<case>/`` and one store,
+``<out>/store``: a run two cases share (the polished road's unpolished scales are the base
+road's) is computed once, and a second call resumes, reusing every finished run.  The flash
+case keeps its own store in ``<out>/flash/``.  A case that fails (a
 failed point, a failed thermal loop) leaves its rows "missing" with the reason; the study goes
 on.  The sawtooth pair (two single-scale runs) runs on rank 0 and is kept in
 ``<out>/sawtooth.json``.  Everything the table reads is saved in ``<out>/evidence.json``;
@@ -98,7 +100,8 @@ def run_trends(settings: TrendSettings, out: str | Path, *, quiet: bool = False,
     for i, case in enumerate(CAMPAIGNS, 1):
         log(f"case {i}/{n_cases}: {case}: {scenes[case].description}")
         t = time.perf_counter()
-        res = run_scene(scenes[case], quiet=quiet, fresh=fresh, comm=comm)
+        res = run_scene(scenes[case], quiet=quiet, fresh=fresh and i == 1, comm=comm,
+                        store_folder=out / "store")
         times[case] = time.perf_counter() - t
         if res is not None:
             for pt in res.points:
@@ -110,7 +113,7 @@ def run_trends(settings: TrendSettings, out: str | Path, *, quiet: bool = False,
         sp = run_sample_study(scenes["spread"], scale=low, n=settings.spread_samples,
                               pressure=settings.spread_pressure,
                               velocity=settings.spread_velocity, compound="c3", quiet=quiet,
-                              comm=comm)
+                              comm=comm, output=out)
     except ValueError as err:  # fewer than two samples succeeded: the row says so
         sp = None
         ev.notes.append(f"samples: the spread study failed: {err}")
