@@ -12,8 +12,10 @@ A. the isothermal cascade (chapter 6, ``cascade.RoughCascade``) gives mu(T0); th
    not shifted by temperature;
 B. at each homogenisation point s_i (sliding distance) the rubber temperature below the active
    contact nodes is averaged over x, eq. (8.1) (``thermal.profile.average_profile``);
-C. the profile becomes n_p partitions over ``partition_depth`` (8.3.3), the temperature layers of
-   every lower-scale run (``SlidingSpec.temperature_layers``: WLF-shifted relaxation per cell);
+C. the profile becomes n_p partitions over ``partition_depth`` (8.3.3), continued down each
+   lower-scale block's height by partitions doubling in thickness at the macro field's mean
+   (``Partitions.block``): the temperature layers of every lower-scale run
+   (``SlidingSpec.temperature_layers``: WLF-shifted relaxation per cell);
 D. the whole cascade runs again with those layers (pressure branch down, friction branch up, all
    scales and samples), through the campaign store: its keys contain the layer temperatures.
    Warm starts (``CascadeRunner(states=)``, the scene's ``[thermal] warm_start``): every run
@@ -270,9 +272,9 @@ class LayeredSpecs:
     def __call__(self, point: Point, i: int, sample: Any, pressure: float, friction: Any,
                  branch: str) -> SlidingSpec:
         spec = self.make_spec(point, i, sample, pressure, friction, branch)
-        if self.partitions is not None:
-            spec = dataclasses.replace(spec, temperature_layers=self.partitions.layers,
-                                       temperature=self.partitions.background)
+        if self.partitions is not None:  # the macro field over this block's height (8.3.3)
+            layers, background = self.partitions.block(block_height(spec))
+            spec = dataclasses.replace(spec, temperature_layers=layers, temperature=background)
         if self.states is None:
             return spec
         spec = dataclasses.replace(spec, keep_state=self.keep)
@@ -285,6 +287,12 @@ class LayeredSpecs:
             return spec
         spec = dataclasses.replace(spec, initial_state=InitialState.stored(state, key))
         return dataclasses.replace(spec, window_periods=self.warm_window or spec.window_periods)
+
+
+def block_height(spec: SlidingSpec) -> float:
+    """The height of a lower-scale run's block (``sliding.model.geometry``'s rule: the given
+    height, else the block length, else the period)."""
+    return float(spec.block_height or spec.block_length or spec.period)
 
 
 def run_slots(result: PointResult) -> dict[RunSlot, str]:
