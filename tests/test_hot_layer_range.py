@@ -1,10 +1,11 @@
 """The hot-layer law mu(T_S) beyond its highest surface temperature (issue 44, thesis 8.5.3).
 
-The macro run's friction law is a spline through the grid's mu(T_S) (``fit_mu_pvT``), clamped
-beyond the grid: mu stays at mu(T_top) with zero slope.  That is no physics, so the point says
-so: when the macro contact got hotter than the highest tabulated T_S, ``run_hot_layer`` adds a
-warning to the result's notes (the ``loop_results.csv`` notes column and the log).  Nothing here
-runs FE: the cascades and the macro run are stand-ins with known temperatures.
+The macro run's friction law is a spline through the grid's mu(T_S) (``fit_mu_pvT``), which would
+hold mu(T_top) beyond the grid: no physics.  So the law is never used there: when the macro
+contact's hottest node got hotter than the highest tabulated T_S, ``run_hot_layer`` adds a
+cascade at twice the largest rise and redoes the macro run with the extended law, at most
+``MAX_LAW_EXTENSIONS`` times; a run still beyond it refuses the point with a one-line reason.
+Nothing here runs FE: the cascades and the macro run are stand-ins with known temperatures.
 """
 
 from __future__ import annotations
@@ -19,7 +20,9 @@ from rubberfriction.driver.multiscale import thermal_loop as TL
 from rubberfriction.driver.multiscale.results import Point
 
 T0 = 293.15
-MU = {0.0: 0.40, 10.0: 0.38, 20.0: 0.35}  # lower scales' mu at T0 + rise
+# lower scales' mu at T0 + rise: the grid (0, 10, 20) and its doublings (40, 80)
+MU = {0.0: 0.40, 10.0: 0.38, 20.0: 0.35, 40.0: 0.31, 80.0: 0.25}
+GRID = (0.0, 10.0, 20.0)
 
 
 @dataclass(frozen=True)
@@ -28,56 +31,100 @@ class Spec:
 
 
 class Cascade:
-    """One stand-in result per hot-layer partition: mu from MU at the partition's T_S."""
+    """One stand-in result per hot-layer partition: mu from MU at the partition's T_S (nan where
+    ``fail`` holds that rise); records the rises of every call."""
 
     point = Point("tread_default", 0.3, 1000.0)
 
+    def __init__(self, fail: tuple[float, ...] = ()):
+        self.calls: list[list[float]] = []
+        self.fail = fail
+
     def many(self, partitions):
-        out = []
+        out, rises = [], []
         for part in partitions:
-            T_S = part.layers[0][1]
-            mu = MU[round(T_S - T0, 6)]
-            out.append(SimpleNamespace(ok=True, mu=SimpleNamespace(mean=mu), wall_time=0.0))
+            rise = round(part.layers[0][1] - T0, 6)
+            rises.append(rise)
+            mu = float("nan") if rise in self.fail else MU[rise]
+            out.append(SimpleNamespace(ok=mu == mu, mu=SimpleNamespace(mean=mu), wall_time=0.0,
+                                       reason="stand-in failure"))
+        self.calls.append(rises)
         return out
 
 
-def _run(monkeypatch: pytest.MonkeyPatch, T_contact_max: float):
+def _run(monkeypatch: pytest.MonkeyPatch, seen: list[float], fail: tuple[float, ...] = ()):
+    """run_hot_layer with a macro stand-in whose k-th run's hottest contact node is seen[k]
+    (the last value repeats); returns the result, the laws the macro runs got and the cascade."""
+    laws: list = []
+
     def macro(spec, rubber, thermal, wall_limit=0.0):
-        macro.law = spec.friction
-        T = np.array([T_contact_max - 1.0])
-        return SimpleNamespace(ok=True, series={"T_contact": T, "T_active": T,
+        laws.append(spec.friction)
+        T = seen[min(len(laws), len(seen)) - 1]
+        s = np.array([T - 1.0])
+        return SimpleNamespace(ok=True, series={"T_contact": s, "T_active": s,
                                                 "s": np.array([1.0])},
-                               stats={"T_contact_max": T_contact_max})
+                               stats={"T_contact_max": T})
 
     monkeypatch.setattr(TL, "run_thermal_macro", macro)
-    settings = TL.HotLayerSettings(rises=tuple(MU), mu_const=0.6)
-    res = TL.run_hot_layer(Spec(), None, SimpleNamespace(T0=T0), settings, Cascade())
-    return res, macro.law
+    cascade = Cascade(fail)
+    settings = TL.HotLayerSettings(rises=GRID, mu_const=0.6)
+    res = TL.run_hot_layer(Spec(), None, SimpleNamespace(T0=T0), settings, cascade)
+    return res, laws, cascade
 
 
-def test_within_the_grid_no_warning(monkeypatch: pytest.MonkeyPatch) -> None:
-    res, law = _run(monkeypatch, T0 + 20.0)
-    assert res.T_law_max == T0 + 20.0
+def test_within_the_grid_the_law_and_the_run_are_unchanged(monkeypatch: pytest.MonkeyPatch):
+    res, laws, cascade = _run(monkeypatch, [T0 + 20.0])
+    assert len(laws) == 1 and cascade.calls == [list(GRID)]  # one macro run, the grid's cascades
+    np.testing.assert_array_equal(res.temperatures, T0 + np.array(GRID))
+    assert res.T_law_max == T0 + 20.0 and not res.error and res.ok
     assert not any("hot-layer law" in n for n in res.notes), res.notes
     # the law interpolates linearly between the grid points (eq. 8.1's mu per T_S)
-    assert float(law(0.3, 1000.0, T0 + 15.0)) == pytest.approx(0.6 + 0.365, rel=1e-12)
+    assert float(laws[0](0.3, 1000.0, T0 + 15.0)) == pytest.approx(0.6 + 0.365, rel=1e-12)
 
 
-def test_beyond_the_grid_is_a_warning_with_the_numbers(monkeypatch: pytest.MonkeyPatch) -> None:
-    res, law = _run(monkeypatch, T0 + 32.5)
-    # the law is clamped there (the behaviour the warning reports) ...
-    assert float(law(0.3, 1000.0, T0 + 32.5)) == pytest.approx(0.6 + 0.35, rel=1e-12)
-    assert float(law.evaluate(0.3, 1000.0, T0 + 32.5)[3]) == 0.0  # dmu/dT
-    # ... and the point says so, once, with the temperatures
-    notes = [n for n in res.notes if "hot-layer law" in n]
-    assert len(notes) == 1, res.notes
-    assert notes[0].startswith("warning: the contact reached T0 +32.5 K, 12.5 K above the "
-                               "hot-layer law's highest surface temperature T0 +20 K")
-    assert "hot_layer_rises" in notes[0]
-    assert res.ok  # the point keeps its number: the law is right wherever the contact was cooler
+def test_a_hotter_contact_extends_the_law_and_redoes_the_macro_run(monkeypatch):
+    """The first macro run reaches T0 + 32.5 K (beyond T0 + 20): the grid gains T0 + 40 K, the
+    macro run is redone with the extended law and stays within it (T0 + 30 K)."""
+    res, laws, cascade = _run(monkeypatch, [T0 + 32.5, T0 + 30.0])
+    assert cascade.calls == [list(GRID), [40.0]]
+    assert len(laws) == 2
+    np.testing.assert_array_equal(res.temperatures, T0 + np.array([*GRID, 40.0]))
+    np.testing.assert_array_equal(res.mu_lower, [MU[r] for r in (*GRID, 40.0)])
+    assert len(res.cascades) == 4
+    assert res.T_law_max == T0 + 40.0 and not res.error and res.ok
+    assert res.law is laws[1]
+    # the extended law interpolates to the new point, where the first one was held at mu(T0 + 20)
+    assert float(laws[1](0.3, 1000.0, T0 + 30.0)) == pytest.approx(0.6 + 0.33, rel=1e-12)
+    assert float(laws[0](0.3, 1000.0, T0 + 30.0)) == pytest.approx(0.6 + 0.35, rel=1e-12)
+    assert any(n.startswith("the hot-layer law was extended to T0 +40 K: the contact had "
+                            "reached T0 +32.5 K") for n in res.notes), res.notes
 
 
-@pytest.mark.parametrize("T_seen, warns", [(T0 + 20.0, False), (T0 + 20.001, True),
-                                           (float("nan"), False), (T0, False)])
-def test_law_range_note(T_seen: float, warns: bool) -> None:
-    assert bool(TL.law_range_note(T0 + 20.0, T_seen, T0)) is warns
+def test_a_contact_beyond_the_extended_law_refuses_the_point(monkeypatch: pytest.MonkeyPatch):
+    """Every macro run reaches T0 + 500 K: two extensions (T0 + 40, + 80 K), three macro runs,
+    then the point is refused (mu nan, status failed) with the temperatures and the key."""
+    res, laws, cascade = _run(monkeypatch, [T0 + 500.0])
+    assert cascade.calls == [list(GRID), [40.0], [80.0]]
+    assert len(laws) == 1 + TL.MAX_LAW_EXTENSIONS == 3
+    np.testing.assert_array_equal(res.temperatures, T0 + np.array([*GRID, 40.0, 80.0]))
+    assert res.T_law_max == T0 + 80.0
+    assert res.error == ("refused: the contact reached T0 +500 K, above the hot-layer law's "
+                         "highest surface temperature T0 +80 K after 2 extensions (T0 +40, +80 "
+                         "K); add higher [thermal].hot_layer_rises values")
+    assert "\n" not in res.error and res.error in res.notes
+    assert not res.ok and np.isnan(res.mu) and np.isnan(res.mu_end)
+
+
+def test_a_failed_extension_refuses_the_point(monkeypatch: pytest.MonkeyPatch):
+    res, laws, cascade = _run(monkeypatch, [T0 + 32.5], fail=(40.0,))
+    assert cascade.calls == [list(GRID), [40.0]] and len(laws) == 1
+    assert res.error.startswith("refused: the contact reached T0 +32.5 K, above the hot-layer "
+                                "law's highest surface temperature T0 +20 K, and the cascade "
+                                "extending it to T0 +40 K failed (stand-in failure)")
+    assert "hot_layer_rises" in res.error and not res.ok
+
+
+@pytest.mark.parametrize("T_seen, beyond", [(T0 + 20.0, False), (T0 + 20.001, True),
+                                            (float("nan"), False), (T0, False)])
+def test_law_exceeded(T_seen: float, beyond: bool) -> None:
+    assert TL.law_exceeded(T0 + 20.0, T_seen) is beyond

@@ -12,8 +12,10 @@ A. the isothermal cascade (chapter 6, ``cascade.RoughCascade``) gives mu(T0); th
    not shifted by temperature;
 B. at each homogenisation point s_i (sliding distance) the rubber temperature below the active
    contact nodes is averaged over x, eq. (8.1) (``thermal.profile.average_profile``);
-C. the profile becomes n_p partitions over ``partition_depth`` (8.3.3), the temperature layers of
-   every lower-scale run (``SlidingSpec.temperature_layers``: WLF-shifted relaxation per cell);
+C. the profile becomes n_p partitions over ``partition_depth`` (8.3.3), continued down each
+   lower-scale block's height by partitions doubling in thickness at the macro field's mean
+   (``Partitions.block``): the temperature layers of every lower-scale run
+   (``SlidingSpec.temperature_layers``: WLF-shifted relaxation per cell);
 D. the whole cascade runs again with those layers (pressure branch down, friction branch up, all
    scales and samples), through the campaign store: its keys contain the layer temperatures.
    Warm starts (``CascadeRunner(states=)``, the scene's ``[thermal] warm_start``): every run
@@ -270,9 +272,9 @@ class LayeredSpecs:
     def __call__(self, point: Point, i: int, sample: Any, pressure: float, friction: Any,
                  branch: str) -> SlidingSpec:
         spec = self.make_spec(point, i, sample, pressure, friction, branch)
-        if self.partitions is not None:
-            spec = dataclasses.replace(spec, temperature_layers=self.partitions.layers,
-                                       temperature=self.partitions.background)
+        if self.partitions is not None:  # the macro field over this block's height (8.3.3)
+            layers, background = self.partitions.block(block_height(spec))
+            spec = dataclasses.replace(spec, temperature_layers=layers, temperature=background)
         if self.states is None:
             return spec
         spec = dataclasses.replace(spec, keep_state=self.keep)
@@ -285,6 +287,12 @@ class LayeredSpecs:
             return spec
         spec = dataclasses.replace(spec, initial_state=InitialState.stored(state, key))
         return dataclasses.replace(spec, window_periods=self.warm_window or spec.window_periods)
+
+
+def block_height(spec: SlidingSpec) -> float:
+    """The height of a lower-scale run's block (``sliding.model.geometry``'s rule: the given
+    height, else the block length, else the period)."""
+    return float(spec.block_height or spec.block_length or spec.period)
 
 
 def run_slots(result: PointResult) -> dict[RunSlot, str]:
@@ -563,7 +571,8 @@ class HotLayerResult:
     wall: float = math.nan
     notes: list[str] = field(default_factory=list)
     law: Any = None  # mu_const + mu_lower as mu(p, v, T), linear in T (the macro run's friction)
-    T_law_max: float = math.nan  # the law's highest surface temperature, K (constant beyond)
+    T_law_max: float = math.nan  # the law's highest surface temperature, K (never used beyond)
+    error: str = ""  # the point was refused (the contact beyond the extended law)
     average: StationaryMean | None = None  # the point's mu: stationary mean of the macro mu
     iso_macro: ThermalMacroResult | None = None  # rough road: the isothermal macro run
     iso_average: StationaryMean | None = None  # and its stationary mean
@@ -582,8 +591,8 @@ class HotLayerResult:
         run's contact temperature then (``T_contact``, pressure-weighted over the contact nodes).
         Not F_x / F_z of the macro block, which on the flat road adds the block's own hysteresis
         and edge effects (on the two-scale test case as large as the lower scales' change for a
-        10 K rise; docs/verification.md)."""
-        if self.macro is None or not self.macro.ok or not self.macro.series:
+        10 K rise; docs/verification.md).  nan for a refused point (``error``)."""
+        if self.error or self.macro is None or not self.macro.ok or not self.macro.series:
             return math.nan
         T_c = self.macro.series["T_contact"][-1]
         return float(self.law(self.point.pressure, self.point.velocity, T_c))
@@ -600,9 +609,10 @@ class HotLayerResult:
     @property
     def mu(self) -> float:
         """The point's mu: the stationary mean of the macro mu (module doc): F_x / F_z on the rough
-        road, :meth:`contact_mu` on the flat one; nan unless the macro run finished.
-        ``stationary`` says whether a window passed (if not: the last half's mean, noted)."""
-        if self.macro is None or not self.macro.ok or not self.macro.series:
+        road, :meth:`contact_mu` on the flat one; nan unless the macro run finished within the
+        law (a refused point: ``error``).  ``stationary`` says whether a window passed (if not:
+        the last half's mean, noted)."""
+        if self.error or self.macro is None or not self.macro.ok or not self.macro.series:
             return math.nan
         return _mean(self.average)
 
@@ -615,22 +625,30 @@ class HotLayerResult:
         return np.isfinite(self.mu)
 
 
+#: extensions of the hot-layer grid when the macro contact got hotter than its highest T_S
+#: (:func:`run_hot_layer`): each adds one cascade at twice the largest rise
+MAX_LAW_EXTENSIONS = 2
+
+
 def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
                   hot: HotLayerSettings, cascade: CascadeRunner, *, wall_limit: float = 0.0,
                   log: Callable[[str], None] | None = None) -> HotLayerResult:
     """Hot-layer mode: one cascade per surface temperature (independent: farmed together over all
-    ranks, every run from rest), a mu(T_S) law (linear in T between the grid points, constant
-    beyond, with a warning in ``notes`` when the contact got hotter: :func:`law_range_note`),
-    then the thermomechanical macro run with that law: mu follows the computed surface
-    temperature node by node, with no down-passing.  The point's mu: the module doc's stationary
-    mean (flat road: of the law at eq. 8.1's T_S per step; rough: of F_x / F_z, beside the
-    isothermal macro run's).
+    ranks, every run from rest), a mu(T_S) law (linear in T between the grid points), then the
+    thermomechanical macro run with that law: mu follows the computed surface temperature node
+    by node, with no down-passing.  The point's mu: the module doc's stationary mean (flat road:
+    of the law at eq. 8.1's T_S per step; rough: of F_x / F_z, beside the isothermal macro run's).
+
+    The law is never used beyond its highest surface temperature T_top (the spline would hold
+    mu(T_top) there, which is no physics): when the hottest contact node of the macro run
+    (stats ``T_contact_max``) exceeds T_top, the grid gains a cascade at twice the largest rise
+    and the macro run is redone with the extended law, at most ``MAX_LAW_EXTENSIONS`` times
+    (noted); a run still beyond it, or an extension whose cascade failed, refuses the point
+    (``error``, status failed, :func:`law_refusal`).
 
     No warm starts here: no physical path joins the grid's steady states, and slid on from the
     T0 cascade's states the default road's micro runs at 1 m/s went astray (docs/performance.md;
     README "Flash temperature on the default road")."""
-    from rubberfriction.driver.fe.friction_law import fit_mu_pvT
-
     wall = time.perf_counter()
     T0 = thermal.T0
     temps = T0 + np.asarray(hot.rises, float)
@@ -638,8 +656,7 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
     mus = [lower_mu(r, hot.rough) for r in results]
     if log:
         for T_S, r, mu in zip(temps, results, mus):
-            log(f"  hot layer T_S = {T_S:.2f} K: lower scales' mu {mu:.4g} "
-                f"({r.wall_time:.1f} s of runs)")
+            _log_hot_cascade(log, T_S, r, mu)
     out = HotLayerResult(cascade.point, temps, np.array(mus), results, None, hot)
     good = np.isfinite(out.mu_lower)
     if not good[0] or good.sum() < 2:
@@ -649,18 +666,41 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
     if not good.all():
         out.notes.append(f"{int((~good).sum())} hot-layer cascades failed; the law interpolates "
                          "over them")
-    T, m = temps[good], hot.mu_const + out.mu_lower[good]
-    grid = np.broadcast_to(m, (2, 2, T.size)).copy()  # constant in p and v
-    out.law = fit_mu_pvT([0.0, 1.0e3], [1.0e-9, 1.0e7], T, grid, degree=1)
-    out.macro = run_thermal_macro(dataclasses.replace(spec, friction=out.law), rubber, thermal,
-                                  wall_limit=wall_limit)
-    out.T_law_max = float(T.max())
-    note = law_range_note(out.T_law_max, out.macro.stats.get("T_contact_max", math.nan), T0)
-    if note:
-        out.notes.append(note)
+    _hot_layer_macro(out, spec, rubber, thermal, wall_limit)
+    while True:
+        T_seen = out.macro.stats.get("T_contact_max", math.nan)
+        if not law_exceeded(out.T_law_max, T_seen):
+            break
+        added = out.temperatures[len(hot.rises):] - T0
+        if added.size >= MAX_LAW_EXTENSIONS:
+            out.error = law_refusal(T_seen, out.T_law_max, T0, added)
+            break
+        T_S = T0 + 2.0 * (out.temperatures[-1] - T0)
+        r = cascade.many([hot_layer_partitions(T_S, T0, hot)])[0]
+        mu = lower_mu(r, hot.rough)
+        if log:
+            log(f"  the contact reached T0 {T_seen - T0:+.3g} K, above the law's T0 "
+                f"{out.T_law_max - T0:+.3g} K: the grid gains T_S = T0 {T_S - T0:+.3g} K")
+            _log_hot_cascade(log, T_S, r, mu)
+        out.temperatures = np.append(out.temperatures, T_S)
+        out.mu_lower = np.append(out.mu_lower, mu)
+        out.cascades.append(r)
+        if not np.isfinite(mu):
+            out.error = (f"refused: the contact reached T0 {T_seen - T0:+.3g} K, above the "
+                         f"hot-layer law's highest surface temperature T0 "
+                         f"{out.T_law_max - T0:+.3g} K, and the cascade extending it to T0 "
+                         f"{T_S - T0:+.3g} K failed ({r.reason}); add higher "
+                         "[thermal].hot_layer_rises values")
+            break
+        _hot_layer_macro(out, spec, rubber, thermal, wall_limit)
+        out.notes.append(f"the hot-layer law was extended to T0 {T_S - T0:+.3g} K: the contact "
+                         f"had reached T0 {T_seen - T0:+.3g} K")
+    if out.error:
+        out.notes.append(out.error)
     if hot.rough:
         out.average = macro_average(out.macro, None, hot.blocks, hot.tol)
-        out.iso_macro = isothermal_macro(spec, rubber, thermal, float(m[0]), wall_limit)
+        m0 = hot.mu_const + float(out.mu_lower[0])
+        out.iso_macro = isothermal_macro(spec, rubber, thermal, m0, wall_limit)
         out.iso_average = macro_average(out.iso_macro, None, hot.blocks, hot.tol)
         out.notes.append(average_note("isothermal macro mu", out.iso_average))
     else:
@@ -670,19 +710,35 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
     return out
 
 
-def law_range_note(T_top: float, T_seen: float, T0: float) -> str:
-    """The warning when the macro contact got hotter than the hot-layer law's highest surface
-    temperature ``T_top`` (K), "" otherwise.
+def _log_hot_cascade(log: Callable[[str], None], T_S: float, r: PointResult, mu: float) -> None:
+    log(f"  hot layer T_S = {T_S:.2f} K: lower scales' mu {mu:.4g} "
+        f"({r.wall_time:.1f} s of runs)")
 
-    Beyond ``T_top`` the spline law (``fit_mu_pvT``) is clamped: mu stays at mu(T_top) with zero
-    slope.  Neither extrapolation is physical -- a linear one runs mu below 0, and a WLF shift
-    of the lower scales' mu(T_S) would be a model of its own, not the cascade the law stands
-    for -- and refusing the point would throw away a macro run that is right wherever the
-    contact stayed within the grid.  So the point keeps its number and says, in its notes
-    (``loop_results.csv`` notes column and the log), how far it left the computed range."""
-    if not (math.isfinite(T_seen) and T_seen > T_top + 1e-9):
-        return ""
-    return (f"warning: the contact reached T0 {T_seen - T0:+.3g} K, {T_seen - T_top:.3g} K above "
-            f"the hot-layer law's highest surface temperature T0 {T_top - T0:+.3g} K; mu(T_S) was "
-            "held at its value there (not extrapolated): add a higher [thermal].hot_layer_rises "
-            "value")
+
+def _hot_layer_macro(out: HotLayerResult, spec: SlidingSpec, rubber: Thermal,
+                     thermal: MacroSettings, wall_limit: float) -> None:
+    """The mu(T_S) law through the grid's good cascades (mu_const added) and the macro run with
+    it, into ``out`` (law, T_law_max, macro)."""
+    from rubberfriction.driver.fe.friction_law import fit_mu_pvT
+
+    good = np.isfinite(out.mu_lower)
+    T, m = out.temperatures[good], out.settings.mu_const + out.mu_lower[good]
+    grid = np.broadcast_to(m, (2, 2, T.size)).copy()  # constant in p and v
+    out.law = fit_mu_pvT([0.0, 1.0e3], [1.0e-9, 1.0e7], T, grid, degree=1)
+    out.T_law_max = float(T.max())
+    out.macro = run_thermal_macro(dataclasses.replace(spec, friction=out.law), rubber, thermal,
+                                  wall_limit=wall_limit)
+
+
+def law_exceeded(T_top: float, T_seen: float) -> bool:
+    """Whether the macro contact's hottest node ``T_seen`` lies above the hot-layer law's highest
+    surface temperature ``T_top`` (K; beyond 1e-9 K; a nan never does)."""
+    return math.isfinite(T_seen) and T_seen > T_top + 1e-9
+
+
+def law_refusal(T_seen: float, T_top: float, T0: float, added: np.ndarray) -> str:
+    """The one-line reason of a hot-layer point refused after ``MAX_LAW_EXTENSIONS``."""
+    rises = ", ".join(f"{r:+.3g}" for r in added)
+    return (f"refused: the contact reached T0 {T_seen - T0:+.3g} K, above the hot-layer law's "
+            f"highest surface temperature T0 {T_top - T0:+.3g} K after {len(added)} extensions "
+            f"(T0 {rises} K); add higher [thermal].hot_layer_rises values")
