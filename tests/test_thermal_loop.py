@@ -279,7 +279,9 @@ def test_thermal_scene_on_two_ranks_gives_the_serial_result(tmp_path: Path, mode
     for a, b in zip(*tables):
         for times in ("wall", "wall_isothermal", "cost_vs_isothermal"):  # only the times differ
             a.pop(times), b.pop(times)
-        assert a == b and a["mode"] == mode and a["status"] == "ok"
+        # two homogenisation points cannot show a stationary coupled mu (as in the serial test)
+        status = {"coupled": "not stationary", "hot-layer": "ok"}[mode]
+        assert a == b and a["mode"] == mode and a["status"] == status
 
 
 def _coupled_scene(folder: Path) -> Path:
