@@ -2,15 +2,17 @@
 
 Command line and benchmarks on top, physics at the bottom; dependencies point one way:
 
-    cli -> bench -> verification -> multiscale -> sliding -> fe -> forms, meshes -> rubberfriction
+    cli -> bench, study -> verification -> multiscale -> sliding -> fe -> forms, meshes
+                                    forms, meshes -> rubberfriction
                                     multiscale -> thermal -> sliding, theory
                                     multiscale -> runtime, surfaces, theory, adhesion
                                     multiscale -> scenes -> surfaces, theory, forms
                                     adhesion -> theory -> surfaces
                                                 theory -> forms (the Prony modulus)
 
-Nothing imports ``cli``; only ``cli`` imports ``bench``; production code never imports
-``verification``; ``forms`` and ``meshes`` import nothing from ``driver``.  Function-local
+Nothing imports ``cli``; only ``cli`` imports ``bench``; ``study`` (the trend study, which
+runs a verification case as one of its rows) sits beside ``bench``; production code never
+imports ``verification``; ``forms`` and ``meshes`` import nothing from ``driver``.  Function-local
 imports count like module-level ones.
 
 The Python API ``rubberfriction.api`` sits beside ``cli`` on top (a facade: it may import every
@@ -49,8 +51,9 @@ ALLOWED: dict[str, set[str]] = {
     "bench": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces",
               "theory", "adhesion", "scenes", "multiscale", "verification"},
     "cli": {"root", "forms", "meshes", "fe", "sliding", "thermal", "runtime", "surfaces", "theory",
-            "adhesion", "scenes", "multiscale", "verification", "bench"},
+            "adhesion", "scenes", "multiscale", "verification", "bench", "study"},
 }
+ALLOWED["study"] = ALLOWED["bench"]
 ALLOWED["api"] = ALLOWED["cli"] - {"bench"}
 #: module -> layers it may import besides ALLOWED (lazily: the package exposes the API, PEP 562)
 FACADE: dict[str, set[str]] = {"rubberfriction": {"api"}}

@@ -23,6 +23,8 @@ from typing import Any
 
 from mpi4py import MPI
 
+from rubberfriction.driver.multiscale.campaign import run_sample_study, run_scene
+from rubberfriction.driver.multiscale.thermal_loop_scene import run_coupled_scene
 from rubberfriction.driver.scenes import Scene, SceneError, parse_scene
 from rubberfriction.driver.study.cases import (
     MATERIALS,
@@ -39,7 +41,10 @@ from rubberfriction.driver.study.evidence import (
     point_value,
     strict_json,
 )
+from rubberfriction.driver.study.plots import plot_trends
 from rubberfriction.driver.study.trends import TrendRow, build_rows, table_text, trends
+from rubberfriction.driver.verification.sawtooth import sawtooth_mu
+from rubberfriction.forms.material_files import load_compound
 
 
 #: the cases that are multiscale campaigns (``rubberfriction run`` scenes), in run order
@@ -82,9 +87,6 @@ def _log(quiet: bool) -> Callable[[str], None]:
 def run_trends(settings: TrendSettings, out: str | Path, *, quiet: bool = False,
                fresh: bool = False, comm: Any = None) -> StudyResult | None:
     """Run (or resume) the trend study; every rank calls this, rank 0 returns the result."""
-    from rubberfriction.driver.multiscale.campaign import run_sample_study, run_scene
-    from rubberfriction.driver.multiscale.thermal_loop_scene import run_coupled_scene
-
     comm = MPI.COMM_WORLD if comm is None else comm
     rank = comm.Get_rank()
     out = Path(out)
@@ -163,9 +165,6 @@ def sawtooth_value(settings: TrendSettings, path: Path) -> SawtoothValue:
         stored = json.loads(path.read_text())
         if stored.get("key") == key:
             return SawtoothValue(**stored["value"])
-    from rubberfriction.driver.verification.sawtooth import sawtooth_mu
-    from rubberfriction.forms.material_files import load_compound
-
     try:
         res = sawtooth_mu(load_compound(settings.sawtooth_compound),
                           pressure=settings.sawtooth_pressure,
@@ -184,8 +183,6 @@ def material_notes(settings: TrendSettings) -> list[str]:
     """Evidence for the material rows: each compound's E' and tan delta at the excitation
     frequency of the lowest scale, omega = 2 pi v / lambda_cut, and of the macro band's long
     edge, 2 pi v / 20 mm (20 degC, eq. 3.34)."""
-    from rubberfriction.forms.material_files import load_compound
-
     v = settings.compare_velocity
     w_low, w_macro = 2 * math.pi * v / settings.cutoff, 2 * math.pi * v / 20.0
     parts = []
@@ -201,8 +198,6 @@ def material_notes(settings: TrendSettings) -> list[str]:
 def write_table(ev: Evidence, out: Path, settings: TrendSettings, wall: float,
                 times: dict[str, float]) -> StudyResult:
     """``evidence.json``, ``trends.txt``, ``trends.json`` and ``trends.png`` from the evidence."""
-    from rubberfriction.driver.study.plots import plot_trends
-
     table = trends(min(settings.velocities), max(settings.velocities),
                    settings.compare_velocity, settings.flash_compound)
     rows = build_rows(ev, table)
