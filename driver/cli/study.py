@@ -43,6 +43,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "quick 0.3 mm)")
     t.add_argument("--samples", nargs=2, type=int, metavar=("K", "J"),
                    help="pressure and friction samples per scale (default 1 3, quick 1 2)")
+    t.add_argument("--flash-road", choices=("flat", "macro"), default=None,
+                   help="the flash case's thermal macro block on a flat road (default, cheaper) "
+                        "or on the road's macro band as in the thesis (8.17 a)")
     t.add_argument("--no-flash", dest="flash", action="store_false",
                    help="leave the flash-temperature case out (its row is then 'missing')")
     t.add_argument("--fresh", action="store_true",
@@ -76,6 +79,8 @@ def _trends(args: argparse.Namespace) -> int:
                 raise SceneError(f"--samples {k} {j}: expected positive sample counts")
             settings = replace(settings, pressure_samples=k, friction_samples=j)
         settings = replace(settings, flash=args.flash)
+        if args.flash_road:
+            settings = replace(settings, flash_road=args.flash_road)
         out = Path(args.out or ("rf-results/trends-quick" if args.quick else "rf-results/trends"))
         if args.check:
             return _check(settings, out)

@@ -45,7 +45,7 @@ class TrendSettings:
     flash_compound: str = "m1"
     flash_rises: tuple[float, ...] = (0.0, 20.0, 40.0, 80.0)  # K: hot-layer T_S - T0
     flash_slide: float = 10.0  # mm: the thermal macro block's slide
-    flash_road: str = "macro"  # the macro block on the road's macro band (8.17 a) or "flat"
+    flash_road: str = "flat"  # or "macro": the block on the road's macro band (8.17 a)
     sawtooth_compound: str = "m2"
     sawtooth_pressure: float = 0.3  # MPa (thesis fig. 6.10)
     sawtooth_velocity: float = 500.0  # mm/s (thesis fig. 6.10)
@@ -54,8 +54,10 @@ class TrendSettings:
 
     def describe(self) -> str:
         """One line: road, cut-off and samples, as every table of the study states them."""
+        flash = (f", flash case on the {self.flash_road} road" if self.flash else
+                 ", no flash case")
         return (f"four-scale road cut at {self.cutoff:g} mm, p = {self.pressure:g} MPa, "
-                f"{self.pressure_samples} + {self.friction_samples} samples per scale"
+                f"{self.pressure_samples} + {self.friction_samples} samples per scale{flash}"
                 f"{' (quick)' if self.quick else ''}")
 
     def to_dict(self) -> dict[str, Any]:
@@ -64,10 +66,9 @@ class TrendSettings:
 
 def quick_settings() -> TrendSettings:
     """``--quick``: two scales (cut at 0.3 mm), 1 + 2 samples, 20 spread samples, three hot-layer
-    temperatures, a shorter thermal slide on the flat road; every table says so."""
+    temperatures, a shorter thermal slide; every table says so."""
     return replace(TrendSettings(), quick=True, cutoff=0.3, friction_samples=2,
-                   spread_samples=20, flash_rises=(0.0, 40.0, 80.0), flash_slide=6.0,
-                   flash_road="flat")
+                   spread_samples=20, flash_rises=(0.0, 40.0, 80.0), flash_slide=6.0)
 
 
 def _surface(s: TrendSettings, *, height_scale: float = 1.0,

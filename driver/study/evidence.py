@@ -126,4 +126,10 @@ def flash_values(result: Any) -> tuple[PointValue, PointValue, list[str]]:
     reason = "; ".join(result.notes) if not ok else ""
     iso = PointValue(mu=_num(result.mu_isothermal), ok=math.isfinite(_num(result.mu_isothermal)))
     hot = PointValue(mu=_num(result.mu), ok=ok, reason=reason)
-    return iso, hot, list(result.notes)
+    notes = list(result.notes)
+    macro = getattr(result, "macro", None)
+    stats = getattr(macro, "stats", None) or {}
+    if "T_contact_max" in stats:  # how hot the contact got: the size of the flash effect
+        notes.append(f"hottest contact node {_num(stats['T_contact_max']):.1f} K; mu "
+                     f"{iso.mu:.4g} without, {hot.mu:.4g} with flash temperature")
+    return iso, hot, notes
