@@ -76,12 +76,20 @@ def test_macro_road_of_the_default_road_is_its_macro_band():
         _inputs(text.replace("road_start = 0.3", "road_start = 5000.0"))
 
 
-def test_rough_macro_road_needs_a_given_mu():
-    """A coupled thermal loop already holds the macro band in its cascade: refused, naming the
-    key."""
-    text = SCENE.replace("mu = 0.3\n", 'mode = "coupled"\n')
-    with pytest.raises(SceneError, match="road_surface = 'macro'"):
-        parse_scene(text, "rough.toml", Path("."))
+def test_coupled_loop_takes_the_rough_macro_road():
+    """A coupled thermal loop on the macro band (thesis 8.5.3): the scene is accepted and the loop
+    and hot-layer settings run the macro block on the rough road (its F_x / F_z is the point's
+    mu, see thermal_loop's module doc); the flat road stays the default."""
+    from rubberfriction.driver.multiscale.thermal_loop_scene import (hot_layer_settings,
+                                                                     loop_settings)
+
+    text = SCENE.replace("mu = 0.3\n", 'mode = "coupled"\n').replace(
+        'name = "rough_macro"\n', 'name = "rough_macro"\nvariant = "rough"\n')
+    scene = parse_scene(text, "rough.toml", Path("."))
+    assert scene.thermal.mode == "coupled"
+    assert loop_settings(scene).rough and hot_layer_settings(scene).rough
+    flat = parse_scene(text.replace('road_surface = "macro"\n', ""), "flat.toml", Path("."))
+    assert not loop_settings(flat).rough
 
 
 def test_block_on_the_rough_road_heats_and_keeps_the_heat_balance():
