@@ -13,6 +13,7 @@ import csv
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from rubberfriction.driver.study.cases import (
@@ -195,6 +196,11 @@ def test_flash_values_of_a_loop_result():
     iso, hot, notes = flash_values(res)
     assert (iso.mu, hot.mu, iso.ok, hot.ok) == (0.52, 0.41, True, True)
     assert notes == res.notes
+    hot_layer = SimpleNamespace(ok=True, mu=0.41, mu_isothermal=0.52, notes=[],
+                                temperatures=np.array([293.15, 333.15]),
+                                mu_lower=np.array([0.188, 0.17]))
+    assert flash_values(hot_layer)[2] == ["hot-layer law, the lower scales' mu: 0.188 at +0 K, "
+                                          "0.17 at +40 K"]
     failed = SimpleNamespace(ok=False, mu=math.nan, mu_isothermal=0.52, notes=["no law"])
     assert flash_values(failed)[1].reason == "no law" and not flash_values(failed)[1].ok
 

@@ -129,6 +129,10 @@ def flash_values(result: Any) -> tuple[PointValue, PointValue, list[str]]:
     notes = list(result.notes)
     macro = getattr(result, "macro", None)
     stats = getattr(macro, "stats", None) or {}
+    temps, lower = getattr(result, "temperatures", None), getattr(result, "mu_lower", None)
+    if temps is not None and lower is not None and len(temps):  # hot-layer mode: the mu(T_S) law
+        law = ", ".join(f"{m:.4g} at {T - temps[0]:+.0f} K" for T, m in zip(temps, lower))
+        notes.append(f"hot-layer law, the lower scales' mu: {law}")
     if "T_contact_max" in stats:  # how hot the contact got: the size of the flash effect
         notes.append(f"hottest contact node {_num(stats['T_contact_max']):.1f} K; mu "
                      f"{iso.mu:.4g} without, {hot.mu:.4g} with flash temperature")
