@@ -162,6 +162,8 @@ def test_every_case_scene_is_valid(tmp_path):
         for case, text in scene_texts(settings).items():
             scene = parse_scene(text, case, tmp_path)
             assert scene.n_scales == {"micro1": 3, "meso": 2}[lowest_scale(settings)], case
+    flash = parse_scene(scene_texts(TrendSettings(flash_mu_const=0.25))["flash"], "f", tmp_path)
+    assert flash.thermal.mu_const == 0.25  # the constant part reaches the macro contact
 
 
 def test_evidence_of_a_campaign_is_its_results_csv(tmp_path):

@@ -34,7 +34,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     t.add_argument("--quick", action="store_true",
                    help="two scales (cut at 0.3 mm), 1 + 2 samples, 20 spread samples, three "
-                        "hot-layer temperatures: about 10 minutes on 2 cores")
+                        "hot-layer temperatures (about 20 minutes on 2 cores, docs/trends.md)")
     t.add_argument("--out", metavar="DIR", default=None,
                    help="output folder (default rf-results/trends or rf-results/trends-quick)")
     t.add_argument("--json", metavar="FILE", help="also write the rows to FILE (JSON)")
@@ -46,6 +46,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     t.add_argument("--flash-road", choices=("flat", "macro"), default=None,
                    help="the flash case's thermal macro block on a flat road (default, cheaper) "
                         "or on the road's macro band as in the thesis (8.17 a)")
+    t.add_argument("--flash-mu-const", type=float, metavar="MU", default=None,
+                   help="the constant part of mu on the flash case's macro contact: the scales "
+                        "below the cut-off and adhesion, which set the frictional heat (default "
+                        "0.6, thesis 8.4.3)")
     t.add_argument("--no-flash", dest="flash", action="store_false",
                    help="leave the flash-temperature case out (its row is then 'missing')")
     t.add_argument("--fresh", action="store_true",
@@ -81,6 +85,10 @@ def _trends(args: argparse.Namespace) -> int:
         settings = replace(settings, flash=args.flash)
         if args.flash_road:
             settings = replace(settings, flash_road=args.flash_road)
+        if args.flash_mu_const is not None:
+            V.option("--flash-mu-const", args.flash_mu_const, what="a friction coefficient",
+                     minimum=0.0, maximum=5.0, error=SceneError)
+            settings = replace(settings, flash_mu_const=args.flash_mu_const)
         out = Path(args.out or ("rf-results/trends-quick" if args.quick else "rf-results/trends"))
         if args.check:
             return _check(settings, out)
