@@ -141,7 +141,8 @@ def _hot_layer(s: TrendSettings) -> str:
     thermomechanical macro block adapting mu to its surface temperature."""
     return "\n".join([
         'mode = "hot-layer"', "divisions = 4", "partitions = 4", "partition_depth = 0.09",
-        f"mu_const = {toml_value(s.flash_mu_const)}", f"hot_layer_rises = {toml_value([float(r) for r in s.flash_rises])}",
+        f"mu_const = {toml_value(s.flash_mu_const)}",
+        f"hot_layer_rises = {toml_value([float(r) for r in s.flash_rises])}",
         "kappa = 0.8", "h_c = 1.6", 'road = "r1"', "block_length = 20.0", "block_height = 8.0",
         "edge_radius = 1.0", f"slide_distance = {toml_value(s.flash_slide)}",
         f"road_surface = {toml_value(s.flash_road)}",
