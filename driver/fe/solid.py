@@ -273,7 +273,7 @@ class SolidProblem:
         if self.history is not None:
             c0 = time.process_time()
             if self.history.Cbar_n is None:
-                self.history.Cbar_n = self._history_kinematics()[1]
+                self.history.Cbar_n = self.history_kinematics()[1]
             self.history.prepare_step(dt)
             self.cpu_history += time.process_time() - c0
 
@@ -282,11 +282,11 @@ class SolidProblem:
         if self.history is None:
             return 0.0
         c0 = time.process_time()
-        dE = self.history.commit_step(*self._history_kinematics())
+        dE = self.history.commit_step(*self.history_kinematics())
         self.cpu_history += time.process_time() - c0
         return dE
 
-    def _history_kinematics(self) -> tuple[np.ndarray, np.ndarray]:
+    def history_kinematics(self) -> tuple[np.ndarray, np.ndarray]:
         """DEV{Sbar} and Cbar = J^(-2/3) C of the current state at the quadrature points, each
         (n_points, 4) (``PLANE_SYM_COMPONENTS``): what the history update convolves (eq. 3.76)
         and the strain its branch stresses work on (exact dissipation, ``forms.viscoelastic``)."""

@@ -74,7 +74,7 @@ class SpecBuilder:
                  role: str) -> Any:
         num = self.numerics[scale]
         window, slide = num.window_start, num.slide_periods
-        tol, steady = 0.0, num.steady_state
+        tol, steady, extrapolate = 0.0, num.steady_state, num.period_extrapolation
         if num.window == "converged":
             tol = num.convergence_tol
             slide = num.pressure_slide_periods if role == "down" else num.max_slide_periods
@@ -82,7 +82,7 @@ class SpecBuilder:
             # thesis 6.2.3: the micro average includes the run-in, over a fixed distance
             sep = self.scene.separated
             window, slide = sep.micro_window_start, sep.micro_slide_periods
-            tol, steady = 0.0, False
+            tol, steady, extrapolate = 0.0, False, False
         x, h, period = np.asarray(sample.x, float), np.asarray(sample.h,
                                                                float), float(sample.period)
         if x.size > 1 and abs(x[-1] - x[0] - period) < 1e-9 * period:
@@ -99,6 +99,7 @@ class SpecBuilder:
                            contact=num.contact, elements_per_wavelength=num.elements_per_wavelength,
                            grading=num.grading, compression_steps=num.compression_steps,
                            window_start=window, converge_tol=tol, steady_state=steady,
+                           period_extrapolation=extrapolate,
                            window_quantity=self._window_quantity(role),
                            shortcut=num.shortcut,
                            max_cutbacks=num.max_cutbacks, stabilisation=num.stabilisation,
@@ -148,7 +149,8 @@ def find_key(store: Store, prefix: str) -> str:
 
 #: SlidingSpec fields whose default changed the computation when they were added: a run file
 #: written before holds no value for them and was computed with this one
-BEFORE_FIELD: dict[str, Any] = {"stabilisation": 0.0, "min_jacobian": 0.0}
+BEFORE_FIELD: dict[str, Any] = {"stabilisation": 0.0, "min_jacobian": 0.0,
+                                "period_extrapolation": False}
 #: the same for fields of the compound's Mooney-Rivlin spring
 BEFORE_HYPERELASTIC: dict[str, Any] = {"volumetric": "quadratic"}
 

@@ -131,6 +131,7 @@ class NumericsConfig:
     max_slide_periods: float
     pressure_slide_periods: float
     steady_state: bool
+    period_extrapolation: bool
     shortcut: bool
     slide_periods: float
     window_start: float

@@ -17,11 +17,16 @@ import numpy as np
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.sliding.steps import WallLimit
 from rubberfriction.driver.sliding.window import (
+    MU_FLOOR,
     WINDOW_QUANTITIES,
     converged_window,
     earliest_convergence,
     period_means,
 )
+
+#: an extrapolation must move mu or the contact fraction by at least this part of the window
+#: rule's tolerance (predicted: omega times the last period's relative change)
+EXTRAPOLATION_WORTH = 0.5
 
 
 def whole_periods(spec: SlidingSpec) -> bool:
@@ -43,7 +48,10 @@ class Periods:
     (``converged``, ``window_used``), the steady-state history jump and the pace per period."""
 
     def __init__(self, spec: SlidingSpec, L: float, step_len: float, nsteps: int, history,
-                 warm: bool, wall_limit: float):
+                 warm: bool, wall_limit: float, slow_mode=None, equilibrate=None):
+        self.slow_mode = slow_mode  # SlowModeExtrapolation after each jump, or None
+        self.equilibrate = equilibrate  # equilibrate(road shift) -> converged, for slow_mode
+        self.road_shift = 0.0  # the road's offset moved with the extrapolated contact face
         self.spec, self.L, self.nsteps, self.wall_limit = spec, L, nsteps, wall_limit
         self.per_period = round(L / step_len) if whole_periods(spec) else 0
         # converged states of the last period by phase (the "period" Newton start) and the
@@ -93,8 +101,47 @@ class Periods:
             self._project_wall_time(k // self.per_period, earliest, t, deadline)
         if self.history is not None and k < self.nsteps:
             self.history.extrapolate_periodic(self.start)
+            if self.slow_mode is not None:
+                self._extrapolate(k, rows)
             self.start = self.history.snapshot()
         return False
+
+    def _extrapolate(self, k: int, rows: list) -> None:
+        """The slow-mode extrapolation of the period start (``driver.sliding.slowmode``), where
+        it is worth it: omega times the last period's change of mu or the contact fraction at
+        least half the window rule's tolerance (``EXTRAPOLATION_WORTH``; else the run is about
+        stationary and an extrapolation would only restart its window).  The states one period
+        earlier by phase move with it, and the window rule compares only the periods after it
+        (it changes the state without work)."""
+        change, tol = self._last_change(rows), self.spec.converge_tol
+
+        def worth(omega: float) -> bool:
+            return omega * change >= EXTRAPOLATION_WORTH * tol
+
+        moved = self.slow_mode.after_jump(self.equilibrate, worth)
+        if moved is None:
+            return
+        dx, shift = moved
+        self.road_shift += shift
+        for x in self.phase_x:
+            if x is not None:
+                x += dx
+        self.run_in = k // self.per_period
+
+    def _last_change(self, rows: list) -> float:
+        """The larger relative change of the period means of mu and of the contact fraction
+        from the period before the last to the last (0 before two periods)."""
+        arr = np.array([r[1:5] for r in rows])  # s, Fx, Fz, contact length
+        if arr.shape[0] < 2:
+            return 0.0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            qs = (-arr[:, 1] / arr[:, 2], arr[:, 3] / self.L)
+        out = 0.0
+        for q in qs:
+            m = period_means(arr[:, 0], q, self.L)
+            if len(m) >= 2 and np.all(np.isfinite(m[-2:])):
+                out = max(out, abs(m[-1] - m[-2]) / max(abs(m[-1]), MU_FLOOR))
+        return float(out)
 
     def exclude(self, seconds: float) -> None:
         """Time spent outside the run's own work does not count in a period's pace."""

@@ -59,6 +59,18 @@ def window(spec: SlidingSpec, s_done: np.ndarray, distance: float,
     return spec.window_start * distance, distance
 
 
+def slow_mode_stats(periods) -> dict[str, float]:
+    """Extrapolations along the slow modes (``driver.sliding.slowmode``): how many of each mode,
+    how many were left out, and their total factor (0 where none)."""
+    slow = getattr(periods, "slow_mode", None) if periods is not None else None
+    if slow is None:
+        return {}
+    return {"extrapolated_creep": float(slow.count["creep"]),
+            "extrapolated_settling": float(slow.count["settling"]),
+            "extrapolation_left_out": float(slow.rejected),
+            "extrapolation_factor": float(sum(slow.omegas))}
+
+
 def assemble(run: Any, rows: list, distance: float, status: str, reason: str,
              t: float) -> SlidingResult:
     """The result of the run's attempt from its sliding rows (COLUMNS): series, window
@@ -89,7 +101,8 @@ def assemble(run: Any, rows: list, distance: float, status: str, reason: str,
                  "trust_region_solves": float(steps.trust_solves),
                  "window_start": lo, "window_end": hi,
                  "compression_contact_fraction": run.compression_contact,
-                 "warm_start": float(run.warm_started), **cpu_split(model, run._cpu_start)}
+                 "warm_start": float(run.warm_started), **slow_mode_stats(periods),
+                 **cpu_split(model, run._cpu_start)}
     if len(rows) == 0:
         return res
     Fz = series["Fz"]

@@ -68,6 +68,7 @@ from rubberfriction.driver.sliding.model import SlidingModel
 from rubberfriction.driver.sliding.outputs import DissipationByDepth
 from rubberfriction.driver.sliding.periods import Periods, sliding_step
 from rubberfriction.driver.sliding.progress import StepReporter
+from rubberfriction.driver.sliding.slowmode import SlowModeExtrapolation
 from rubberfriction.driver.sliding.result import (
     assemble,
     pooled_contact_pressure,
@@ -320,15 +321,25 @@ class SlidingRun:
             t_s, distance, dt_slide, nsteps)
         self._notify("on_start")
         control.h_next, control.easy = dt_slide, 0
+        # only under the converged window rule: it judges the periods after an extrapolation
+        slow = (SlowModeExtrapolation(m.sp) if s.period_extrapolation and s.steady_state
+                and s.period > 0 and s.converge_tol > 0 and s.friction is None
+                and m.sp.history is not None else None)
+
+        def equilibrate(shift: float) -> bool:
+            return self._equilibrate(offset0 + periods.road_shift + shift
+                                     - s.velocity * (t - t_s), dt_slide)
+
         periods = self.periods = Periods(s, m.L, step_len, nsteps, m.sp.history, warm,
-                                         self.wall_limit)
+                                         self.wall_limit, slow, equilibrate)
         rows: list[tuple] = []
         for k in range(1, nsteps + 1):
             control.begin_step()
 
             def load(tk):
                 m.fext[:] = keep
-                m.contact.set_master_offset(offset0 - s.velocity * (tk - t_s), 0.0)
+                road = offset0 + periods.road_shift - s.velocity * (tk - t_s)
+                m.contact.set_master_offset(road, 0.0)
 
             ok, reason, _ = control.solve(t, dt_slide, load, predict, adaptive=True,
                                           period_guess=periods.guess(k))
@@ -346,8 +357,25 @@ class SlidingRun:
                 break
         res = assemble(self, rows, distance, "ok", periods.out_of_reach, t)
         if s.keep_state:
-            res.final_state = m.final_state(offset0 - s.velocity * (t - t_s), self.refine)
+            road = offset0 + periods.road_shift - s.velocity * (t - t_s)
+            res.final_state = m.final_state(road, self.refine)
         return res
+
+    def _equilibrate(self, offset: float, dt: float) -> bool:
+        """Equilibrium with the road at ``offset``, the histories as they are and a step of
+        vanishing length (the glassy response): whether it converges without inverted elements.
+        Keeps the converged state (else the start); nothing is committed."""
+        m = self.model
+        x0 = m.sp.w.x.array.copy()
+        m.contact.set_master_offset(offset, 0.0)
+        m.sp.prepare_step(1e-9 * dt)
+        m.contact.set_time_step(1e-9 * dt)
+        res = m.newton.solve()
+        self.steps.newton_iterations += res.iterations
+        ok = bool(res.converged) and not m.inverted()
+        if not ok:
+            m.sp.w.x.array[:] = x0
+        return ok
 
     def _row(self, t: float, slid: float) -> tuple:
         """The sliding step's row of the series (result.COLUMNS)."""

@@ -108,6 +108,9 @@ class SlidingSpec:
     # cell (forms.viscoelastic.ViscoelasticHistory.extrapolate_periodic): the static part of the
     # load is relaxed at once instead of creeping for tau_max / T periods
     steady_state: bool = False
+    # with steady_state, a frictionless cell's state is extrapolated along its slow modes where
+    # the period changes are geometric (driver.sliding.slowmode)
+    period_extrapolation: bool = False
     # the linear viscoelastic closed form replaces the FE run where driver.sliding.shortcut
     # admits it (frictionless, full contact, small slopes)
     shortcut: bool = False
