@@ -25,6 +25,8 @@ BENCHMARKS = {
               "speed-accuracy trade of one mu point: mesh, penalty, samples"),
     "cutoff": ("rubberfriction.driver.bench.cutoff",
                "cut-off sensitivity: mu(v) at several max_slope, FE next to Persson"),
+    "periods": ("rubberfriction.driver.bench.periods",
+                "periods to the periodic steady state with and without slow-mode extrapolation"),
     "thermal": ("rubberfriction.driver.bench.thermal",
                 "thermal macro scale: z-resolution study, T_R and T_C over v"),
     "thermal-loop": ("rubberfriction.driver.bench.thermal_loop",
