@@ -51,9 +51,8 @@ def period_means(result, period: float) -> list[float]:
     s = np.asarray(result.series["s"], dtype=float)
     mu = np.asarray(result.series["mu_force"], dtype=float)
     n = int(round(s[-1] / period)) if s.size else 0
-    return [float(np.mean(mu[(s > k * period * (1 + 1e-12)) & (s <= (k + 1) * period
-                                                                * (1 + 1e-12))]))
-            for k in range(n)]
+    edges = np.arange(n + 1) * period * (1.0 + 1e-12)
+    return [float(np.mean(mu[(s > a) & (s <= b)])) for a, b in zip(edges[:-1], edges[1:])]
 
 
 def compare(spec: SlidingSpec, reference_periods: int = 0) -> dict:

@@ -112,7 +112,11 @@ class Periods:
         least half the window rule's tolerance (``EXTRAPOLATION_WORTH``; else the run is about
         stationary and an extrapolation would only restart its window).  The states one period
         earlier by phase move with it, and the window rule compares only the periods after it
-        (it changes the state without work)."""
+        (it changes the state without work), so none is made where the budget has no room
+        for a window after it."""
+        done, budget = k // self.per_period, self.nsteps // self.per_period
+        if budget - done < 2 * max(self.spec.window_periods, 1):
+            return
         change, tol = self._last_change(rows), self.spec.converge_tol
 
         def worth(omega: float) -> bool:
@@ -126,7 +130,7 @@ class Periods:
         for x in self.phase_x:
             if x is not None:
                 x += dx
-        self.run_in = k // self.per_period
+        self.run_in = done
 
     def _last_change(self, rows: list) -> float:
         """The larger relative change of the period means of mu and of the contact fraction
