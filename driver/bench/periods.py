@@ -1,4 +1,4 @@
-"""Benchmark: periods to the periodic steady state with and without the slow-mode extrapolation.
+"""Benchmark: periods to the periodic steady state with and without the creep extrapolation.
 
 The first micro2 sample of the four-scale road, built as the scene ``four_scale`` builds its
 friction runs (``SpecBuilder``: band-limited master, element size, converged window, steady-state
@@ -73,7 +73,6 @@ def compare(spec: SlidingSpec, reference_periods: int = 0) -> dict:
                       "newton_iterations": st.get("newton_iterations"),
                       "wall_s": time.perf_counter() - t0,
                       "extrapolated_creep": st.get("extrapolated_creep", 0.0),
-                      "extrapolated_settling": st.get("extrapolated_settling", 0.0),
                       "extrapolation_factor": st.get("extrapolation_factor", 0.0),
                       "period_mu": period_means(r, s.period) if r.series else []}
         if name == "reference" and rows[name]["period_mu"]:
@@ -104,7 +103,7 @@ def main(argv: list[str] | None = None) -> int:
           f"{'mu':>8} {'vs ref':>7} {'extrap.':>7}")
     for name, r in rows.items():
         dev = f"{r['mu_force'] / ref - 1:+.1%}" if ref else ""
-        n_ex = int(r["extrapolated_creep"] or 0) + int(r["extrapolated_settling"] or 0)
+        n_ex = int(r["extrapolated_creep"] or 0)
         print(f"{name:>17} {r['status']:>7} {r['periods'] or 0:>7.0f} "
               f"{r['newton_iterations'] or 0:>7.0f} {r['wall_s']:>9.1f} {r['mu_force']:>8.4f} "
               f"{dev:>7} {n_ex:>7}")

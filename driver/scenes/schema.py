@@ -192,8 +192,8 @@ SCHEMA: dict[str, dict[str, Key]] = {
                             "load relaxes at once instead of creeping for tau_max / T periods"),
         "period_extrapolation": Key("bool", True, "with steady_state and window = converged, a "
                                     "frictionless cell's state is extrapolated to the limit of "
-                                    "its slow modes (the block's creep, the contact's settling) "
-                                    "where the period changes are geometric "
+                                    "its slowest mode (the block's creep under the mean shear of "
+                                    "the friction force) where the period changes are geometric "
                                     "(driver.sliding.slowmode)"),
         "shortcut": Key("bool", True, "a frictionless run in full contact over small slopes is "
                         "the linear viscoelastic closed form instead of an FE run (criterion and "

@@ -60,13 +60,12 @@ def window(spec: SlidingSpec, s_done: np.ndarray, distance: float,
 
 
 def slow_mode_stats(periods) -> dict[str, float]:
-    """Extrapolations along the slow modes (``driver.sliding.slowmode``): how many of each mode,
-    how many were left out, and their total factor (0 where none)."""
+    """Extrapolations of the block's creep (``driver.sliding.slowmode``): how many, how many were
+    left out, and their total factor (0 where none)."""
     slow = getattr(periods, "slow_mode", None) if periods is not None else None
     if slow is None:
         return {}
-    return {"extrapolated_creep": float(slow.count["creep"]),
-            "extrapolated_settling": float(slow.count["settling"]),
+    return {"extrapolated_creep": float(slow.count),
             "extrapolation_left_out": float(slow.rejected),
             "extrapolation_factor": float(sum(slow.omegas))}
 

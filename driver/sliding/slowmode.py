@@ -1,4 +1,4 @@
-"""Extrapolation of a periodic cell's state along its slow modes (the period map's fixed point).
+"""Extrapolation of a periodic cell's creep to its limit (the period map's slowest mode).
 
 With the steady-state jump (``ViscoelasticHistory.extrapolate_periodic``) every Prony branch
 takes its periodic state for the path of the period just slid, yet the state still changes from
@@ -10,20 +10,19 @@ the contact's indentation settles with a ratio of about 0.7; mu falls with both 
 has its limit after three changes: x_inf = x_n + rho / (1 - rho) (x_n - x_(n-1)) (Aitken's
 extrapolation of a linearly converging fixed-point iteration, along the observed direction).
 
-Two modes, taken at a period start after the jump:
+Taken at a period start after the jump, while the contact face creeps by more than
+``CREEP_ELEMENTS`` contact elements a period: the rows' mean horizontal displacements (of the
+structured block mesh, ``meshes.block``) and the histories' row means are extrapolated, and the
+road moves with the contact face so that the face meets it as before.  The full displacement
+change cannot be extrapolated: between two period starts the material has moved under the road,
+so the change holds the contact pattern shifted by the creep, which extrapolated inverts
+elements.  The rows' vertical means are not extrapolated either: they follow the contact's
+indentation, not the creep (extrapolated, Newton finds no equilibrium).  Nor is the settling of
+the contact after the creep: extrapolating the whole state there passed the equilibrium check and
+then broke the run's next steps (a meso cell of the trend study at 6 MPa and 1 m/s, which
+converges in 7 periods without it, failed all its attempts with it; ``docs/performance.md``).
 
-* **creep** (the mean horizontal displacement of each row of the structured block mesh,
-  ``meshes.block``): while the contact face moves by more than ``CREEP_ELEMENTS`` contact elements
-  a period, the rows' mean horizontal displacements and the histories' row means are
-  extrapolated, and the road moves with the contact face so that the face meets it as before.
-  The full displacement change cannot be extrapolated then: between two period starts the
-  material has moved under the road, so the change holds the contact pattern shifted by the
-  creep, which extrapolated inverts elements.  The rows' vertical means are not extrapolated:
-  they follow the contact's indentation, not the creep (extrapolated, Newton finds no
-  equilibrium);
-* **settling** (once the face creeps less): the whole solution vector and all histories.
-
-Either is used only where two successive ratios of the mode's changes (projected on each other)
+It is used only where two successive ratios of the mode's changes (projected on each other)
 agree within ``RHO_AGREE`` and lie in [``RHO_MIN``, ``RHO_MAX``]: a geometric approach, not noise
 or an oscillation.  The extrapolated state is then brought to equilibrium at the period start
 (the caller's ``equilibrate``); where that fails the extrapolation is halved, and it goes as far
@@ -46,14 +45,14 @@ RHO_MIN = 0.3
 RHO_MAX = 0.9
 #: two successive ratios must agree within this
 RHO_AGREE = 0.1
-#: the creep mode while the contact face moves more than this many contact elements a period
+#: extrapolated while the contact face creeps more than this many contact elements a period
 CREEP_ELEMENTS = 0.25
 #: equilibrium solves an extrapolation may take (its part halves after each that fails)
 MAX_SOLVES = 6
 
 
 class SlowModeExtrapolation:
-    """Period-start states of one sliding attempt; ``after_jump`` extrapolates along the slow mode
+    """Period-start states of one sliding attempt; ``after_jump`` extrapolates the block's creep
     when its last three period changes are geometric.
 
     sp: the attempt's SolidProblem (solution vector ``w``, ``history``, kinematics) on a
@@ -69,19 +68,19 @@ class SlowModeExtrapolation:
         self.h_face = float(np.min(np.diff(face))) if face.size > 1 else np.inf
         self.xs: list[np.ndarray] = []  # solution vectors at the period starts since the last
         self.Hs: list[np.ndarray] = []  # extrapolation, and the histories (the last two)
-        self.count = {"creep": 0, "settling": 0}  # extrapolations made
+        self.count = 0  # extrapolations made
         self.rejected = 0  # left out: no equilibrium even at the smallest part
         self.omegas: list[float] = []  # the factors used
 
     def after_jump(self, equilibrate: Callable[[float], bool],
                    worth: Callable[[float], bool] = lambda omega: True
                    ) -> tuple[np.ndarray, float] | None:
-        """Record the period start just reached (after the history jump); where the last three
-        changes of a slow mode are geometric, move the state to their limit.  ``equilibrate(
-        shift)`` moves the road by ``shift`` (beyond the shifts before) and solves equilibrium
-        at the period start; it returns whether that converged.  ``worth(omega)``: whether an
-        extrapolation by omega periods' changes would move the results enough to pay for the
-        periods it restarts.  Returns the change of the solution vector and the road's shift
+        """Record the period start just reached (after the history jump); where the contact face
+        creeps and the last three changes are geometric, move the state to their limit.
+        ``equilibrate(shift)`` moves the road by ``shift`` (beyond the shifts before) and solves
+        equilibrium at the period start; it returns whether that converged.  ``worth(omega)``:
+        whether an extrapolation by omega periods' changes would move the results enough to pay
+        for the periods it restarts.  Returns the change of the solution vector and the road's shift
         (None: not extrapolated)."""
         sp = self.sp
         self.xs = (self.xs + [sp.w.x.array.copy()])[-4:]
@@ -90,32 +89,27 @@ class SlowModeExtrapolation:
             return None
         u = [x[self.node_dofs] for x in self.xs]  # (nodes, 2) each
         means = [_row_mean(ui[:, 0], self.node_rows) for ui in u]
-        creep = abs(means[-1][0] - means[-2][0]) > CREEP_ELEMENTS * self.h_face
-        if creep:
-            d = [b - a for a, b in zip(means[:-1], means[1:])]
-        else:
-            d = [(b - a).ravel() for a, b in zip(u[:-1], u[1:])]
+        if abs(means[-1][0] - means[-2][0]) <= CREEP_ELEMENTS * self.h_face:
+            return None  # the face hardly creeps: nothing to extrapolate
+        d = [b - a for a, b in zip(means[:-1], means[1:])]
         rho = [_ratio(d[1], d[0]), _ratio(d[2], d[1])]
         if not (RHO_MIN <= rho[1] <= RHO_MAX and abs(rho[1] - rho[0]) <= RHO_AGREE):
             return None
         omega = rho[1] / (1.0 - rho[1])
         if not worth(omega):
             return None
-        if creep:
-            dx = np.zeros_like(self.xs[-1])
-            dx[self.node_dofs[:, 0]] = d[2][self.node_rows]
-            hist = self.sp.history
-            dH = _row_mean((self.Hs[-1] - self.Hs[-2]).reshape(
-                hist.H.shape[0], -1, hist.npts, hist.H.shape[2]), self.cell_rows, axis=1)
-            dH = dH[:, self.cell_rows].reshape(hist.H.shape)
-            shift = float(d[2][0])  # the contact face's row: the road moves with it
-        else:
-            dx, dH, shift = self.xs[-1] - self.xs[-2], self.Hs[-1] - self.Hs[-2], 0.0
+        dx = np.zeros_like(self.xs[-1])
+        dx[self.node_dofs[:, 0]] = d[2][self.node_rows]
+        hist = sp.history
+        dH = _row_mean((self.Hs[-1] - self.Hs[-2]).reshape(
+            hist.H.shape[0], -1, hist.npts, hist.H.shape[2]), self.cell_rows, axis=1)
+        dH = dH[:, self.cell_rows].reshape(hist.H.shape)
+        shift = float(d[2][0])  # the contact face's row: the road moves with it
         done = self._move(omega, dx, dH, shift, equilibrate)
         if done == 0.0:
             self.rejected += 1
             return None
-        self.count["creep" if creep else "settling"] += 1
+        self.count += 1
         self.omegas.append(done * omega)
         moved = sp.w.x.array - self.xs[-1]
         self.xs, self.Hs = [sp.w.x.array.copy()], [sp.history.H.copy()]
