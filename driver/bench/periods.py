@@ -22,37 +22,19 @@ import dataclasses
 import json
 import time
 
-import numpy as np
-
-from rubberfriction.driver.multiscale.results import Point
-from rubberfriction.driver.multiscale.scales import build_scales
-from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
-from rubberfriction.driver.scenes import load_scene
+from rubberfriction.driver.bench.sliding import lowest_scale_spec
 from rubberfriction.driver.sliding.run import run_sliding
 from rubberfriction.driver.sliding.spec import SlidingSpec, default_h_contact
+from rubberfriction.driver.sliding.window import period_means
 
 
 def micro2_spec(pressure: float, velocity: float, coarsen: float = 1.0) -> SlidingSpec:
     """The first micro2 sample of the scene ``four_scale`` as its campaign builds a friction run
     (frictionless: the lowest scale), with contact elements and steps ``coarsen`` times longer."""
-    scene = load_scene("four_scale")
-    scales = build_scales(scene, scene.samples.friction)
-    k = len(scales.sets) - 1
-    spec = SpecBuilder(scene, load_compounds(scene))(
-        Point(scene.conditions.compounds[0], pressure, velocity), k,
-        scales.sets[k].samples[0], pressure, None, "up")
+    spec = lowest_scale_spec(pressure, velocity, None, scene_name="four_scale")
     hc = spec.h_contact or default_h_contact(spec)
     step = spec.step_length or 0.5 * hc
     return dataclasses.replace(spec, h_contact=coarsen * hc, step_length=coarsen * step)
-
-
-def period_means(result, period: float) -> list[float]:
-    """mu_force averaged over each whole period slid (from the result's series)."""
-    s = np.asarray(result.series["s"], dtype=float)
-    mu = np.asarray(result.series["mu_force"], dtype=float)
-    n = int(round(s[-1] / period)) if s.size else 0
-    edges = np.arange(n + 1) * period * (1.0 + 1e-12)
-    return [float(np.mean(mu[(s > a) & (s <= b)])) for a, b in zip(edges[:-1], edges[1:])]
 
 
 def compare(spec: SlidingSpec, reference_periods: int = 0) -> dict:
@@ -74,7 +56,8 @@ def compare(spec: SlidingSpec, reference_periods: int = 0) -> dict:
                       "wall_s": time.perf_counter() - t0,
                       "extrapolated_creep": st.get("extrapolated_creep", 0.0),
                       "extrapolation_factor": st.get("extrapolation_factor", 0.0),
-                      "period_mu": period_means(r, s.period) if r.series else []}
+                      "period_mu": (list(period_means(r.series["s"], r.series["mu_force"],
+                                                      s.period)) if r.series else [])}
         if name == "reference" and rows[name]["period_mu"]:
             rows[name]["mu_force"] = rows[name]["period_mu"][-1]  # the steady state
     return rows

@@ -170,17 +170,20 @@ def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str
     return rows
 
 
-def lowest_scale_spec(pressure: float, velocity: float, slide_fraction: float,
-                      scale: int = -1) -> SlidingSpec:
-    """The first micro2 (lowest-scale; or ``scale``) sample of the default scene, built as its
-    campaign builds friction runs (``SpecBuilder``: band-limited master, element size, quick
-    settings), slid over ``slide_fraction`` of its period."""
-    scene = load_scene("default")
+def lowest_scale_spec(pressure: float, velocity: float, slide_fraction: float | None,
+                      scale: int = -1, scene_name: str = "default") -> SlidingSpec:
+    """The first micro2 (lowest-scale; or ``scale``) sample of the default scene (or the shipped
+    ``scene_name``), built as its campaign builds friction runs (``SpecBuilder``: band-limited
+    master, element size, quick settings), slid over ``slide_fraction`` of its period (None: the
+    campaign's sliding budget)."""
+    scene = load_scene(scene_name)
     scales = build_scales(scene, scene.samples.friction)
     compound = scene.conditions.compounds[0]
     k = scale % len(scales.sets)
     spec = SpecBuilder(scene, load_compounds(scene))(
         Point(compound, pressure, velocity), k, scales.sets[k].samples[0], pressure, None, "up")
+    if slide_fraction is None:
+        return spec
     return dataclasses.replace(spec, slide_distance=slide_fraction * spec.period)
 
 

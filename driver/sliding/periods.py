@@ -135,14 +135,12 @@ class Periods:
     def _last_change(self, rows: list) -> float:
         """The larger relative change of the period means of mu and of the contact fraction
         from the period before the last to the last (0 before two periods)."""
-        arr = np.array([r[1:5] for r in rows])  # s, Fx, Fz, contact length
-        if arr.shape[0] < 2:
+        if len(rows) < 2:
             return 0.0
-        with np.errstate(divide="ignore", invalid="ignore"):
-            qs = (-arr[:, 1] / arr[:, 2], arr[:, 3] / self.L)
+        slid, q = self._series(rows)
         out = 0.0
-        for q in qs:
-            m = period_means(arr[:, 0], q, self.L)
+        for quantity in q.values():
+            m = period_means(slid, quantity, self.L)
             if len(m) >= 2 and np.all(np.isfinite(m[-2:])):
                 out = max(out, abs(m[-1] - m[-2]) / max(abs(m[-1]), MU_FLOOR))
         return float(out)
@@ -151,16 +149,21 @@ class Periods:
         """Time spent outside the run's own work does not count in a period's pace."""
         self.period_wall += max(float(seconds), 0.0)
 
+    def _series(self, rows: list) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        """The distance slid and the quantities the window rule can wait for, per step."""
+        arr = np.array([r[1:5] for r in rows])  # s, Fx, Fz, contact length
+        with np.errstate(divide="ignore", invalid="ignore"):  # no load: mu is NaN
+            q = {"mu_force": -arr[:, 1] / arr[:, 2], "contact_fraction": arr[:, 3] / self.L}
+        return arr[:, 0], q
+
     def _window_test(self, rows: list) -> tuple[bool, int]:
         """The converged-window rule on the period means so far: whether the run is stationary,
         and else the earliest period after which the rule can pass."""
         s, L = self.spec, self.L
-        arr = np.array([r[1:5] for r in rows])  # s, Fx, Fz, contact length
-        with np.errstate(divide="ignore", invalid="ignore"):  # no load: mu is NaN
-            q = {"mu_force": -arr[:, 1] / arr[:, 2], "contact_fraction": arr[:, 3] / L}
+        slid, q = self._series(rows)
         names = WINDOW_QUANTITIES[s.window_quantity]
-        means = [period_means(arr[:, 0], q[name], L) for name in names]
-        halves = [period_means(arr[:, 0], q[name], 0.5 * L) for name in names]
+        means = [period_means(slid, q[name], L) for name in names]
+        halves = [period_means(slid, q[name], 0.5 * L) for name in names]
         self.window_used = converged_window(means, s.converge_tol, s.window_periods, halves,
                                             self.run_in)
         self.converged = float(self.window_used > 0)
