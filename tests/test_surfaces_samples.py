@@ -212,19 +212,47 @@ def test_refine_periodic_is_the_band_limited_interpolant(n):
         refine_periodic(f(x), 1.5)
 
 
-def test_refined_master_reaches_the_vertex_density_and_keeps_the_points():
-    from rubberfriction.driver.multiscale.specs import refined_master
+def test_master_polyline_reaches_the_vertex_density_and_keeps_the_points():
+    from rubberfriction.driver.multiscale.specs import master_polyline
 
     L, n = 0.04, 80  # micro2 of the default road: 6 points per 0.003 mm wavelength
     x = np.arange(n) * L / n
     h = 0.001 * np.sin(2 * np.pi * x / 0.004) + 0.0005 * np.cos(2 * np.pi * x / 0.0032)
-    xr, hr = refined_master(x, h, L, 0.003, 32)
+    xr, hr = master_polyline(x, h, L, 0.003, 32)
     assert xr.size == 6 * n  # ceil(32 * 0.0005 / 0.003) = 6
     assert np.allclose(xr[::6], x, rtol=0, atol=1e-15) and np.allclose(hr[::6], h, atol=1e-15)
     assert np.allclose(np.diff(xr), L / xr.size)
-    for args in ((L, 0.003, 0), (L, 0.05, 32)):  # switched off; already fine enough
-        xs, hs = refined_master(x, h, *args)
+    for args in ((L, 0.003, 0), (L, 0.02, 32)):  # switched off; fine enough, not 2x finer
+        xs, hs = master_polyline(x, h, *args)
         assert xs is x and hs is h
     xn = x.copy()
     xn[3] += 1e-4  # not uniform: as given
-    assert refined_master(xn, h, L, 0.003, 32)[0] is xn
+    assert master_polyline(xn, h, L, 0.003, 32)[0] is xn
+
+
+def test_master_polyline_keeps_every_kth_point_of_a_finer_sample():
+    """A sample finer than the vertex density by a factor >= 2 keeps every k-th point, k the
+    largest divisor of its point count that leaves at least points_per_wavelength per shortest
+    wavelength: the four-scale macro sample, 20 mm at 4 um (5000 points), band edge 3 mm, 32
+    points a wavelength: k <= 3 / (32 * 0.004) = 23.4, the largest divisor of 5000 is 20."""
+    from rubberfriction.driver.multiscale.specs import master_points, master_polyline
+
+    L, n, lam = 20.0, 5000, 3.0
+    x = np.arange(n) * L / n
+    h = 0.1 * np.sin(2 * np.pi * x / 4.0) + 0.05 * np.cos(2 * np.pi * x / lam)
+    xd, hd = master_polyline(x, h, L, lam, 32)
+    assert xd.size == 250
+    assert np.array_equal(xd, x[::20]) and np.array_equal(hd, h[::20])
+    assert lam / (xd[1] - xd[0]) >= 32
+    assert np.allclose(np.diff(xd), L / xd.size)
+    xp, hp = master_polyline(x[:4999], h[:4999], L * 4999 / 5000, lam, 32)  # 4999 is prime
+    assert xp.size == 4999
+    # at least MASTER_POINTS_PER_ELEMENT (4) per contact element of a finer mesh
+
+    class Num:
+        master_points_per_wavelength = 32
+        elements_per_wavelength = 12
+
+    assert master_points(Num) == 48
+    Num.master_points_per_wavelength = 0
+    assert master_points(Num) == 0

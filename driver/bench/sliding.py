@@ -62,7 +62,12 @@ from rubberfriction.driver.fe.solid import ELEMENTS
 from rubberfriction.driver.multiscale.results import Point
 from rubberfriction.driver.multiscale.scales import build_scales
 from rubberfriction.driver.scenes import load_scene
-from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds, refined_master
+from rubberfriction.driver.multiscale.specs import (
+    SpecBuilder,
+    load_compounds,
+    master_points,
+    master_polyline,
+)
 from rubberfriction.driver.multiscale.statistics import STABILISATION_TOL, usable, why_unusable
 from rubberfriction.driver.runtime.store import result_outcome
 from rubberfriction.driver.fe.newton import LINEAR_SOLVERS
@@ -121,13 +126,13 @@ def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str
     """The sweep of part 2 on the first sample of ``scale`` of ``road`` over the velocities and
     pressures of ``grid`` (``quick`` takes the quick grid); the rigid surface refined per
     shortest wavelength of the band as the default scene's campaign does
-    (``specs.refined_master``).  A run is usable when a campaign would average it
+    (``specs.master_polyline``).  A run is usable when a campaign would average it
     (``statistics.usable``) and its mu is finite; otherwise the row gives the reason."""
     comp = load_compound("tread_default")
     sample = rough_sample(scale, road)
     x, h = np.asarray(sample.x)[:-1], np.asarray(sample.h)[:-1]
-    points = load_scene("default").numerics.master_points_per_wavelength
-    x, h = refined_master(x, h, sample.period, float(sample.band[1]), points)
+    points = master_points(load_scene("default").numerics)
+    x, h = master_polyline(x, h, sample.period, float(sample.band[1]), points)
     print(f"scale {scale} of the {road} road", end="; ")
     print(f"stability sweep on a rough sample: period {sample.period:.4g} mm, rms height "
           f"{sample.rms_height:.3g} mm, rms slope {sample.rms_slope:.3g}, {x.size} segments; "

@@ -25,15 +25,27 @@ from rubberfriction.forms.material_files import load_compound
 from rubberfriction.meshes.block import polyline_element_size
 
 
-def refined_master(x: np.ndarray, h: np.ndarray, period: float, lam_min: float,
-                   points_per_wavelength: int) -> tuple[np.ndarray, np.ndarray]:
-    """The rigid master polyline of a periodic sample with at least ``points_per_wavelength``
-    vertices per shortest wavelength ``lam_min`` of its band: band-limited interpolation
-    (``surfaces.samples.refine_periodic``) by a whole factor, so every measured point stays a
-    vertex.  Samples already that fine, non-uniform ones and ``points_per_wavelength = 0`` pass
-    as they are.  The default road's micro2 samples (0.04-0.003 mm band at 0.0005 mm spacing,
-    rms slope 4) have 6 points per shortest wavelength; refined
-    to 36, far fewer of the default scene's micro2 runs fail (docs/performance.md)."""
+def master_polyline(x: np.ndarray, h: np.ndarray, period: float, lam_min: float,
+                    points_per_wavelength: int) -> tuple[np.ndarray, np.ndarray]:
+    """The rigid master polyline of a periodic sample with about ``points_per_wavelength``
+    vertices per shortest wavelength ``lam_min`` of its band, by a whole factor either way, so
+    every vertex is a point of the sample:
+
+    * coarser samples are refined by band-limited interpolation
+      (``surfaces.samples.refine_periodic``).  The default road's micro2 samples (0.04-0.003 mm
+      band at 0.0005 mm spacing, rms slope 4) have 6 points per shortest wavelength; refined to
+      36, far fewer of the default scene's micro2 runs fail (docs/performance.md);
+    * samples finer by a factor k >= 2 keep every k-th point, k the largest divisor of the
+      point count with at least ``points_per_wavelength`` left (the spacing stays uniform over
+      the periodic seam).  A band's profile between such points is smooth on the scale of the
+      contact elements (``elements_per_wavelength`` of them per ``lam_min``), and the mortar
+      integrals cost one term per master segment a slave segment meets: the four-scale road's
+      macro samples (20 mm at 4 um, 5000 points, 125 per contact element) spent 88 % of a run
+      in contact; with every 20th point mu moves by 4e-4 relative and the contact fraction by
+      less than 1e-6 (docs/performance.md, "Contact cost and the road's vertices").
+
+    Non-uniform samples, point counts without such a divisor and ``points_per_wavelength = 0``
+    pass as they are."""
     n = x.size
     if points_per_wavelength <= 0 or n < 4 or not period > 0.0:
         return x, h
@@ -41,9 +53,25 @@ def refined_master(x: np.ndarray, h: np.ndarray, period: float, lam_min: float,
     if not np.allclose(np.diff(x), dx, rtol=UNIFORM_RTOL, atol=0.0):
         return x, h
     factor = math.ceil(points_per_wavelength * dx / lam_min - 1e-9)
-    if factor <= 1:
+    if factor > 1:
+        return x[0] + np.arange(n * factor) * (dx / factor), refine_periodic(h, factor)
+    k_max = math.floor(lam_min / (points_per_wavelength * dx) + 1e-9)
+    k = next((k for k in range(k_max, 1, -1) if n % k == 0), 1)
+    if k <= 1:
         return x, h
-    return x[0] + np.arange(n * factor) * (dx / factor), refine_periodic(h, factor)
+    return x[::k].copy(), h[::k].copy()
+
+
+#: vertices of the rigid master per contact element at least (``master_points``)
+MASTER_POINTS_PER_ELEMENT = 4
+
+
+def master_points(num: Any) -> int:
+    """Vertices of the master per shortest wavelength for a scale's numerics: the scene's
+    ``master_points_per_wavelength`` (0: the sample as cut), at least MASTER_POINTS_PER_ELEMENT
+    per contact element of a finer mesh (``elements_per_wavelength``)."""
+    p = int(num.master_points_per_wavelength)
+    return max(p, MASTER_POINTS_PER_ELEMENT * int(num.elements_per_wavelength)) if p > 0 else 0
 
 
 def points(scene: Scene) -> list[Point]:
@@ -91,7 +119,7 @@ class SpecBuilder:
         lam_band = float(band[1]) if band is not None and np.isfinite(band[1]) and band[1] > 0 \
             else None  # the band's short edge, where the sample knows its band
         if lam_band is not None:
-            x, h = refined_master(x, h, period, lam_band, num.master_points_per_wavelength)
+            x, h = master_polyline(x, h, period, lam_band, master_points(num))
         base = SlidingSpec(surface_x=x, surface_h=h, period=period, pressure=float(pressure),
                            velocity=float(point.velocity), compound=self.compounds[point.compound],
                            temperature=self.scene.conditions.T0, friction=friction,

@@ -160,9 +160,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                        "contact-face elements per shortest wavelength of a "
                                        "sample (the run's element size rule)", minimum=2),
         "master_points_per_wavelength": Key("int", 32, "vertices of the rigid surface per "
-                                            "shortest wavelength of a sample's band: coarser "
-                                            "samples are refined by band-limited "
-                                            "interpolation (0: as sampled)", minimum=0),
+                                            "shortest wavelength of a sample's band (at least 4 "
+                                            "per contact element): coarser samples are refined "
+                                            "by band-limited interpolation, finer ones keep "
+                                            "every k-th point (0: as sampled)", minimum=0),
         "grading": Key("float", 1.2, "growth ratio of element height away from the contact face",
                        minimum=1.0, maximum=3.0),
         "window": Key("str", "converged",
