@@ -1,5 +1,7 @@
 """Periodic closure (fig. 6.6 b), sample extraction (ch. 6.5.1) and multi-measurement scales."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -239,14 +241,25 @@ def test_master_polyline_keeps_every_kth_point_of_a_finer_sample():
 
     L, n, lam = 20.0, 5000, 3.0
     x = np.arange(n) * L / n
-    h = 0.1 * np.sin(2 * np.pi * x / 4.0) + 0.05 * np.cos(2 * np.pi * x / lam)
+    h = 0.1 * np.sin(2 * np.pi * x / 4.0) + 0.05 * np.cos(2 * np.pi * x / (L / 6))  # periodic
     xd, hd = master_polyline(x, h, L, lam, 32)
     assert xd.size == 250
     assert np.array_equal(xd, x[::20]) and np.array_equal(hd, h[::20])
     assert lam / (xd[1] - xd[0]) >= 32
     assert np.allclose(np.diff(xd), L / xd.size)
-    xp, hp = master_polyline(x[:4999], h[:4999], L * 4999 / 5000, lam, 32)  # 4999 is prime
-    assert xp.size == 4999
+    # 4999 is prime: no whole factor, so the points nearest to equal steps of k_max = 23
+    xs, hs, Ls = x[:4999], h[:4999], L * 4999 / 5000
+    xp, hp = master_polyline(xs, hs, Ls, lam, 32)
+    assert xp.size == math.ceil(4999 / 23)
+    steps = np.round(np.diff(np.append(xp, xp[0] + Ls)) / (Ls / 4999)).astype(int)
+    assert set(steps) <= {22, 23} and steps.sum() == 4999
+    assert np.array_equal(hp, np.interp(xp, xs, hs))  # every vertex a point of the sample
+    assert master_polyline(xs, hs, Ls, lam, 32, uniform=True)[0] is xs  # node-to-surface
+    # a point is left out only where the subset's polyline passes within max_deviation of it:
+    # the smooth waves above are 4e-4 mm off at k = 20; a tip truncated flat (polish) is not
+    assert master_polyline(x, h, L, lam, 32, max_deviation=1e-3)[0].size == 250
+    flat = np.minimum(h, 0.9 * h.max())
+    assert master_polyline(x, flat, L, lam, 32, max_deviation=1e-6)[0] is x
     # at least MASTER_POINTS_PER_ELEMENT (4) per contact element of a finer mesh
 
     class Num:

@@ -4,6 +4,7 @@ histories, against constructed series and closed forms."""
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import basix
 import numpy as np
@@ -351,3 +352,74 @@ def test_one_period_blocks_compare_each_half_with_the_same_half_before():
     trend = 0.5 * 1.008 ** np.arange(4)
     assert converged_window(trend[:2], 0.01, 1, np.repeat(trend[:2], 2), run_in=0) == 1
     assert converged_window(trend, 0.01, 2, np.repeat(trend, 2), run_in=0) == 0
+
+
+def test_one_period_blocks_at_half_the_tolerance_bound_a_drift_as_two_period_blocks_do():
+    """one_period = ONE_PERIOD_TOL (the sliding runs): a trend of d per period passes w = 1 only
+    for d <= tol / 2, the bound of w = 2 at the whole tolerance; a run stationary after its
+    run-in stops after 3 periods instead of 5."""
+    from rubberfriction.driver.sliding.window import ONE_PERIOD_TOL
+
+    assert ONE_PERIOD_TOL == 0.5
+    for d, passes in ((0.008, False), (0.004, True)):
+        trend = 0.5 * (1.0 + d) ** np.arange(3)
+        w = converged_window(trend, 0.01, 1, np.repeat(trend, 2), one_period=ONE_PERIOD_TOL)
+        assert (w == 1) is passes, d
+        # w = 2 at the whole tolerance draws the same line on five periods
+        trend5 = 0.5 * (1.0 + d) ** np.arange(5)
+        assert (converged_window(trend5, 0.01, 2, np.repeat(trend5, 2)) == 2) is passes
+    steady = np.array([0.3, 0.5, 0.5])  # run-in, then two equal periods
+    assert converged_window(steady, 0.01, 1, np.repeat(steady, 2),
+                            one_period=ONE_PERIOD_TOL) == 1
+    # the halves too: each half against the same half before, at half the drift bound
+    halves = np.array([0.3, 0.3, 0.3, 0.7, 0.3 * 1.012, 0.7 * (1 - 0.012 * 0.3 / 0.7)])
+    assert converged_window(steady, 0.01, 1, halves) == 1
+    assert converged_window(steady, 0.01, 1, halves, one_period=ONE_PERIOD_TOL) == 0
+
+
+def _periods_with_face(face):
+    """A Periods of a frictionless periodic cell (4 steps a period, converged rule, tol 1 %,
+    one-period windows) whose contact face is ``face`` (mean x-displacement in elements)."""
+    from rubberfriction.driver.sliding.periods import Periods
+
+    spec = SimpleNamespace(period=1.0, converge_tol=0.01, steady_state=False, window_periods=1,
+                           window_quantity="mu", nsteps=40)
+    return Periods(spec, 1.0, 0.25, 40, None, False, 0.0, face=face)
+
+
+def test_a_one_period_window_waits_while_the_contact_face_creeps():
+    """A flat mu after the run-in passes one-period blocks after 3 periods where the face stands
+    still; where it creeps by more than CREEP_ELEMENTS contact elements a period the window needs
+    two periods of two (5 periods), as the four-scale micro2 cell whose mu stood still for two
+    periods at +34 % while its face crept 15 elements a period."""
+    from rubberfriction.driver.sliding.slowmode import CREEP_ELEMENTS
+
+    for creep, stops_after in ((0.0, 3), (0.1 * CREEP_ELEMENTS, 3), (2.0 * CREEP_ELEMENTS, 5)):
+        position = [0.0]
+        periods = _periods_with_face(lambda: position[0])
+        rows, stopped = [], None
+        for k in range(1, 41):
+            s = 0.25 * k
+            mu = 0.3 if k <= 4 else 0.5  # the run-in period, then stationary
+            rows.append((0.0, s, -mu * 2.0, 2.0, 0.4))
+            position[0] += creep / 4
+            if periods.end_of_step(k, rows, 0.0, float("inf")):
+                stopped = k // 4
+                break
+        assert stopped == stops_after, (creep, stopped)
+        assert periods.window_used == (1 if stops_after == 3 else 2)
+        assert periods.face_creep == pytest.approx(creep)
+
+
+def test_the_drift_of_a_one_period_window_is_its_change_from_the_period_before():
+    """A periodic cell's one-period window: its halves are different stretches of road (0.3 and
+    0.7 here, a 2.33-fold 'drift' if compared), so its drift is its mean against the period
+    before; windows of more periods keep second half against first half."""
+    s = np.arange(1, 13) * 0.25  # 4 steps a period, 3 periods
+    mu = np.tile([0.3, 0.3, 0.7, 0.7], 3) * np.repeat([1.0, 1.0, 1.01], 4)
+    assert window_drift(s, mu, 2.0, 3.0) == pytest.approx((0.707 - 0.303) / 0.505)
+    assert window_drift(s, mu, 2.0, 3.0, period=1.0) == pytest.approx(0.01 / 1.01)
+    assert window_drift(s, mu, 1.0, 3.0, period=1.0) == pytest.approx(
+        window_drift(s, mu, 1.0, 3.0))  # two periods: halves as before
+    assert window_drift(s, mu, 0.0, 1.0, period=1.0) == pytest.approx(
+        window_drift(s, mu, 0.0, 1.0))  # no period before it

@@ -25,27 +25,34 @@ from rubberfriction.forms.material_files import load_compound
 from rubberfriction.meshes.block import polyline_element_size
 
 
-def master_polyline(x: np.ndarray, h: np.ndarray, period: float, lam_min: float,
-                    points_per_wavelength: int) -> tuple[np.ndarray, np.ndarray]:
-    """The rigid master polyline of a periodic sample with about ``points_per_wavelength``
-    vertices per shortest wavelength ``lam_min`` of its band, by a whole factor either way, so
-    every vertex is a point of the sample:
+#: the master keeps a subset of a sample's points only where its polyline stays within this
+#: part of a contact element of every point left out (``master_polyline``)
+MASTER_DEVIATION = 0.005
 
-    * coarser samples are refined by band-limited interpolation
+
+def master_polyline(x: np.ndarray, h: np.ndarray, period: float, lam_min: float,
+                    points_per_wavelength: int, uniform: bool = False,
+                    max_deviation: float = math.inf) -> tuple[np.ndarray, np.ndarray]:
+    """The rigid master polyline of a periodic sample with about ``points_per_wavelength``
+    vertices per shortest wavelength ``lam_min`` of its band, every vertex a point of the sample:
+
+    * coarser samples are refined by band-limited interpolation by a whole factor
       (``surfaces.samples.refine_periodic``).  The default road's micro2 samples (0.04-0.003 mm
       band at 0.0005 mm spacing, rms slope 4) have 6 points per shortest wavelength; refined to
       36, far fewer of the default scene's micro2 runs fail (docs/performance.md);
-    * samples finer by a factor k >= 2 keep every k-th point, k the largest divisor of the
-      point count with at least ``points_per_wavelength`` left (the spacing stays uniform over
-      the periodic seam).  A band's profile between such points is smooth on the scale of the
-      contact elements (``elements_per_wavelength`` of them per ``lam_min``), and the mortar
-      integrals cost one term per master segment a slave segment meets: the four-scale road's
-      macro samples (20 mm at 4 um, 5000 points, 125 per contact element) spent 88 % of a run
-      in contact; with every 20th point mu moves by 4e-4 relative and the contact fraction by
-      less than 1e-6 (docs/performance.md, "Contact cost and the road's vertices").
+    * samples finer by a factor k_max >= 2 keep a subset of their points with at least
+      ``points_per_wavelength`` per ``lam_min`` whose polyline passes within ``max_deviation``
+      of every sample point: every k-th point, k the largest such divisor of the point count in
+      [k_max / 2, k_max] (the spacing stays uniform over the periodic seam), else (not
+      ``uniform``: the node-to-surface contact needs a uniform master) the points nearest to
+      n / k equal steps, k as large as passes.  The mortar integrals cost one term per master
+      segment a slave segment meets: the four-scale road's macro samples (20 mm at 4 um, 5000
+      points, 125 per contact element) spent 88 % of a run in contact; every 20th point stays
+      within 0.4 % of an element of the sample, and mu moves by 4e-4 relative
+      (docs/performance.md, "Contact cost and the road's vertices").  The default road's macro samples have sharp tips between their points
+      (every 2nd point: 1.3 % of an element off, a macro run at 1 mm/s 3.9 % off): kept whole.
 
-    Non-uniform samples, point counts without such a divisor and ``points_per_wavelength = 0``
-    pass as they are."""
+    Non-uniform samples and ``points_per_wavelength = 0`` pass as they are."""
     n = x.size
     if points_per_wavelength <= 0 or n < 4 or not period > 0.0:
         return x, h
@@ -56,10 +63,18 @@ def master_polyline(x: np.ndarray, h: np.ndarray, period: float, lam_min: float,
     if factor > 1:
         return x[0] + np.arange(n * factor) * (dx / factor), refine_periodic(h, factor)
     k_max = math.floor(lam_min / (points_per_wavelength * dx) + 1e-9)
-    k = next((k for k in range(k_max, 1, -1) if n % k == 0), 1)
-    if k <= 1:
-        return x, h
-    return x[::k].copy(), h[::k].copy()
+    whole = [k for k in range(k_max, 1, -1) if n % k == 0 and 2 * k >= k_max]
+    near = [] if uniform else [k for k in range(k_max, 1, -1) if k not in whole]
+    for k in whole + near:
+        if n % k == 0:
+            keep = np.arange(0, n, k)
+        else:
+            m = math.ceil(n / k)
+            keep = np.unique(np.floor(np.arange(m) * (n / m) + 0.5).astype(int) % n)
+        xp, hp = np.append(x[keep], x[keep[0]] + period), np.append(h[keep], h[keep[0]])
+        if np.max(np.abs(np.interp(x, xp, hp) - h)) <= max_deviation:
+            return x[keep], h[keep]
+    return x, h
 
 
 #: vertices of the rigid master per contact element at least (``master_points``)
@@ -103,8 +118,9 @@ class SpecBuilder:
         num = self.numerics[scale]
         window, slide = num.window_start, num.slide_periods
         tol, steady, extrapolate = 0.0, num.steady_state, num.period_extrapolation
+        window_periods = SlidingSpec.window_periods
         if num.window == "converged":
-            tol = num.convergence_tol
+            tol, window_periods = num.convergence_tol, num.window_periods
             slide = num.pressure_slide_periods if role == "down" else num.max_slide_periods
         if role == "micro" and self.scene.separated is not None:
             # thesis 6.2.3: the micro average includes the run-in, over a fixed distance
@@ -119,7 +135,10 @@ class SpecBuilder:
         lam_band = float(band[1]) if band is not None and np.isfinite(band[1]) and band[1] > 0 \
             else None  # the band's short edge, where the sample knows its band
         if lam_band is not None:
-            x, h = master_polyline(x, h, period, lam_band, master_points(num))
+            x, h = master_polyline(x, h, period, lam_band, master_points(num),
+                                   uniform=num.contact == "surface",
+                                   max_deviation=MASTER_DEVIATION * lam_band
+                                   / num.elements_per_wavelength)
         base = SlidingSpec(surface_x=x, surface_h=h, period=period, pressure=float(pressure),
                            velocity=float(point.velocity), compound=self.compounds[point.compound],
                            temperature=self.scene.conditions.T0, friction=friction,
@@ -127,6 +146,7 @@ class SpecBuilder:
                            contact=num.contact, elements_per_wavelength=num.elements_per_wavelength,
                            grading=num.grading, compression_steps=num.compression_steps,
                            window_start=window, converge_tol=tol, steady_state=steady,
+                           window_periods=window_periods,
                            period_extrapolation=extrapolate,
                            window_quantity=self._window_quantity(role),
                            shortcut=num.shortcut,

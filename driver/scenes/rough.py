@@ -128,6 +128,7 @@ class NumericsConfig:
     grading: float
     window: str
     convergence_tol: float
+    window_periods: int
     max_slide_periods: float
     pressure_slide_periods: float
     steady_state: bool

@@ -163,14 +163,15 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                             "shortest wavelength of a sample's band (at least 4 "
                                             "per contact element): coarser samples are refined "
                                             "by band-limited interpolation, finer ones keep "
-                                            "every k-th point (0: as sampled)", minimum=0),
+                                            "a subset of their points (0: as sampled)",
+                                            minimum=0),
         "grading": Key("float", 1.2, "growth ratio of element height away from the contact face",
                        minimum=1.0, maximum=3.0),
         "window": Key("str", "converged",
                       "time homogenisation of every run (eq. 6.2; driver.sliding.window): "
                       "converged = slide whole block lengths until the mean mu (pressure "
                       "branch: the contact fraction, whose reciprocal is the pressure passed "
-                      "down) of the last w >= 2 "
+                      "down) of the last w >= window_periods "
                       "and of the w before agree within convergence_tol and average the last w "
                       "(a run that cannot "
                       "within max_slide_periods is marked unconverged and not averaged); fixed = "
@@ -180,6 +181,11 @@ SCHEMA: dict[str, dict[str, Key]] = {
                                "the mean mu (pressure branch: contact fraction) of the last w "
                                "periods against the w before", above=0.0,
                                maximum=0.5),
+        "window_periods": Key("int", 1, "window = converged: fewest periods averaged, w; "
+                              "one-period windows are compared at half convergence_tol (the "
+                              "same bound on a drift per period as w = 2) and only once the "
+                              "contact face no longer creeps (driver.sliding.periods); 2: the "
+                              "rule before 0.21.0", minimum=1, maximum=4),
         "max_slide_periods": Key("float", 12.0, "window = converged: sliding budget in block "
                                  "lengths (at least a run-in period and two blocks of two)",
                                  minimum=5.0),
@@ -399,7 +405,7 @@ UNITS: dict[str, str] = {
     "[adhesion].tau0": "MPa", "[adhesion].c": "decades of v", "[adhesion].v0": "mm/s",
     "[adhesion].alpha": "1",
     "[numerics].grading": "1", "[numerics].convergence_tol": "1",
-    "[numerics].max_slide_periods": "block lengths",
+    "[numerics].max_slide_periods": "block lengths", "[numerics].window_periods": "periods",
     "[numerics].pressure_slide_periods": "block lengths",
     "[numerics].slide_periods": "block lengths", "[numerics].window_start": "1",
     "[numerics].step_per_element": "contact elements", "[numerics].stabilisation": "1",

@@ -16,8 +16,10 @@ import numpy as np
 
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.sliding.steps import WallLimit
+from rubberfriction.driver.sliding.slowmode import CREEP_ELEMENTS
 from rubberfriction.driver.sliding.window import (
     MU_FLOOR,
+    ONE_PERIOD_TOL,
     WINDOW_QUANTITIES,
     converged_window,
     earliest_convergence,
@@ -45,11 +47,21 @@ def sliding_step(spec: SlidingSpec, L: float, step_len: float) -> float:
 
 class Periods:
     """The periods of one attempt's sliding phase: per-phase states, the window rule's verdict
-    (``converged``, ``window_used``), the steady-state history jump and the pace per period."""
+    (``converged``, ``window_used``), the steady-state history jump and the pace per period.
+
+    One-period windows (``spec.window_periods = 1``) are compared at ONE_PERIOD_TOL of the
+    tolerance (``window.converged_window``) and only where the contact face (``face``, a
+    ``slowmode.FaceCreep``) crept by at most CREEP_ELEMENTS contact elements over the last
+    period; otherwise the window needs two periods or more."""
 
     def __init__(self, spec: SlidingSpec, L: float, step_len: float, nsteps: int, history,
-                 warm: bool, wall_limit: float, slow_mode=None, equilibrate=None):
+                 warm: bool, wall_limit: float, slow_mode=None, equilibrate=None, face=None):
         self.slow_mode = slow_mode  # SlowModeExtrapolation after each jump, or None
+        # the contact face's mean x-displacement in contact elements (slowmode.FaceCreep), or
+        # None; at the period start and its change over the last period
+        self.face = face
+        self.face_start = face() if face is not None else math.nan
+        self.face_creep = math.nan
         self.equilibrate = equilibrate  # equilibrate(road shift) -> converged, for slow_mode
         self.road_shift = 0.0  # the road's offset moved with the extrapolated contact face
         self.spec, self.L, self.nsteps, self.wall_limit = spec, L, nsteps, wall_limit
@@ -91,6 +103,8 @@ class Periods:
         if not (self.per_period and k % self.per_period == 0):
             return False
         s = self.spec
+        if self.face is not None:
+            self.face_creep = self.face() - self.face_start
         if s.converge_tol > 0:
             stationary, earliest = self._window_test(rows)
             if stationary:
@@ -104,6 +118,8 @@ class Periods:
             if self.slow_mode is not None:
                 self._extrapolate(k, rows)
             self.start = self.history.snapshot()
+        if self.face is not None:  # the next period's start (after an extrapolation)
+            self.face_start = self.face()
         return False
 
     def _extrapolate(self, k: int, rows: list) -> None:
@@ -164,8 +180,11 @@ class Periods:
         names = WINDOW_QUANTITIES[s.window_quantity]
         means = [period_means(slid, q[name], L) for name in names]
         halves = [period_means(slid, q[name], 0.5 * L) for name in names]
-        self.window_used = converged_window(means, s.converge_tol, s.window_periods, halves,
-                                            self.run_in)
+        w = converged_window(means, s.converge_tol, s.window_periods, halves, self.run_in,
+                             one_period=ONE_PERIOD_TOL)
+        if w == 1 and abs(self.face_creep) > CREEP_ELEMENTS:  # not periodic: two periods or more
+            w = converged_window(means, s.converge_tol, 2, halves, self.run_in)
+        self.window_used = w
         self.converged = float(self.window_used > 0)
         if self.converged:
             return True, 0

@@ -60,12 +60,15 @@ def window(spec: SlidingSpec, s_done: np.ndarray, distance: float,
 
 
 def slow_mode_stats(periods) -> dict[str, float]:
-    """Extrapolations of the block's creep (``driver.sliding.slowmode``): how many, how many were
-    left out, and their total factor (0 where none)."""
+    """The contact face's creep over the last period in contact elements (``face_creep``) and
+    the extrapolations of the block's creep (``driver.sliding.slowmode``): how many, how many
+    were left out, and their total factor (0 where none)."""
+    creep = getattr(periods, "face_creep", math.nan) if periods is not None else math.nan
+    out = {} if math.isnan(creep) else {"face_creep": float(creep)}
     slow = getattr(periods, "slow_mode", None) if periods is not None else None
     if slow is None:
-        return {}
-    return {"extrapolated_creep": float(slow.count),
+        return out
+    return {**out, "extrapolated_creep": float(slow.count),
             "extrapolation_left_out": float(slow.rejected),
             "extrapolation_factor": float(sum(slow.omegas))}
 
@@ -117,8 +120,9 @@ def assemble(run: Any, rows: list, distance: float, status: str, reason: str,
         res.mean_pressure = pooled_contact_pressure(series["mean_pressure"][win],
                                                     series["contact_length"][win])
         res.contact_fraction = float(np.mean(series["contact_length"][win]) / L)
-        res.window_drift = window_drift(series["s"], series["mu_force"], lo, hi)
-        res.contact_drift = window_drift(series["s"], series["contact_length"] / L, lo, hi)
+        cell = spec.period if spec.converge_tol > 0 else 0.0  # whole periods: one-period drift
+        res.window_drift = window_drift(series["s"], series["mu_force"], lo, hi, cell)
+        res.contact_drift = window_drift(series["s"], series["contact_length"] / L, lo, hi, cell)
         res.stabilisation_share = stabilisation_share(series, win, ds, spec.velocity,
                                                       spec.pressure * L)
         stationarity(res, series, spec, L, periods.converged, periods.window_used)

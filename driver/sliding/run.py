@@ -68,7 +68,7 @@ from rubberfriction.driver.sliding.model import SlidingModel
 from rubberfriction.driver.sliding.outputs import DissipationByDepth
 from rubberfriction.driver.sliding.periods import Periods, sliding_step
 from rubberfriction.driver.sliding.progress import StepReporter
-from rubberfriction.driver.sliding.slowmode import SlowModeExtrapolation
+from rubberfriction.driver.sliding.slowmode import FaceCreep, SlowModeExtrapolation
 from rubberfriction.driver.sliding.result import (
     assemble,
     pooled_contact_pressure,
@@ -330,8 +330,9 @@ class SlidingRun:
             return self._equilibrate(offset0 + periods.road_shift + shift
                                      - s.velocity * (t - t_s), dt_slide)
 
+        face = FaceCreep(m.sp) if s.period > 0 and s.converge_tol > 0 else None
         periods = self.periods = Periods(s, m.L, step_len, nsteps, m.sp.history, warm,
-                                         self.wall_limit, slow, equilibrate)
+                                         self.wall_limit, slow, equilibrate, face)
         rows: list[tuple] = []
         for k in range(1, nsteps + 1):
             control.begin_step()

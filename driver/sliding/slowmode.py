@@ -140,6 +140,25 @@ class SlowModeExtrapolation:
         return done
 
 
+class FaceCreep:
+    """The contact face's mean horizontal displacement (the lowest row of the structured block
+    mesh) in contact elements, for the creep guard of one-period windows
+    (``driver.sliding.periods``): a cell whose face still creeps is not periodic, however flat
+    its mu (the four-scale micro2 cell: two periods within 0.6 % at +34 % while the face crept
+    by 15 elements a period)."""
+
+    def __init__(self, sp):
+        self.sp = sp
+        rows = _rows(sp.node_X[:, 1])
+        self.x_dofs = np.asarray(sp.displacement_dofs(), dtype=np.int64)[rows == 0, 0]
+        face = np.sort(sp.node_X[rows == 0, 0])
+        self.h_face = float(np.min(np.diff(face))) if face.size > 1 else np.inf
+
+    def __call__(self) -> float:
+        """The face's mean horizontal displacement now, in contact elements."""
+        return float(np.mean(self.sp.w.x.array[self.x_dofs])) / self.h_face
+
+
 def _rows(z: np.ndarray) -> np.ndarray:
     """Row index (0 at the lowest) of each height z of a structured mesh."""
     scale = max(1.0, float(np.ptp(z)))

@@ -155,7 +155,8 @@ class SlidingResult:
     mu_energy: float = float("nan")
     mean_pressure: float = float("nan")  # eq. (6.11), pooled over the window (run.py)
     contact_fraction: float = float("nan")  # time-averaged contact length / block length (7.4)
-    window_drift: float = float("nan")  # (2nd half - 1st half) / mean of the window's mu
+    # (2nd half - 1st half) / mean of the window's mu (one period: against the period before)
+    window_drift: float = float("nan")
     mu_error: float = float("nan")  # estimated |window mean - steady mu| / mu (window.py)
     # the same two for the contact fraction (7.4), whose reciprocal is the pooled pressure (6.11)
     contact_drift: float = float("nan")

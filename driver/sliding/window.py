@@ -61,8 +61,16 @@ def period_means(s: np.ndarray, mu: np.ndarray, period: float) -> np.ndarray:
     return np.array([weighted_mean(s, mu, k * period, (k + 1) * period) for k in range(n)])
 
 
-def window_drift(s: np.ndarray, mu: np.ndarray, lo: float, hi: float) -> float:
-    """(mean of the window's second half - mean of its first half) / window mean."""
+def window_drift(s: np.ndarray, mu: np.ndarray, lo: float, hi: float,
+                 period: float = 0.0) -> float:
+    """(mean of the window's second half - mean of its first half) / window mean.  A window of
+    one ``period`` of a periodic cell (period > 0) after at least one period: (its mean - the mean
+    of the period before) / its mean, since its halves are different stretches of the road."""
+    tol = 1e-9 * max(abs(hi), 1.0)
+    if period > 0.0 and abs(hi - lo - period) <= tol and lo >= period - tol:
+        mean = weighted_mean(s, mu, lo, hi)
+        before = weighted_mean(s, mu, lo - period, lo)
+        return (mean - before) / abs(mean) if mean else math.nan
     mid = 0.5 * (lo + hi)
     mean = weighted_mean(s, mu, lo, hi)
     second, first = weighted_mean(s, mu, mid, hi), weighted_mean(s, mu, lo, mid)
@@ -79,8 +87,15 @@ MU_FLOOR = 1e-5
 DRIFT_FACTOR = 2.0
 
 
+#: periodic cells compare one-period blocks at this part of the tolerance
+#: (``converged_window``'s ``one_period``): a linear drift then passes for the same d <= tol / 2
+#: per period as two-period blocks at the whole tolerance
+ONE_PERIOD_TOL = 0.5
+
+
 def converged_window(means: np.ndarray, tol: float, window_periods: int,
-                     halves: np.ndarray | None = None, run_in: int = 1) -> int:
+                     halves: np.ndarray | None = None, run_in: int = 1,
+                     one_period: float = 1.0) -> int:
     """The number w of last periods to average, 0 while the period means are not stationary.
 
     Stationary: the mean of the last w periods and that of the w before them differ by at most
@@ -112,13 +127,17 @@ def converged_window(means: np.ndarray, tol: float, window_periods: int,
     time): the last period against the one before; the two halves of one period are different
     stretches of the road, so the drift test compares each half with the same half of the period
     before instead.  A trend of d per period then passes the block test for d <= tol (w = 2:
-    d <= tol / 2)."""
+    d <= tol / 2).  ``one_period`` < 1 compares one-period blocks (and their halves) at that
+    part of the tolerance: with ONE_PERIOD_TOL a trend passes w = 1 for the same d <= tol / 2 as
+    w = 2, so a run that is stationary after its run-in stops after 3 periods instead of 5 with
+    the same bound on its drift (the sliding runs' ``Periods``)."""
     rows = np.atleast_2d(np.asarray(means, dtype=float))
     half = None if halves is None else np.atleast_2d(np.asarray(halves, dtype=float))
     n = rows.shape[1] - run_in  # the run-in periods are not compared
     for w in range(max(window_periods, 1), n // 2 + 1):
+        tol_w = tol * one_period if w == 1 else tol
         a, b = rows[:, -w:].mean(axis=1), rows[:, -2 * w:-w].mean(axis=1)
-        if not np.all(np.abs(a - b) <= tol * np.maximum(np.abs(0.5 * (a + b)), MU_FLOOR)):
+        if not np.all(np.abs(a - b) <= tol_w * np.maximum(np.abs(0.5 * (a + b)), MU_FLOOR)):
             continue
         if half is not None:
             if w == 1:  # one period's halves are different stretches of road: each half
@@ -126,7 +145,7 @@ def converged_window(means: np.ndarray, tol: float, window_periods: int,
             else:
                 second, first = half[:, -w:].mean(axis=1), half[:, -2 * w:-w].mean(axis=1)
             scale = np.maximum(np.abs(0.5 * (first + second)), MU_FLOOR)
-            if not np.all(np.abs(second - first) <= DRIFT_FACTOR * tol * scale):
+            if not np.all(np.abs(second - first) <= DRIFT_FACTOR * tol_w * scale):
                 continue
         return w
     return 0
