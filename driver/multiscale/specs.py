@@ -49,8 +49,9 @@ def master_polyline(x: np.ndarray, h: np.ndarray, period: float, lam_min: float,
       segment a slave segment meets: the four-scale road's macro samples (20 mm at 4 um, 5000
       points, 125 per contact element) spent 88 % of a run in contact; every 20th point stays
       within 0.4 % of an element of the sample, and mu moves by 4e-4 relative
-      (docs/performance.md, "Contact cost and the road's vertices").  The default road's macro samples have sharp tips between their points
-      (every 2nd point: 1.3 % of an element off, a macro run at 1 mm/s 3.9 % off): kept whole.
+      (docs/performance.md, "Contact cost and the road's vertices").  The default road's macro
+      samples have sharp tips between their points (every 2nd point: 1.3 % of an element off,
+      a macro run at 1 mm/s 3.9 % off): kept whole.
 
     Non-uniform samples and ``points_per_wavelength = 0`` pass as they are."""
     n = x.size
