@@ -405,7 +405,7 @@ UNITS: dict[str, str] = {
     "[adhesion].tau0": "MPa", "[adhesion].c": "decades of v", "[adhesion].v0": "mm/s",
     "[adhesion].alpha": "1",
     "[numerics].grading": "1", "[numerics].convergence_tol": "1",
-    "[numerics].max_slide_periods": "block lengths", "[numerics].window_periods": "periods",
+    "[numerics].max_slide_periods": "block lengths",
     "[numerics].pressure_slide_periods": "block lengths",
     "[numerics].slide_periods": "block lengths", "[numerics].window_start": "1",
     "[numerics].step_per_element": "contact elements", "[numerics].stabilisation": "1",
