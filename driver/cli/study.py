@@ -1,6 +1,6 @@
 """``rubberfriction study trends``: the thesis' trend table, ours next to it.
 
-    rubberfriction study trends --quick --out rf-results/trends-quick   # about 10 minutes
+    mpirun -n 2 rubberfriction study trends --quick --out DIR  # about 8 minutes on 2 cores
     mpirun -n 2 rubberfriction study trends --out rf-results/trends     # the full table
     rubberfriction study trends --out DIR --table-only                  # table from evidence.json
     rubberfriction study trends --check                                 # the cases, no run
@@ -34,7 +34,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     t.add_argument("--quick", action="store_true",
                    help="two scales (cut at 0.3 mm), 1 + 2 samples, 20 spread samples, three "
-                        "hot-layer temperatures (about 20 minutes on 2 cores, docs/trends.md)")
+                        "hot-layer temperatures (about 8 minutes on 2 cores, docs/trends.md)")
     t.add_argument("--out", metavar="DIR", default=None,
                    help="output folder (default rf-results/trends or rf-results/trends-quick)")
     t.add_argument("--json", metavar="FILE", help="also write the rows to FILE (JSON)")
