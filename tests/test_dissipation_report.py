@@ -69,5 +69,5 @@ def test_every_scale_records_its_dissipation_by_depth(tmp_path: Path):
         quantity = mine[0]["quantity"]
         assert quantity == ("contact_fraction" if run.label["branch"] == "down" else "mu_force")
         window = [float(r["mean"]) for r in mine if r["in_window"] == "True"]
-        assert len(window) >= 2 and len(mine) >= len(window) + 3  # run-in and the w before
+        assert len(window) >= 1 and len(mine) >= 2 * len(window) + 1  # run-in and the w before
         assert np.mean(window) == pytest.approx(run.values[quantity], rel=1e-5)  # 7 digits
