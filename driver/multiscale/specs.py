@@ -119,9 +119,8 @@ class SpecBuilder:
         num = self.numerics[scale]
         window, slide = num.window_start, num.slide_periods
         tol, steady, extrapolate = 0.0, num.steady_state, num.period_extrapolation
-        window_periods = SlidingSpec.window_periods
         if num.window == "converged":
-            tol, window_periods = num.convergence_tol, num.window_periods
+            tol = num.convergence_tol
             slide = num.pressure_slide_periods if role == "down" else num.max_slide_periods
         if role == "micro" and self.scene.separated is not None:
             # thesis 6.2.3: the micro average includes the run-in, over a fixed distance
@@ -147,7 +146,7 @@ class SpecBuilder:
                            contact=num.contact, elements_per_wavelength=num.elements_per_wavelength,
                            grading=num.grading, compression_steps=num.compression_steps,
                            window_start=window, converge_tol=tol, steady_state=steady,
-                           window_periods=window_periods,
+                           window_periods=num.window_periods,
                            period_extrapolation=extrapolate,
                            window_quantity=self._window_quantity(role),
                            shortcut=num.shortcut,

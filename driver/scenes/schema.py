@@ -329,9 +329,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "warm_window_periods": Key("int", 1, "coupled, warm_start: periods per block of a warm "
                                              "run's converged window (driver/sliding/window.py): "
                                              "1 stops a warm run after 2 periods where they "
-                                             "agree; 2, the rule of the runs from rest, after 4 "
-                                             "at the least (on the default road 1.3-1.5x slower "
-                                             "than 1, the points' mu within 0.6 %; README)",
+                                             "agree as [numerics] window_periods = 1 asks; 2 "
+                                             "after 4 at the least (on the default road "
+                                             "1.3-1.5x slower than 1, the points' mu within "
+                                             "0.6 %; README)",
                                    minimum=1),
         "partitions": Key("int", 4, "coupled: temperature partitions n_p over partition_depth "
                                     "(thesis 8.3.3, 8.4.2)", minimum=1),

@@ -180,11 +180,11 @@ class Periods:
         names = WINDOW_QUANTITIES[s.window_quantity]
         means = [period_means(slid, q[name], L) for name in names]
         halves = [period_means(slid, q[name], 0.5 * L) for name in names]
-        w = converged_window(means, s.converge_tol, s.window_periods, halves, self.run_in,
-                             one_period=ONE_PERIOD_TOL)
-        if w == 1 and abs(self.face_creep) > CREEP_ELEMENTS:  # not periodic: two periods or more
-            w = converged_window(means, s.converge_tol, 2, halves, self.run_in)
-        self.window_used = w
+        # a creeping face is not periodic: then two periods or more
+        fewest = max(s.window_periods, 2) if abs(self.face_creep) > CREEP_ELEMENTS \
+            else s.window_periods
+        self.window_used = converged_window(means, s.converge_tol, fewest, halves, self.run_in,
+                                            one_period=ONE_PERIOD_TOL)
         self.converged = float(self.window_used > 0)
         if self.converged:
             return True, 0

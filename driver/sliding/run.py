@@ -321,16 +321,17 @@ class SlidingRun:
             t_s, distance, dt_slide, nsteps)
         self._notify("on_start")
         control.h_next, control.easy = dt_slide, 0
-        # only under the converged window rule: it judges the periods after an extrapolation
-        slow = (SlowModeExtrapolation(m.sp) if s.period_extrapolation and s.steady_state
-                and s.period > 0 and s.converge_tol > 0 and s.friction is None
+        # the contact face's creep (the one-period windows' guard) and, only under the converged
+        # window rule, which judges the periods after it, the creep's extrapolation
+        face = FaceCreep(m.sp) if s.period > 0 and s.converge_tol > 0 else None
+        slow = (SlowModeExtrapolation(m.sp, face) if s.period_extrapolation and s.steady_state
+                and face is not None and s.friction is None
                 and m.sp.history is not None else None)
 
         def equilibrate(shift: float) -> bool:
             return self._equilibrate(offset0 + periods.road_shift + shift
                                      - s.velocity * (t - t_s), dt_slide)
 
-        face = FaceCreep(m.sp) if s.period > 0 and s.converge_tol > 0 else None
         periods = self.periods = Periods(s, m.L, step_len, nsteps, m.sp.history, warm,
                                          self.wall_limit, slow, equilibrate, face)
         rows: list[tuple] = []

@@ -51,21 +51,41 @@ CREEP_ELEMENTS = 0.25
 MAX_SOLVES = 6
 
 
+class FaceCreep:
+    """The contact face's mean horizontal displacement (the lowest row of the structured block
+    mesh) in contact elements, for the creep guard of one-period windows
+    (``driver.sliding.periods``): a cell whose face still creeps is not periodic, however flat
+    its mu (the four-scale micro2 cell: two periods within 0.6 % at +34 % while the face crept
+    by 15 elements a period)."""
+
+    def __init__(self, sp):
+        self.sp = sp
+        self.rows = _rows(sp.node_X[:, 1])  # row index of each node, 0 the contact face
+        self.x_dofs = np.asarray(sp.displacement_dofs(), dtype=np.int64)[self.rows == 0, 0]
+        face = np.sort(sp.node_X[self.rows == 0, 0])
+        self.h_face = float(np.min(np.diff(face))) if face.size > 1 else np.inf
+
+    def __call__(self) -> float:
+        """The face's mean horizontal displacement now, in contact elements."""
+        return float(np.mean(self.sp.w.x.array[self.x_dofs])) / self.h_face
+
+
 class SlowModeExtrapolation:
     """Period-start states of one sliding attempt; ``after_jump`` extrapolates the block's creep
     when its last three period changes are geometric.
 
     sp: the attempt's SolidProblem (solution vector ``w``, ``history``, kinematics) on a
-    structured block mesh (``meshes.block``: the same x-columns at every height).
+    structured block mesh (``meshes.block``: the same x-columns at every height); ``face``: its
+    FaceCreep (the rows and the contact element length), made here if not given.
     """
 
-    def __init__(self, sp):
+    def __init__(self, sp, face: FaceCreep | None = None):
         self.sp = sp
+        face = face if face is not None else FaceCreep(sp)
         self.node_dofs = np.asarray(sp.displacement_dofs(), dtype=np.int64)  # (nodes, 2)
-        self.node_rows = _rows(sp.node_X[:, 1])
+        self.node_rows = face.rows
         self.cell_rows = _rows(sp.cell_centroids()[:, 1])
-        face = np.sort(sp.node_X[self.node_rows == 0, 0])
-        self.h_face = float(np.min(np.diff(face))) if face.size > 1 else np.inf
+        self.h_face = face.h_face
         self.xs: list[np.ndarray] = []  # solution vectors at the period starts since the last
         self.Hs: list[np.ndarray] = []  # extrapolation, and the histories (the last two)
         self.count = 0  # extrapolations made
@@ -138,25 +158,6 @@ class SlowModeExtrapolation:
         if done == 0.0:
             equilibrate(0.0)  # the road back where it was
         return done
-
-
-class FaceCreep:
-    """The contact face's mean horizontal displacement (the lowest row of the structured block
-    mesh) in contact elements, for the creep guard of one-period windows
-    (``driver.sliding.periods``): a cell whose face still creeps is not periodic, however flat
-    its mu (the four-scale micro2 cell: two periods within 0.6 % at +34 % while the face crept
-    by 15 elements a period)."""
-
-    def __init__(self, sp):
-        self.sp = sp
-        rows = _rows(sp.node_X[:, 1])
-        self.x_dofs = np.asarray(sp.displacement_dofs(), dtype=np.int64)[rows == 0, 0]
-        face = np.sort(sp.node_X[rows == 0, 0])
-        self.h_face = float(np.min(np.diff(face))) if face.size > 1 else np.inf
-
-    def __call__(self) -> float:
-        """The face's mean horizontal displacement now, in contact elements."""
-        return float(np.mean(self.sp.w.x.array[self.x_dofs])) / self.h_face
 
 
 def _rows(z: np.ndarray) -> np.ndarray:
