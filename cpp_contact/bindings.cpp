@@ -178,6 +178,8 @@ py::dict report_dict(const rf::ContactInterface& c) {
   d["thermal"] = c.thermal().enabled ? py::object(py::str(c.thermal().describe())) : py::object(py::none());
   d["search_radius"] = c.search_radius();
   d["gauss_points"] = c.gauss_points();
+  d["evaluations"] = c.evaluations();
+  d["reused_evaluations"] = c.reused_evaluations();
   const rf::SurfaceMesh& s = c.slave();
   py::dict sl;
   sl["nodes"] = s.num_nodes();

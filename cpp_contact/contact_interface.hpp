@@ -73,18 +73,27 @@ class ContactInterface {
   void set_deformable_master(SurfaceMesh master);
   void set_penalty(double cN, double cT);
   void set_auto_penalty(double E_eff, double alpha, double tangential_fraction);
-  void set_friction(std::shared_ptr<const FrictionLaw> law) { friction_ = std::move(law); }
+  void set_friction(std::shared_ptr<const FrictionLaw> law) {
+    friction_ = std::move(law);
+    forget_evaluation();
+  }
   void set_thermal(const ThermalParameters& t);
   void set_fixed_dofs(std::vector<DofIndex> dofs);
   void set_search_radius(double r);
   void set_gauss_points(int n);
   void set_allow_new_nonzeros(bool allow) { allow_new_nonzeros_ = allow; }
   /// The slave's two chain ends are the seam of a periodic cell (see vertex_end)
-  void set_periodic_seam(bool seam) { periodic_seam_ = seam; }
+  void set_periodic_seam(bool seam) {
+    periodic_seam_ = seam;
+    forget_evaluation();
+  }
   /// Every node's contact frame is the master's normal averaged over its support (as a chain
   /// end's always is): the pressure acts along the road's normal and the friction along its
   /// tangent, whatever the slave's bending (a sharp corner folding over a flat road)
-  void set_master_frame(bool on) { master_frame_ = on; }
+  void set_master_frame(bool on) {
+    master_frame_ = on;
+    forget_evaluation();
+  }
   /// Temperature of each slave node for mu(p, v, T) when the slave carries no temperature dofs
   /// (staggered thermomechanical coupling: the heat solver owns the temperature); empty: T_ref.
   void set_slave_temperatures(std::vector<double> T);
@@ -110,6 +119,10 @@ class ContactInterface {
   bool allow_new_nonzeros() const { return allow_new_nonzeros_; }
   double cumulative_dissipation() const { return cumulative_dissipation_; }
   int committed_steps() const { return steps_; }
+  /// Calls of evaluate() and those of them answered by the last evaluation (same inputs, same
+  /// history: Newton assembles the residual, then the tangent, at the same iterate).
+  long evaluations() const { return evaluations_; }
+  long reused_evaluations() const { return reused_evaluations_; }
   const std::vector<double>& committed_elastic_gap() const { return ge_; }
 
   /// Every (row, col) the contact may write. Rigid master: slave dofs within chain distance 3
@@ -179,6 +192,10 @@ class ContactInterface {
   void surface_integrals(int A, const Stencil& L, NodalIntegrals& a) const;
   SlaveSegment slave_segment(int e) const;
   void check_ready(std::size_t n, double dt) const;
+  /// Whether evaluate(u, n, offset, dt, T_ref, with_blocks) would repeat the last evaluation.
+  bool repeats_last(const double* u, std::size_t n, const V2<double>& offset, double dt, double T_ref,
+                    bool with_blocks) const;
+  void forget_evaluation() { last_.valid = false; }
 
   // phases of evaluate() (contact_interface.cpp says what each computes): 1 search, 2 stencils,
   // 3 integrate (+ scatter_pair), 4 nodal_kinematics, nodal law, record_node, 5 local_block
@@ -237,6 +254,15 @@ class ContactInterface {
   NodeOutput out_;
   InterfaceTotals totals_;
   bool evaluated_ = false;
+  /// The inputs of the last evaluation; every change of history or parameters invalidates it.
+  struct EvaluationInputs {
+    std::vector<double> u;
+    V2<double> offset{0.0, 0.0};
+    double dt = 0.0, T_ref = 0.0;
+    bool with_blocks = false, valid = false;
+  };
+  EvaluationInputs last_;
+  long evaluations_ = 0, reused_evaluations_ = 0;
 
   // committed history
   std::vector<V2<double>> xs_n_, xm_n_;

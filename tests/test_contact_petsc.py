@@ -201,3 +201,41 @@ def test_distributed_communicator_refused():
         Contact(slave, RigidMaster(np.array([[0.0, 0], [3, 0]])), penalty=PenaltySettings(c_N=1.0),
                 comm=_TwoRanks())
     assert n == 3
+
+
+def test_an_evaluation_at_the_same_state_is_reused_and_only_then():
+    """Newton assembles the residual, then the tangent, at the same iterate: the second call
+    reuses the first evaluation (exactly: same inputs, same history).  A new displacement, time
+    step or offset, or a commit (new history) evaluates again, and every answer equals that of a
+    fresh interface evaluated once at the same state and history."""
+    c, u, ndof = interface()
+    rows, cols = c.sparsity_pairs(margin=1.0)
+    A = preallocated(ndof, rows, cols)
+    b = PETSc.Vec().createSeq(ndof, comm=PETSc.COMM_SELF)
+
+    def counts():
+        r = c.report()
+        return r["evaluations"], r["reused_evaluations"]
+
+    c.assemble(u, None, b, dt=0.1)
+    c.assemble(u, A, None, dt=0.1)
+    A.assemble()
+    assert counts() == (2, 1)
+    fresh, _, _ = interface()
+    R, J = coo(fresh, u, ndof, dt=0.1)
+    np.testing.assert_allclose(b.getArray(), R, rtol=0, atol=1e-13 * np.abs(R).max())
+    np.testing.assert_allclose(dense(A), J, rtol=0, atol=1e-13 * np.abs(J).max())
+    c.assemble(u, None, b, dt=0.2)  # another time step
+    c.assemble(u, None, b, dt=0.2, offset=(0.01, 0.0))  # another master offset
+    u2 = u.copy()
+    u2[0:24:2] += 0.03
+    c.assemble(u2, None, b, dt=0.2, offset=(0.01, 0.0))  # another state
+    assert counts() == (5, 1)
+    c.commit()  # new history: the same inputs are a new evaluation
+    b.set(0.0)
+    c.assemble(u2, None, b, dt=0.2, offset=(0.01, 0.0))
+    assert counts() == (6, 1)
+    fresh.assemble(u2, None, None, dt=0.2, offset=(0.01, 0.0))
+    fresh.commit()
+    Rc, _ = coo(fresh, u2, ndof, dt=0.2, offset=(0.01, 0.0))
+    np.testing.assert_allclose(b.getArray(), Rc, rtol=0, atol=1e-13 * np.abs(Rc).max())

@@ -230,6 +230,31 @@ def test_tangential_penalty_reaches_the_run_specs():
     assert "tangential_penalty" in error_of(scene_text("[numerics]\ntangential_penalty = 0.0\n"))
 
 
+def test_newton_rtol_reaches_the_runs_newton_solver():
+    """[numerics] newton_rtol: the convergence test of every run's Newton solver (relative to the
+    cell's load p L), per scale through [numerics.<scale>]; the default is the former fixed 1e-8;
+    zero and values above 1e-3 are refused."""
+    from rubberfriction.driver.multiscale.results import Point
+    from rubberfriction.driver.multiscale.scales import build_scales
+    from rubberfriction.driver.multiscale.specs import SpecBuilder, load_compounds
+    from rubberfriction.driver.sliding.run import SlidingRun, block_mesh, sliding_contact
+
+    assert parse().numerics.newton_rtol == SlidingSpec.newton_rtol == 1e-8
+    s = parse("[numerics]\nelements_per_wavelength = 6\nnewton_rtol = 1e-6\n"
+              "[numerics.micro]\nnewton_rtol = 1e-7\n")
+    assert s.numerics.newton_rtol == 1e-6
+    scales = build_scales(s, 1)
+    make = SpecBuilder(s, load_compounds(s))
+    pt = Point(s.conditions.compounds[0], 0.3, 10.0)
+    macro, micro = [make(pt, i, sc.samples[0], 0.3, None, "up") for i, sc in enumerate(scales.sets)]
+    assert (macro.newton_rtol, micro.newton_rtol) == (1e-6, 1e-7)
+    run = SlidingRun(micro, block_mesh, sliding_contact)
+    run.build(micro.contact)
+    assert run.model.newton.settings.rtol == 1e-7
+    for bad in ("0.0", "0.01"):
+        assert "newton_rtol" in error_of(scene_text(f"[numerics]\nnewton_rtol = {bad}\n"))
+
+
 def test_numerics_per_scale_reach_only_that_scales_runs():
     """[numerics.<scale>]: the runs on that scale take its values (element size from
     elements_per_wavelength, the element), the other scales the scene's; a scene without such

@@ -143,6 +143,7 @@ class SpecBuilder:
                            velocity=float(point.velocity), compound=self.compounds[point.compound],
                            temperature=self.scene.conditions.T0, friction=friction,
                            element=num.element, newton=num.newton,
+                           newton_rtol=num.newton_rtol,
                            contact=num.contact, elements_per_wavelength=num.elements_per_wavelength,
                            grading=num.grading, compression_steps=num.compression_steps,
                            window_start=window, converge_tol=tol, steady_state=steady,

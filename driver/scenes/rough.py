@@ -141,6 +141,7 @@ class NumericsConfig:
     contact: str
     element: str
     newton: str
+    newton_rtol: float
     max_cutbacks: int
     stabilisation: float
     min_jacobian: float

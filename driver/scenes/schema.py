@@ -226,6 +226,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
                       "indefinite; Q1P0 or Q1) or hybrid (line-search, and the trust region for a "
                       "sub-step where it fails)",
                       choices=("line-search", "trust-region", "hybrid")),
+        "newton_rtol": Key("float", 1e-8, "Newton converges when the residual norm is at most "
+                           "this x the load p L of the cell (every scale's runs; "
+                           "docs/performance.md has what a looser test saves and moves)",
+                           above=0.0, maximum=1e-3),
         "max_cutbacks": Key("int", 8, "step halvings before a step counts as failed", minimum=0),
         "stabilisation": Key("float", 0.1, "viscous stabilisation beta of a sub-step that still "
                              "fails after a cut-back (thesis 6.3.3; tried x1, x10, x100; its "
@@ -412,6 +416,7 @@ UNITS: dict[str, str] = {
     "[numerics].step_per_element": "contact elements", "[numerics].stabilisation": "1",
     "[numerics].min_jacobian": "1", "[numerics].penalty_alpha": "1",
     "[numerics].tangential_penalty": "1", "[numerics].run_timeout": "s",
+    "[numerics].newton_rtol": "1",
     "[thermal].mu": "1", "[thermal].mu_curve_T": "K", "[thermal].mu_curve_mu": "1",
     "[thermal].kappa": "1", "[thermal].h_c": "mW/(mm^2 K)", "[thermal].block_length": "mm",
     "[thermal].block_height": "mm", "[thermal].edge_radius": "mm",

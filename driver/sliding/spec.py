@@ -126,6 +126,9 @@ class SlidingSpec:
     # node-to-surface contact, a merit function otherwise) or "hybrid" (line-search, the trust
     # region for a sub-step where it fails)
     newton: str = "line-search"
+    # Newton's convergence test: reduced residual norm <= newton_rtol x p L (the load per unit
+    # depth); what a looser test trades is measured in docs/performance.md
+    newton_rtol: float = 1e-8
     # viscous stabilisation of a sub-step that fails after STABILISE_AFTER cut-backs (or at the
     # last one): beta of driver.fe.stabilisation, tried as beta x STABILISATION_LADDER; 0: off
     stabilisation: float = 0.1
