@@ -121,8 +121,9 @@ class SlidingModel:
         # slip can jump over the narrow stick cone into reverse slip and back (2-cycle); without,
         # on steep rough samples, it also saves iterations (docs/performance.md)
         # stagnation: cycling active sets are cut back after 8 iterations instead of 25
-        settings = NewtonSettings(rtol=s.newton_rtol, atol=1e-12 * self.force_scale, backtrack_growth=1.0,
-                                  stagnation=8, linear_solver=self.linear_solver)
+        settings = NewtonSettings(rtol=s.newton_rtol, atol=1e-12 * self.force_scale,
+                                  backtrack_growth=1.0, stagnation=8,
+                                  linear_solver=self.linear_solver)
         self.trust = None  # the trust-region solver (newton = "trust-region" or "hybrid")
         if s.newton in ("trust-region", "hybrid"):  # every trial step counts: more per solve
             self.trust = TrustRegionSolver(
