@@ -200,6 +200,10 @@ def test_velocity_extremes_give_elastic_westergaard(velocity, limit):
     # eq. (6.11): the nodal pressures pooled over the window's contact; with slopes of 0.06 the
     # normal and vertical forces agree within 0.2 %, so it is the load over the contact length
     assert abs(res.mean_pressure * res.contact_fraction - p) < 0.01 * p
+    # the fewest contact elements in contact over the window: the Westergaard width 2a in
+    # elements (32 of them), within one node entering or leaving and 5 %
+    width = 2.0 * a_exact / spec.h_contact
+    assert abs(res.contact_elements - width) <= 0.05 * width + 1.0, (res.contact_elements, width)
 
 
 def test_mean_contact_pressure_pools_all_steps():

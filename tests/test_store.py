@@ -271,3 +271,22 @@ def test_an_unstored_result_is_judged_as_the_campaign_judges_a_stored_one(tmp_pa
     res.stabilisation_share = 0.01
     assert usable(result_outcome(res))
     assert not usable(result_outcome(SlidingResult("failed", reason="stagnated")))
+
+
+def test_an_overstabilised_run_on_single_nodes_says_its_contact_is_unresolved():
+    """The reason a campaign gives for an over-stabilised run: unresolved contact where the
+    contact shrank below UNRESOLVED_CONTACT elements (SlidingResult.contact_elements, through the
+    store like every result scalar), the stabilisation share otherwise; a usable run stays
+    usable whatever its contact."""
+    from rubberfriction.driver.multiscale.statistics import (UNRESOLVED_CONTACT, usable,
+                                                             why_unusable)
+    from rubberfriction.driver.runtime.store import result_outcome
+
+    res = SlidingResult("ok", mu_force=0.3, stabilisation_share=0.97, contact_elements=1.2)
+    assert UNRESOLVED_CONTACT == 2.0
+    why = why_unusable(result_outcome(res))
+    assert why.startswith("unresolved contact: at times 1.2 contact elements") and "97 %" in why
+    res.contact_elements = 2.5
+    assert why_unusable(result_outcome(res)).startswith("stabilisation carried 97 %")
+    res.stabilisation_share, res.contact_elements = 0.01, 0.5
+    assert usable(result_outcome(res))

@@ -183,6 +183,7 @@ def _rerun(args: argparse.Namespace) -> int:
                          "converged": result.converged,
                          "stabilisation_share": result.stabilisation_share,
                          "road_intrusion": result.road_intrusion,
+                         "contact_elements": result.contact_elements,
                          "wall_time": wall, "stats": {k: v for k, v in st.items()
                                                       if isinstance(v, (int, float, str))}},
                "contact": spec.contact, "refine": args.refine, "first_attempt": args.first_attempt}

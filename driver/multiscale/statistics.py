@@ -61,6 +61,10 @@ def sample_stats(values: Sequence[float]) -> SampleStats:
 #: 0.05 too; below it the stabilisation moves mu far less than the samples of a scale scatter
 #: (docs/performance.md)
 STABILISATION_TOL = 0.05
+#: a run whose contact shrank to fewer contact elements than this (SlidingResult.contact_elements)
+#: rests on single nodes: its contact is narrower than the scale's mesh resolves, the reason an
+#: overstabilised run gives (the light loads of the stability sweep, docs/scales.md)
+UNRESOLVED_CONTACT = 2.0
 
 
 def overstabilised(outcome: Outcome) -> bool:
@@ -97,6 +101,11 @@ def why_unusable(outcome: Outcome) -> str:
     if outcome.value("converged") == 0.0:  # the run's own reason if it stopped early
         return first_line(outcome.reason) if outcome.reason else \
             "no stationary window within the sliding budget"
+    if overstabilised(outcome) and outcome.value("contact_elements") < UNRESOLVED_CONTACT:
+        return (f"unresolved contact: at times {outcome.value('contact_elements'):.2g} contact "
+                f"elements carried the load (the real contact at this load is narrower than "
+                f"the mesh resolves) and the stabilisation "
+                f"{100 * outcome.value('stabilisation_share'):.2g} % of the friction work")
     if overstabilised(outcome):
         return (f"stabilisation carried {100 * outcome.value('stabilisation_share'):.2g} % of the "
                 f"friction work (tolerance {100 * STABILISATION_TOL:.0f} %)")

@@ -478,12 +478,13 @@ def run_summary(result, spec) -> dict:
         "contact_drift": result.contact_drift, "contact_error": result.contact_error,
         "converged": result.converged, "stabilisation_share": result.stabilisation_share,
         "min_det_F": result.min_det_F, "road_intrusion": result.road_intrusion,
+        "contact_elements": result.contact_elements,
         "window_mm": [result.stats.get("window_start", spec.window_start * distance),
                       result.stats.get("window_end", distance)],
         "steps": len(result.series.get("t", [])),
         "stats": dict(result.stats), "spec": spec_d,
         "units": {"mean_pressure": "MPa", "t_reached": "s", "window_mm": "mm",
-                  "road_intrusion": "contact elements"},
+                  "road_intrusion": "contact elements", "contact_elements": "contact elements"},
     })
 
 

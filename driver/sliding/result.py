@@ -120,6 +120,7 @@ def assemble(run: Any, rows: list, distance: float, status: str, reason: str,
         res.mean_pressure = pooled_contact_pressure(series["mean_pressure"][win],
                                                     series["contact_length"][win])
         res.contact_fraction = float(np.mean(series["contact_length"][win]) / L)
+        res.contact_elements = float(np.min(series["contact_length"][win]) / model.hc)
         cell = spec.period if spec.converge_tol > 0 else 0.0  # whole periods: one-period drift
         res.window_drift = window_drift(series["s"], series["mu_force"], lo, hi, cell)
         res.contact_drift = window_drift(series["s"], series["contact_length"] / L, lo, hi, cell)

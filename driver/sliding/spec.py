@@ -175,6 +175,10 @@ class SlidingResult:
     # deepest road vertex inside the rubber face over the sliding steps, in contact element
     # lengths (periodic cells on the rigid road; driver.sliding.intrusion): >= 1 is unresolved
     road_intrusion: float = float("nan")
+    # fewest contact elements in contact over the window (contact length / h_contact): below
+    # about 2 the load rests on single nodes, the contact is narrower than the mesh resolves
+    # (driver.multiscale.statistics.UNRESOLVED_CONTACT)
+    contact_elements: float = float("nan")
     dissipation_by_depth: tuple[np.ndarray, np.ndarray] | None = None
     stats: dict[str, float] = field(default_factory=dict)
     final_state: InitialState | None = None  # with spec.keep_state, after a finished slide

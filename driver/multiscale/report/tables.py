@@ -149,6 +149,7 @@ def sample_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
                              "stabilisation_share": o.value("stabilisation_share"),
                              "min_det_F": o.value("min_det_F"),
                              "road_intrusion": o.value("road_intrusion"),
+                             "contact_elements": o.value("contact_elements"),
                              "wall_time_s": o.wall_time, "reused": o.reused, "key": o.key})
     return rows
 
