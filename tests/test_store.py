@@ -274,10 +274,11 @@ def test_an_unstored_result_is_judged_as_the_campaign_judges_a_stored_one(tmp_pa
 
 
 def test_an_overstabilised_run_on_single_nodes_says_its_contact_is_unresolved():
-    """The reason a campaign gives for an over-stabilised run: unresolved contact where the
-    contact shrank below UNRESOLVED_CONTACT elements (SlidingResult.contact_elements, through the
-    store like every result scalar), the stabilisation share otherwise; a usable run stays
-    usable whatever its contact."""
+    """The reason a campaign gives for an over-stabilised run: contact lost where at times no
+    contact element carried the load, unresolved contact where the contact shrank below
+    UNRESOLVED_CONTACT elements (SlidingResult.contact_elements, through the store like every
+    result scalar), the stabilisation share otherwise; a usable run stays usable whatever its
+    contact."""
     from rubberfriction.driver.multiscale.statistics import (UNRESOLVED_CONTACT, usable,
                                                              why_unusable)
     from rubberfriction.driver.runtime.store import result_outcome
@@ -286,6 +287,8 @@ def test_an_overstabilised_run_on_single_nodes_says_its_contact_is_unresolved():
     assert UNRESOLVED_CONTACT == 2.0
     why = why_unusable(result_outcome(res))
     assert why.startswith("unresolved contact: at times 1.2 contact elements") and "97 %" in why
+    res.contact_elements = 0.0  # the block lifted off: the dashpots held it
+    assert why_unusable(result_outcome(res)).startswith("contact lost: at times no contact")
     res.contact_elements = 2.5
     assert why_unusable(result_outcome(res)).startswith("stabilisation carried 97 %")
     res.stabilisation_share, res.contact_elements = 0.01, 0.5

@@ -156,7 +156,7 @@ def stability(quick: bool, wall_limit: float, penalty_alpha: float, element: str
             note = "" if good else why_unusable(outcome) if not usable(outcome) else "mu is NaN"
             print(f"{v:>8.0e} {p:>8.2g} {r.status:>7} {st.get('fallback_level', -1):>8} "
                   f"{st.get('cutbacks', 0):>8} {st.get('newton_iterations', 0):>7} "
-                  f"{wall:>9.2f} {r.mu_force:>9.4f} {r.stabilisation_share:>7.2%}  {note[:70]}",
+                  f"{wall:>9.2f} {r.mu_force:>9.4f} {r.stabilisation_share:>7.2%}  {note}",
                   flush=True)
             rows.append({"velocity_m_s": v, "pressure_MPa": p, "status": r.status,
                          "reason": r.reason, "failure": st.get("failure", ""),
