@@ -540,6 +540,7 @@ void ContactInterface::evaluate(const double* u, std::size_t n, const V2<double>
     ++reused_evaluations_;  // blocks_, out_ and totals_ are this evaluation's already
     return;
   }
+  forget_evaluation();  // until this one completes (a throw below leaves partial outputs)
   const auto t0 = Clock::now();
   const std::vector<PairRecord> pairs = search(u, n, offset);  // 1
   last_pairs_.clear();

@@ -239,3 +239,12 @@ def test_an_evaluation_at_the_same_state_is_reused_and_only_then():
     fresh.commit()
     Rc, _ = coo(fresh, u2, ndof, dt=0.2, offset=(0.01, 0.0))
     np.testing.assert_allclose(b.getArray(), Rc, rtol=0, atol=1e-13 * np.abs(Rc).max())
+    # an evaluation that raises (a non-finite state) leaves nothing to reuse
+    bad = u2.copy()
+    bad[0] = np.nan
+    with pytest.raises(ValueError, match="non-finite"):
+        c.assemble(bad, None, b, dt=0.2, offset=(0.01, 0.0))
+    b.set(0.0)
+    c.assemble(u2, None, b, dt=0.2, offset=(0.01, 0.0))
+    assert counts() == (8, 1)
+    np.testing.assert_allclose(b.getArray(), Rc, rtol=0, atol=1e-13 * np.abs(Rc).max())

@@ -105,11 +105,11 @@ def why_unusable(outcome: Outcome) -> str:
     if overstabilised(outcome) and outcome.value("contact_elements") == 0.0:
         return ("contact lost: at times no contact element carried the load (the block fell "
                 "from one asperity tip to the next, a jump quasi-static equilibrium cannot "
-                f"follow) and the stabilisation held it: {share}")
+                f"follow); the stabilisation held it and carried {share}")
     if overstabilised(outcome) and outcome.value("contact_elements") < UNRESOLVED_CONTACT:
         return (f"unresolved contact: at times {outcome.value('contact_elements'):.2g} contact "
                 f"elements carried the load (the real contact at this load is narrower than "
-                f"the mesh resolves) and the stabilisation {share}")
+                f"the mesh resolves); the stabilisation carried {share}")
     if overstabilised(outcome):
         return (f"stabilisation carried {100 * outcome.value('stabilisation_share'):.2g} % of the "
                 f"friction work (tolerance {100 * STABILISATION_TOL:.0f} %)")
