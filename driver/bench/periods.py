@@ -28,13 +28,23 @@ from rubberfriction.driver.sliding.spec import SlidingSpec, default_h_contact
 from rubberfriction.driver.sliding.window import period_means
 
 
+#: contact elements per shortest wavelength the bench's micro2 cell is measured at (the scene
+#: ``four_scale`` ran micro2 at 6 before 0.22.0; the measurements in docs/performance.md and
+#: tests/test_slow_mode.py are on that cell)
+BENCH_ELEMENTS_PER_WAVELENGTH = 6
+
+
 def micro2_spec(pressure: float, velocity: float, coarsen: float = 1.0) -> SlidingSpec:
     """The first micro2 sample of the scene ``four_scale`` as its campaign builds a friction run
-    (frictionless: the lowest scale), with contact elements and steps ``coarsen`` times longer."""
+    (frictionless: the lowest scale), with contact elements and steps ``coarsen`` times those of
+    BENCH_ELEMENTS_PER_WAVELENGTH per shortest wavelength (the scene's element size scales
+    with 1 / elements_per_wavelength, ``specs.SpecBuilder``)."""
     spec = lowest_scale_spec(pressure, velocity, None, scene_name="four_scale")
     hc = spec.h_contact or default_h_contact(spec)
     step = spec.step_length or 0.5 * hc
-    return dataclasses.replace(spec, h_contact=coarsen * hc, step_length=coarsen * step)
+    f = coarsen * spec.elements_per_wavelength / BENCH_ELEMENTS_PER_WAVELENGTH
+    return dataclasses.replace(spec, h_contact=f * hc, step_length=f * step,
+                               elements_per_wavelength=BENCH_ELEMENTS_PER_WAVELENGTH)
 
 
 def compare(spec: SlidingSpec, reference_periods: int = 0) -> dict:
