@@ -251,6 +251,9 @@ def test_newton_rtol_reaches_the_runs_newton_solver():
     run = SlidingRun(micro, block_mesh, sliding_contact)
     run.build(micro.contact)
     assert run.model.newton.settings.rtol == 1e-7
+    t = dataclasses.replace(load_scene("thermal_macro"), numerics=s.numerics)
+    spec, _ = macro_inputs(t, load_compound("m3"), load_road("r1"), 0.3, 10.0, 293.15, 0.9)
+    assert spec.newton_rtol == 1e-6  # the thermomechanical macro block's runs too
     for bad in ("0.0", "0.01"):
         assert "newton_rtol" in error_of(scene_text(f"[numerics]\nnewton_rtol = {bad}\n"))
 

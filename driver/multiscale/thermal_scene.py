@@ -129,6 +129,7 @@ def macro_inputs(scene: Scene, compound, road: Road, pressure: float, velocity: 
                           min_jacobian=num.min_jacobian,
                           penalty_alpha=num.penalty_alpha,
                           tangential_penalty=num.tangential_penalty,
+                          newton_rtol=num.newton_rtol,
                           edge_radius=t.edge_radius)
     if t.road_surface == "macro":
         span = t.slide_distance + t.block_length  # the flat road's extent, [-span, 2 span]
