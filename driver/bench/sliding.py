@@ -18,11 +18,13 @@
    gave the result, per Newton iteration.  ``--compare-jit`` repeats the run with the forms
    compiled by dolfinx's default flags (``forms/jit.py``) and prints the ratio per part.
 4. Linear solvers (``--part linear-solvers``): the same lowest-scale run, and the first micro1
-   sample at a tenth of the pressure, with each LU package of the Newton solves
+   sample at a tenth of the pressure (of ``--road``), with each LU package of the Newton solves
    (``driver.fe.newton.LINEAR_SOLVERS``: PETSc's checked pivot-free LU with minimum degree or
-   nested dissection ordering, MUMPS), side by side and repeated (A B C A B C: the machine is
-   shared): wall time, CPU of the linear solves, Newton iterations, mu_force and the pivot-free
-   solves that fell back to MUMPS, and each package's ratios to the default ("petsc").
+   nested dissection ordering, MUMPS) and PETSc's with a factorisation at every iteration
+   instead of reused as GMRES's preconditioner (``LINEAR_VARIANTS``), side by side and
+   repeated (A B C A B C: the machine is shared): wall time, CPU of the linear solves, Newton
+   iterations, factorisations and GMRES iterations, mu_force and the pivot-free solves that fell
+   back to MUMPS, and each variant's ratios to the default ("petsc").
 5. Newton start (``--part start``): the first sample of every scale of the default road (macro
    0.3, meso 1, micro1 2 MPa and micro2 at ``--pressure``, ``--velocity``, ``--slide-fraction``
    of a period) with the sliding sub-steps started from the best of the last state, the
@@ -70,7 +72,7 @@ from rubberfriction.driver.multiscale.specs import (
 )
 from rubberfriction.driver.multiscale.statistics import STABILISATION_TOL, usable, why_unusable
 from rubberfriction.driver.runtime.store import result_outcome
-from rubberfriction.driver.fe.newton import LINEAR_SOLVERS
+from rubberfriction.driver.fe.newton import FACTOR_REUSE
 from rubberfriction.driver.sliding.run import SlidingRun, block_mesh, run_sliding, sliding_contact
 from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.surfaces import default_road
@@ -192,35 +194,48 @@ def lowest_scale_spec(pressure: float, velocity: float, slide_fraction: float | 
     return dataclasses.replace(spec, slide_distance=slide_fraction * spec.period)
 
 
+#: the linear-solver variants compared by ``--part linear-solvers``: label -> (LU package,
+#: GMRES iterations on a reused factorisation); "petsc" is what sliding runs use
+LINEAR_VARIANTS = {"petsc": ("petsc", FACTOR_REUSE), "petsc-fresh": ("petsc", 0),
+                   "petsc-nd": ("petsc-nd", FACTOR_REUSE), "mumps": ("mumps", 0)}
+
+
 def linear_solvers(pressure: float, velocity: float, slide_fraction: float,
-                   repeats: int = 2) -> list[dict]:
-    """Each LU package on the micro2 and micro1 runs, interleaved (module docstring, part 4)."""
-    cases = [("micro2", lowest_scale_spec(pressure, velocity, slide_fraction)),
-             ("micro1", lowest_scale_spec(0.1 * pressure, velocity, slide_fraction, scale=-2))]
+                   repeats: int = 2, road: str = "default") -> list[dict]:
+    """Each linear-solver variant on the micro2 and micro1 runs, interleaved (module docstring,
+    part 4)."""
+    cases = [("micro2", lowest_scale_spec(pressure, velocity, slide_fraction, scene_name=road)),
+             ("micro1", lowest_scale_spec(0.1 * pressure, velocity, slide_fraction, scale=-2,
+                                          scene_name=road))]
     rows = []
     for name, spec in cases:
         print(f"{name}: period {spec.period:g} mm, h_contact {spec.h_contact:g} mm, "
               f"p {spec.pressure:g} MPa, v {velocity:g} mm/s, slide {spec.slide_distance:g} mm")
         for rep in range(repeats):
-            for solver in LINEAR_SOLVERS:
+            for label, (solver, reuse) in LINEAR_VARIANTS.items():
                 t0 = time.perf_counter()
-                r = SlidingRun(spec, block_mesh, sliding_contact, linear_solver=solver).run()
+                r = SlidingRun(spec, block_mesh, sliding_contact, linear_solver=solver,
+                               factor_reuse=reuse).run()
                 wall = time.perf_counter() - t0
                 st = r.stats
-                row = {"case": name, "solver": solver, "repeat": rep, "status": r.status,
+                row = {"case": name, "solver": label, "repeat": rep, "status": r.status,
                        "wall_s": wall, "cpu_linear_s": float(st.get("cpu_linear", np.nan)),
                        "newton_iterations": int(st.get("newton_iterations", 0)),
+                       "factorisations": int(st.get("factorisations", 0)),
+                       "krylov_iterations": int(st.get("krylov_iterations", 0)),
                        "dofs": float(st.get("dofs", np.nan)), "mu_force": r.mu_force,
                        "lu_fallbacks": int(st.get("lu_fallbacks", 0))}
                 rows.append(row)
                 its = max(row["newton_iterations"], 1)
-                print(f"  {solver:6s} #{rep}: {r.status}, {row['dofs']:.0f} dofs, {its} Newton "
-                      f"iterations, linear {1e3 * row['cpu_linear_s'] / its:.2f} ms/it, wall "
-                      f"{wall:.1f} s, mu_force {r.mu_force:.10g}, fallbacks {row['lu_fallbacks']}",
-                      flush=True)
+                reused = (f", {row['factorisations']} factorisations, "
+                          f"{row['krylov_iterations']} GMRES iterations" if reuse else "")
+                print(f"  {label:11s} #{rep}: {r.status}, {row['dofs']:.0f} dofs, {its} Newton "
+                      f"iterations{reused}, linear {1e3 * row['cpu_linear_s'] / its:.2f} ms/it, "
+                      f"wall {wall:.1f} s, mu_force {r.mu_force:.10g}, "
+                      f"fallbacks {row['lu_fallbacks']}", flush=True)
         mine = [r for r in rows if r["case"] == name]
         new = [r for r in mine if r["solver"] == "petsc"]
-        for other in (s for s in LINEAR_SOLVERS if s != "petsc"):
+        for other in (s for s in LINEAR_VARIANTS if s != "petsc"):
             ref = [r for r in mine if r["solver"] == other]
             lin = (sum(r["cpu_linear_s"] for r in ref)
                    / max(sum(r["cpu_linear_s"] for r in new), 1e-300))
@@ -440,7 +455,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--scale", choices=tuple(STABILITY_SCALES), default="micro1",
                     help="stability: the road's scale whose first sample is swept (micro1)")
     ap.add_argument("--road", choices=tuple(STABILITY_ROADS), default="default",
-                    help="stability: the road the sample comes from (default)")
+                    help="stability, linear-solvers: the road the sample comes from (default)")
     ap.add_argument("--grid", choices=tuple(STABILITY_GRIDS), default="standard",
                     help="stability: velocities x pressures (standard 5 x 4; full 8 x 5: 1e-6 to "
                          "10 m/s, 0.01 to 10 MPa)")
@@ -463,7 +478,8 @@ def main(argv: list[str] | None = None) -> int:
                     help="iterations: repeat with dolfinx's default compiler flags, print ratios")
     a = ap.parse_args(argv)
     if a.part == "linear-solvers":
-        rows = linear_solvers(a.pressure, a.velocity, a.slide_fraction, repeats=1 if a.quick else 2)
+        rows = linear_solvers(a.pressure, a.velocity, a.slide_fraction,
+                              repeats=1 if a.quick else 2, road=a.road)
         if a.json:
             with open(a.json, "w") as f:
                 json.dump({"linear_solvers": rows}, f, indent=1, default=float)

@@ -19,8 +19,12 @@ nonzeros are an error), so P^T A P keeps its pattern while the constraints stay 
 MAT_REUSE_MATRIX: its symbolic product is computed once per constraint set), and the LU keeps
 its symbolic factorisation (the ordering and fill; for MUMPS its analysis: ordering, scaling,
 tree) as long as it is handed the same reduced matrix with an unchanged nonzero state; only the
-numeric factorisation is redone, as Newton needs (a reused numeric factor would be a modified
-Newton method, other iterates).
+numeric factorisation is redone.  With ``NewtonSettings.factor_reuse`` (the sliding runs') even
+that is kept across iterations and steps: the numeric factor of an earlier tangent preconditions
+GMRES on the current one, which gives the exact Newton direction (to ``KRYLOV_RTOL``, the same
+bound the pivot-free LU is checked against) where a reused factor alone would be a modified
+Newton method with other iterates; the tangent is refactorised when GMRES needs more than
+``factor_reuse`` iterations.
 :meth:`ConstrainedNonlinearProblem.set_constraints` makes a new reduced matrix; the solver notices
 the new object and starts a new factorisation (symbolic included) by itself.
 
@@ -83,6 +87,10 @@ class NewtonSettings:
     # is then cheaper than the remaining iterations (sliding runs use 8); 0 = never
     stagnation: int = 0
     linear_solver: str = "petsc"  # see LINEAR_SOLVERS
+    # GMRES iterations a reused factorisation may take as the preconditioner of the current
+    # tangent before it is refactorised (exact Newton directions to KRYLOV_RTOL either way);
+    # 0: a new numeric factorisation at every iteration.  Pivot-free packages only.
+    factor_reuse: int = 0
 
 
 @dataclass
@@ -116,6 +124,30 @@ LINEAR_SOLVERS = {"petsc": ("petsc", "amd"), "petsc-nd": ("petsc", "nd"),
 #: relative residual ||A x - b|| / ||b|| a pivot-free solve must reach, else the solver turns to
 #: MUMPS (an inexact Newton direction this close converges like the exact one down to ~1e-12)
 LU_CHECK = 1e-6
+
+
+#: relative true residual of a Krylov solve preconditioned by a reused factorisation
+KRYLOV_RTOL = 1e-6
+#: ... and below this part of Newton's absolute tolerance atol + rtol force_scale
+KRYLOV_MARGIN = 1e-2
+#: GMRES iterations a sliding run's reused factorisation may take before it is refactorised
+#: (``NewtonSettings.factor_reuse``): one numeric factorisation of a micro2 cell costs about 33
+#: preconditioned GMRES iterations; at 15 the linear solves cost about 55 % of a factorisation
+#: at every iteration, with the same Newton iterates (docs/performance.md, "Factorisations
+#: reused")
+FACTOR_REUSE = 15
+
+
+def _krylov_solver(package: str, max_iterations: int) -> PETSc.KSP:
+    """GMRES, right-preconditioned (its norm is the true residual's) by the LU factorisation of
+    its preconditioning matrix, at most ``max_iterations`` without restart."""
+    ksp = _lu_solver(package)
+    ksp.setType("gmres")
+    ksp.setPCSide(PETSc.PC.Side.RIGHT)
+    ksp.setNormType(PETSc.KSP.NormType.UNPRECONDITIONED)
+    ksp.setTolerances(rtol=KRYLOV_RTOL, atol=0.0, max_it=max_iterations)
+    ksp.setGMRESRestart(max_iterations)
+    return ksp
 
 
 def _lu_solver(package: str) -> PETSc.KSP:
@@ -265,6 +297,8 @@ class NewtonSolver:
             raise ValueError(f"linear_solver = {self.settings.linear_solver!r}: expected one of "
                              f"{tuple(LINEAR_SOLVERS)}")
         self.lu_fallbacks = 0  # pivot-free solves that failed (MUMPS solved those systems)
+        self.factorisations = 0  # numeric factorisations (with factor_reuse)
+        self.krylov_iterations = 0  # GMRES iterations (with factor_reuse)
         self._use_backup = False  # MUMPS for the rest of this Newton solve
         self.reset()
 
@@ -272,6 +306,8 @@ class NewtonSolver:
         """New linear solver.  Needed only after a failed factorisation: a new reduced matrix
         (``set_constraints``) gets a new factorisation by itself (:meth:`_linear_solve`)."""
         self.ksp = _lu_solver(self.settings.linear_solver)
+        self._reuse: PETSc.KSP | None = None  # GMRES on a reused factorisation (factor_reuse)
+        self._frozen: PETSc.Mat | None = None  # the reduced matrix that factorisation is of
         self._backup: PETSc.KSP | None = None  # MUMPS, after a failed pivot-free solve
         self._operator: PETSc.Mat | None = None  # the reduced matrix this factorisation is for
         self._check: PETSc.Vec | None = None
@@ -297,18 +333,49 @@ class NewtonSolver:
             self._backup_solver().solve(pb.br, pb.dur)
             return
         try:
-            self.ksp.solve(pb.br, pb.dur)
-            ok = self.ksp.getConvergedReason() >= 0 and self._solve_error() <= LU_CHECK
+            if self.settings.factor_reuse > 0:
+                ok = self._reused_solve()
+            else:
+                self.ksp.solve(pb.br, pb.dur)
+                ok = self.ksp.getConvergedReason() >= 0 and self._solve_error() <= LU_CHECK
         except PETSc.Error:  # a zero pivot
             ok = False
         if ok:
             return
         self.lu_fallbacks += 1
         self._use_backup = True
+        self._reuse = self._frozen = None  # a failed factorisation leaves its PC unusable
         # a failed factorisation leaves its PC unusable: a new one for the next solve
         self.ksp = _lu_solver(self.settings.linear_solver)
         self.ksp.setOperators(pb.Ar)
         self._backup_solver().solve(pb.br, pb.dur)
+
+    def _reused_solve(self) -> bool:
+        """dur = Ar^-1 br by GMRES preconditioned with the last factorisation; where it does not
+        converge within ``factor_reuse`` iterations, Ar is copied and factorised and GMRES
+        solves again (one iteration with an exact factor).  Converged: the true residual below
+        KRYLOV_RTOL of br and below KRYLOV_MARGIN of Newton's own tolerance, so the iterates
+        are Newton's (an iteration near convergence is not lost to the linear solve).  Returns
+        whether it converged."""
+        pb, st = self.problem, self.settings
+        floor = KRYLOV_MARGIN * (st.atol + st.rtol * self.force_scale)
+        rtol = min(KRYLOV_RTOL, floor / max(pb.br.norm(), 1e-300))
+        fresh = self._reuse is None
+        if fresh:
+            self._frozen = pb.Ar.copy()
+            self._reuse = _krylov_solver(st.linear_solver, st.factor_reuse)
+            self._reuse.setOperators(pb.Ar, self._frozen)
+        self._reuse.setTolerances(rtol=rtol)
+        if not fresh:
+            self._reuse.solve(pb.br, pb.dur)
+            self.krylov_iterations += self._reuse.getIterationNumber()
+            if self._reuse.getConvergedReason() > 0:
+                return True
+            pb.Ar.copy(self._frozen, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+        self.factorisations += 1
+        self._reuse.solve(pb.br, pb.dur)
+        self.krylov_iterations += self._reuse.getIterationNumber()
+        return self._reuse.getConvergedReason() > 0
 
     def _backup_solver(self) -> PETSc.KSP:
         """MUMPS on the current reduced matrix (made at the first failure after a reset)."""

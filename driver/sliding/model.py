@@ -54,12 +54,15 @@ def geometry(s: SlidingSpec) -> tuple[float, float, float]:
 
 class SlidingModel:
     """The model of one attempt of spec ``spec``; :meth:`build` makes it (mesh, solid,
-    constraints, contact of ``formulation``, solvers with the LU package ``linear_solver``)."""
+    constraints, contact of ``formulation``, solvers with the LU package ``linear_solver`` and
+    its factorisations reused for ``factor_reuse`` GMRES iterations, ``driver.fe.newton``)."""
 
-    def __init__(self, spec: SlidingSpec, mesh_factory, contact_factory, linear_solver: str):
+    def __init__(self, spec: SlidingSpec, mesh_factory, contact_factory, linear_solver: str,
+                 factor_reuse: int = 0):
         self.spec = spec
         self.mesh_factory, self.contact_factory = mesh_factory, contact_factory
         self.linear_solver = linear_solver
+        self.factor_reuse = factor_reuse  # NewtonSettings.factor_reuse
         self._detF = None  # det F at the quadrature points, compiled on first use
         self.iterate_det_F = math.nan  # its smallest value at the last checked iterate
 
@@ -123,7 +126,8 @@ class SlidingModel:
         # stagnation: cycling active sets are cut back after 8 iterations instead of 25
         settings = NewtonSettings(rtol=s.newton_rtol, atol=1e-12 * self.force_scale,
                                   backtrack_growth=1.0, stagnation=8,
-                                  linear_solver=self.linear_solver)
+                                  linear_solver=self.linear_solver,
+                                  factor_reuse=self.factor_reuse)
         self.trust = None  # the trust-region solver (newton = "trust-region" or "hybrid")
         if s.newton in ("trust-region", "hybrid"):  # every trial step counts: more per solve
             self.trust = TrustRegionSolver(

@@ -98,6 +98,8 @@ def assemble(run: Any, rows: list, distance: float, status: str, reason: str,
                  "dofs": float(model.sp.w.x.array.size),
                  "stabilised_steps": steps.stabilised_steps,
                  "lu_fallbacks": sum(n.lu_fallbacks for n in solvers(model)),
+                 "factorisations": sum(n.factorisations for n in solvers(model)),
+                 "krylov_iterations": sum(n.krylov_iterations for n in solvers(model)),
                  # trial steps the trust region refused (newton = "trust-region" or "hybrid")
                  "rejected_steps": float(model.trust.rejected if model.trust else 0),
                  "trust_region_solves": float(steps.trust_solves),

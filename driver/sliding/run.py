@@ -55,7 +55,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from rubberfriction.driver.fe.newton import LINEAR_SOLVERS
+from rubberfriction.driver.fe.newton import FACTOR_REUSE, LINEAR_SOLVERS
 from rubberfriction.driver.sliding import shortcut, steps
 from rubberfriction.driver.sliding.attempts import (
     NEWTON_METHODS,
@@ -126,7 +126,8 @@ class SlidingRun:
     step_friction_energy = _of_steps("step_friction_energy")
 
     def __init__(self, spec: SlidingSpec, mesh_factory=None, contact_factory=None, progress=None,
-                 observers=(), wall_limit: float = 0.0, linear_solver: str = "petsc"):
+                 observers=(), wall_limit: float = 0.0, linear_solver: str = "petsc",
+                 factor_reuse: int = FACTOR_REUSE):
         check_inputs(spec)  # bad input raises here
         self.base_spec = spec
         self.spec = spec  # the current attempt's spec (base_spec, or a refined copy)
@@ -146,6 +147,12 @@ class SlidingRun:
             raise ValueError(f"linear_solver = {linear_solver!r}: expected one of "
                              f"{tuple(LINEAR_SOLVERS)}")
         self.linear_solver = linear_solver
+        # GMRES iterations on a reused factorisation before refactorising (NewtonSettings; the
+        # pivot-free packages only): the same Newton iterates to KRYLOV_RTOL, so a machine choice
+        if not (isinstance(factor_reuse, (int, np.integer)) and factor_reuse >= 0):
+            raise ValueError(f"factor_reuse: expected an integer >= 0 (0: factorise at every "
+                             f"Newton iteration), got {factor_reuse!r}")
+        self.factor_reuse = 0 if linear_solver == "mumps" else int(factor_reuse)
         self.t_planned = 0.0  # model time of the current attempt's whole load history
         self.progress = progress
         # observers: objects with optional on_start(run), on_step(run, k, t), on_finish(run,
@@ -167,7 +174,7 @@ class SlidingRun:
     def build(self, contact_formulation: str) -> None:
         """This attempt's model (``driver.sliding.model``) with the contact formulation."""
         self.model = SlidingModel(self.spec, self._mesh_factory, self._contact_factory,
-                                  self.linear_solver)
+                                  self.linear_solver, self.factor_reuse)
         self.model.build(contact_formulation)
 
     #: the current attempt's model, read on the run by observers and tests
