@@ -10,7 +10,7 @@ rule, whose last period means are the steady state both are compared with.  Prin
 status, periods, Newton iterations, wall time, mu_force, extrapolations, and the period means.
 
     rubberfriction bench periods [--pressure 7.21] [--velocity 100] [--coarsen 1]
-                                 [--reference 40] [--json FILE]
+                                 [--reference 40] [--factor-reuse K] [--json FILE]
 
 What it measured is in ``docs/performance.md`` ("The periodic steady state").
 """
@@ -23,6 +23,7 @@ import json
 import time
 
 from rubberfriction.driver.bench.sliding import lowest_scale_spec
+from rubberfriction.driver.fe.newton import FACTOR_REUSE
 from rubberfriction.driver.sliding.run import run_sliding
 from rubberfriction.driver.sliding.spec import SlidingSpec, default_h_contact
 from rubberfriction.driver.sliding.window import period_means
@@ -47,8 +48,10 @@ def micro2_spec(pressure: float, velocity: float, coarsen: float = 1.0) -> Slidi
                                elements_per_wavelength=BENCH_ELEMENTS_PER_WAVELENGTH)
 
 
-def compare(spec: SlidingSpec, reference_periods: int = 0) -> dict:
-    """The spec with and without the extrapolation (and the reference run): one row each."""
+def compare(spec: SlidingSpec, reference_periods: int = 0,
+            factor_reuse: int = FACTOR_REUSE) -> dict:
+    """The spec with and without the extrapolation (and the reference run): one row each;
+    ``factor_reuse`` of their Newton solves (``driver.fe.newton``)."""
     rows = {}
     runs = {"extrapolated": dataclasses.replace(spec, period_extrapolation=True),
             "not extrapolated": dataclasses.replace(spec, period_extrapolation=False)}
@@ -58,7 +61,7 @@ def compare(spec: SlidingSpec, reference_periods: int = 0) -> dict:
                                                 slide_distance=reference_periods * spec.period)
     for name, s in runs.items():
         t0 = time.perf_counter()
-        r = run_sliding(s)
+        r = run_sliding(s, factor_reuse=factor_reuse)
         st = r.stats
         rows[name] = {"status": r.status, "reason": r.reason, "mu_force": r.mu_force,
                       "contact_fraction": r.contact_fraction, "periods": st.get("periods"),
@@ -82,15 +85,21 @@ def main(argv: list[str] | None = None) -> int:
                     help="contact elements and steps this many times longer (1)")
     ap.add_argument("--reference", type=int, default=0, metavar="N",
                     help="also N periods without extrapolation or window rule (0: none)")
+    ap.add_argument("--factor-reuse", type=int, default=FACTOR_REUSE, metavar="K",
+                    help=f"GMRES iterations on a reused factorisation ({FACTOR_REUSE}; 0: a "
+                         f"factorisation at every Newton iteration, as the measurements in "
+                         f"docs/performance.md before 0.23.0)")
     ap.add_argument("--json", metavar="FILE", help="write the rows as JSON")
     a = ap.parse_args(argv)
-    if not (a.pressure > 0 and a.velocity > 0 and a.coarsen > 0 and a.reference >= 0):
-        ap.error("--pressure, --velocity and --coarsen must be > 0, --reference >= 0")
+    if not (a.pressure > 0 and a.velocity > 0 and a.coarsen > 0 and a.reference >= 0
+            and a.factor_reuse >= 0):
+        ap.error("--pressure, --velocity and --coarsen must be > 0, --reference and "
+                 "--factor-reuse >= 0")
     spec = micro2_spec(a.pressure, a.velocity, a.coarsen)
     print(f"micro2 cell of the four-scale road: period {spec.period:g} mm, p {a.pressure:g} MPa, "
           f"v {a.velocity:g} mm/s, contact elements {spec.h_contact:.3g} mm, window tolerance "
           f"{spec.converge_tol:g}", flush=True)
-    rows = compare(spec, a.reference)
+    rows = compare(spec, a.reference, a.factor_reuse)
     ref = rows.get("reference", {}).get("mu_force")
     print(f"{'run':>17} {'status':>7} {'periods':>7} {'newton':>7} {'wall [s]':>9} "
           f"{'mu':>8} {'vs ref':>7} {'extrap.':>7}")

@@ -456,13 +456,15 @@ class SlidingRun:
 
 
 def run_sliding(spec: SlidingSpec, progress=None, observers=(),
-                wall_limit: float = 0.0) -> SlidingResult:
+                wall_limit: float = 0.0, factor_reuse: int = FACTOR_REUSE) -> SlidingResult:
     """Run one sliding run with the default mesh and contact; never raises for a failed run.
 
     ``wall_limit`` > 0 stops a run that is still going after that many seconds with a structured
     failure (``stats["failure"] == "wall_limit"``), e.g. for sweeps over extreme settings.
     With ``spec.shortcut`` a run that ``driver.sliding.shortcut.check`` admits (frictionless,
     full contact, small slopes) is the linear viscoelastic closed form, not an FE run.
+    ``factor_reuse``: GMRES iterations on a reused factorisation (0: a factorisation at every
+    Newton iteration; ``driver.fe.newton.FACTOR_REUSE``).
     """
     if spec.shortcut:
         admitted = shortcut.check(spec)
@@ -470,7 +472,8 @@ def run_sliding(spec: SlidingSpec, progress=None, observers=(),
             return shortcut.closed_form_result(spec, admitted)
     try:
         return SlidingRun(spec, block_mesh, sliding_contact, progress=progress,
-                          observers=observers, wall_limit=wall_limit).run()
+                          observers=observers, wall_limit=wall_limit,
+                          factor_reuse=factor_reuse).run()
     except Exception as err:  # a campaign never dies of one run; the reason is recorded
         return SlidingResult("failed", reason=f"{type(err).__name__}: {err}")
 
