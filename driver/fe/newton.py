@@ -21,10 +21,10 @@ its symbolic factorisation (the ordering and fill; for MUMPS its analysis: order
 tree) as long as it is handed the same reduced matrix with an unchanged nonzero state; only the
 numeric factorisation is redone.  With ``NewtonSettings.factor_reuse`` (the sliding runs') even
 that is kept across iterations and steps: the numeric factor of an earlier tangent preconditions
-GMRES on the current one, which gives the exact Newton direction (to ``KRYLOV_RTOL``, the same
-bound the pivot-free LU is checked against) where a reused factor alone would be a modified
-Newton method with other iterates; the tangent is refactorised when GMRES needs more than
-``factor_reuse`` iterations.
+GMRES on the current one, which gives the exact Newton direction (to ``KRYLOV_RTOL``, far
+below the bound the pivot-free LU is checked against) where a reused factor alone would be a
+modified Newton method with other iterates; the tangent is refactorised when GMRES needs more
+than ``factor_reuse`` iterations.
 :meth:`ConstrainedNonlinearProblem.set_constraints` makes a new reduced matrix; the solver notices
 the new object and starts a new factorisation (symbolic included) by itself.
 
@@ -346,8 +346,8 @@ class NewtonSolver:
             return
         self.lu_fallbacks += 1
         self._use_backup = True
-        self._reuse = self._frozen = None  # a failed factorisation leaves its PC unusable
-        # a failed factorisation leaves its PC unusable: a new one for the next solve
+        # a failed factorisation leaves its PC unusable: new ones for the next solve
+        self._reuse = self._frozen = None
         self.ksp = _lu_solver(self.settings.linear_solver)
         self.ksp.setOperators(pb.Ar)
         self._backup_solver().solve(pb.br, pb.dur)

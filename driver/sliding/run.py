@@ -148,7 +148,9 @@ class SlidingRun:
                              f"{tuple(LINEAR_SOLVERS)}")
         self.linear_solver = linear_solver
         # GMRES iterations on a reused factorisation before refactorising (NewtonSettings; the
-        # pivot-free packages only): the same Newton iterates to KRYLOV_RTOL, so a machine choice
+        # pivot-free packages only): Newton's iterates to KRYLOV_RTOL, a solver choice like the
+        # package (where a cell's path forks, any change of the linear solves can move it:
+        # docs/performance.md, "Factorisations reused")
         if not (isinstance(factor_reuse, (int, np.integer)) and factor_reuse >= 0):
             raise ValueError(f"factor_reuse: expected an integer >= 0 (0: factorise at every "
                              f"Newton iteration), got {factor_reuse!r}")
