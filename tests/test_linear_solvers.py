@@ -35,14 +35,21 @@ from rubberfriction.forms.material_files import load_compound
 def linear_problem(A: np.ndarray, b: np.ndarray) -> SimpleNamespace:
     """The reduced system attributes NewtonSolver._linear_solve uses: Ar du = -br."""
     n = len(b)
-    Ar = PETSc.Mat().createAIJ([n, n], nnz=n)
+    pb = SimpleNamespace(Ar=PETSc.Mat().createAIJ([n, n], nnz=n), br=PETSc.Vec().createSeq(n),
+                         dur=PETSc.Vec().createSeq(n))
+    set_matrix(pb, A, b)
+    return pb
+
+
+def set_matrix(pb, A: np.ndarray, b: np.ndarray) -> None:
+    """Values of the reduced matrix (the same matrix: as Newton's next tangent) and the right
+    side; the solver solves Ar dur = -br."""
+    n = len(b)
     for i in range(n):
         for j in range(n):
-            Ar.setValue(i, j, A[i, j])
-    Ar.assemble()
-    br = PETSc.Vec().createSeq(n)
-    br.array[:] = -b  # the solver solves Ar dur = -br
-    return SimpleNamespace(Ar=Ar, br=br, dur=PETSc.Vec().createSeq(n))
+            pb.Ar.setValue(i, j, A[i, j])
+    pb.Ar.assemble()
+    pb.br.array[:] = -b
 
 
 def solve(solver: NewtonSolver, A: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -99,16 +106,6 @@ def test_a_tiny_pivot_is_caught_by_the_residual_check():
     assert s.lu_fallbacks == 1
 
 
-def set_matrix(pb, A: np.ndarray, b: np.ndarray) -> None:
-    """New values in the same reduced matrix (as Newton's next tangent) and a new right side."""
-    n = len(b)
-    for i in range(n):
-        for j in range(n):
-            pb.Ar.setValue(i, j, A[i, j])
-    pb.Ar.assemble()
-    pb.br.array[:] = -b
-
-
 def test_a_reused_factorisation_preconditions_gmres_until_it_is_too_stale():
     rng = np.random.default_rng(2)
     n = 12
@@ -149,6 +146,9 @@ def test_an_unknown_package_is_refused():
                        pressure=0.1, velocity=10.0, compound=load_compound("tread_default"))
     with pytest.raises(ValueError, match="linear_solver = 'lu'"):
         SlidingRun(spec, block_mesh, sliding_contact, linear_solver="lu")
+    for bad in (-1, 2.5):
+        with pytest.raises(ValueError, match=f"factor_reuse: .* got {bad}"):
+            SlidingRun(spec, block_mesh, sliding_contact, factor_reuse=bad)
 
 
 def test_all_packages_give_the_same_sliding_run():

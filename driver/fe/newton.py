@@ -89,7 +89,8 @@ class NewtonSettings:
     linear_solver: str = "petsc"  # see LINEAR_SOLVERS
     # GMRES iterations a reused factorisation may take as the preconditioner of the current
     # tangent before it is refactorised (exact Newton directions to KRYLOV_RTOL either way);
-    # 0: a new numeric factorisation at every iteration.  Pivot-free packages only.
+    # 0: a new numeric factorisation at every iteration.  Pivot-free packages only ("mumps"
+    # factorises at every iteration whatever this says).
     factor_reuse: int = 0
 
 

@@ -147,14 +147,14 @@ class SlidingRun:
             raise ValueError(f"linear_solver = {linear_solver!r}: expected one of "
                              f"{tuple(LINEAR_SOLVERS)}")
         self.linear_solver = linear_solver
-        # GMRES iterations on a reused factorisation before refactorising (NewtonSettings; the
-        # pivot-free packages only): Newton's iterates to KRYLOV_RTOL, a solver choice like the
+        # GMRES iterations on a reused factorisation before refactorising (NewtonSettings;
+        # MUMPS ignores it): Newton's iterates to KRYLOV_RTOL, a solver choice like the
         # package (where a cell's path forks, any change of the linear solves can move it:
         # docs/performance.md, "Factorisations reused")
         if not (isinstance(factor_reuse, (int, np.integer)) and factor_reuse >= 0):
             raise ValueError(f"factor_reuse: expected an integer >= 0 (0: factorise at every "
                              f"Newton iteration), got {factor_reuse!r}")
-        self.factor_reuse = 0 if linear_solver == "mumps" else int(factor_reuse)
+        self.factor_reuse = int(factor_reuse)
         self.t_planned = 0.0  # model time of the current attempt's whole load history
         self.progress = progress
         # observers: objects with optional on_start(run), on_step(run, k, t), on_finish(run,
