@@ -144,6 +144,8 @@ CASES: list[tuple[str, list[str], list[str]]] = [
     ("show", ["run", "--show", "nosuch"], ["--show 'nosuch'"]),
     ("study-n", ["samples-study", "{scene:}", "--n", "1"], ["--n 1"]),
     ("study-pressure", ["samples-study", "{scene:}", "--pressure", "2000"], ["--pressure 2000"]),
+    ("trends-flash-cutoff", ["study", "trends", "--check", "--flash-cutoff", "0.001", "--out",
+                             "{tmp}/t"], ["--flash-cutoff 0.001", ">= 0.003 and <= 3 in mm"]),
     # theory, adhesion and material
     ("adhesion-pressure", ["adhesion", "fit", "--dry", "{tmp}/good.csv", "--area",
                            "{tmp}/good.csv", "--pressure", "-1", "--json", "{tmp}/fit.json"],

@@ -166,6 +166,53 @@ def test_every_case_scene_is_valid(tmp_path):
     assert flash.thermal.mu_const == 0.25  # the constant part reaches the macro contact
 
 
+def test_the_flash_case_takes_its_own_cut_off(tmp_path):
+    """--flash-cutoff 0.003: the flash scene keeps micro2 (four scales, thesis 8.5.3) with the
+    four_scale scene's micro2 mesh; the other cases keep the study's cut-off and numerics."""
+    from rubberfriction.driver.scenes import parse_scene
+
+    settings = TrendSettings(flash_cutoff=0.003, flash_mu_const=0.0)
+    texts = scene_texts(settings)
+    flash = parse_scene(texts["flash"], "f", tmp_path)
+    assert flash.n_scales == 4 and "cutoff = 0.003" in texts["flash"]
+    assert "[numerics.micro2]\nelements_per_wavelength = 8" in texts["flash"]
+    assert lowest_scale(settings, settings.flash_cut) == "micro2"
+    for case in ("materials", "rough", "polished", "spread"):
+        assert "cutoff = 0.04" in texts[case] and "numerics.micro2" not in texts[case], case
+    assert "flash case cut at 0.003 mm" in settings.describe()
+    assert "cut at" not in TrendSettings().describe().split("flash case")[1]
+
+
+def test_speed_evidence_places_the_lowest_scale_against_the_loss_peak():
+    """The speed row's note: the flash compound's tan delta peak at 20 degC (a local maximum on
+    the grid) and the side of it on which the lowest scale's band 2 pi v / lambda lies.  A glass
+    transition moved by dT moves the peak by exactly 1 / tg_shift_factor (forms.derive), to the
+    grid's 1/100 decade."""
+    from rubberfriction.driver.study.run import STUDY_T0, speed_notes, tan_delta_peak
+    from rubberfriction.forms import derive as D
+    from rubberfriction.forms.material_files import load_compound
+
+    m1 = load_compound("m1")
+    w, td = tan_delta_peak(m1)
+    for f in (0.9, 1.1):
+        E = m1.complex_modulus(w * f, STUDY_T0)
+        assert E.imag / E.real < td
+    base = D.Spectrum(m1.E_inf, m1.prony.moduli(m1.E_inf), m1.prony.tau, m1.wlf)
+    low = D.shift_glass_transition(base, -30.0)
+    assert tan_delta_peak(base)[0] == w
+    assert tan_delta_peak(low)[0] == pytest.approx(w / D.tg_shift_factor(m1.wlf, -30.0),
+                                                   rel=0.024)
+    # micro1 (0.3-0.04 mm) at 1 m/s: 2 pi 1000 / 0.3 = 2.09e4 to 1.57e5 rad/s around the peak
+    assert 2e4 < w < 1.5e5
+    note = speed_notes(TrendSettings())[0]
+    assert note.startswith("speed: m1's loss tangent")
+    assert "at 100 mm/s (below the peak)" in note and "at 1000 mm/s (across the peak)" in note
+    four = speed_notes(TrendSettings(flash_cutoff=0.003))[0]
+    assert "micro2 (0.04-0.003 mm)" in four and "(above the peak, glassy side)" in four
+    assert "mu_const = 0.6" in note
+    assert speed_notes(TrendSettings(flash=False)) == []
+
+
 def test_evidence_of_a_campaign_is_its_results_csv(tmp_path):
     """point_value reads mu, its spread, the contact and mu per scale of a finished campaign:
     the same numbers as the campaign's results.csv / scales.csv (printed to 6 digits)."""

@@ -46,6 +46,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     t.add_argument("--flash-road", choices=("flat", "macro"), default=None,
                    help="the flash case's thermal macro block on a flat road (default, cheaper) "
                         "or on the road's macro band as in the thesis (8.17 a)")
+    t.add_argument("--flash-cutoff", type=float, metavar="MM",
+                   help="the flash case's lowest wavelength (default: --cutoff); 0.003 runs the "
+                        "thesis' four scales (8.5.3), about 25 minutes on 2 cores")
     t.add_argument("--flash-mu-const", type=float, metavar="MU", default=None,
                    help="the constant part of mu on the flash case's macro contact: the scales "
                         "below the cut-off and adhesion, which set the frictional heat (default "
@@ -74,9 +77,13 @@ def _trends(args: argparse.Namespace) -> int:
     settings = quick_settings() if args.quick else TrendSettings()
     try:
         if args.cutoff is not None:
-            V.option("--cutoff", args.cutoff, what="a wavelength", above=0.003, maximum=3.0,
+            V.option("--cutoff", args.cutoff, what="a wavelength", minimum=0.003, maximum=3.0,
                      unit="mm", error=SceneError)
             settings = replace(settings, cutoff=args.cutoff)
+        if args.flash_cutoff is not None:
+            V.option("--flash-cutoff", args.flash_cutoff, what="a wavelength", minimum=0.003,
+                     maximum=3.0, unit="mm", error=SceneError)
+            settings = replace(settings, flash_cutoff=args.flash_cutoff)
         if args.samples:
             k, j = args.samples
             if k < 1 or j < 1:

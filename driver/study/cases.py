@@ -46,6 +46,9 @@ class TrendSettings:
     flash_rises: tuple[float, ...] = (0.0, 20.0, 40.0, 80.0)  # K: hot-layer T_S - T0
     flash_slide: float = 10.0  # mm: the thermal macro block's slide
     flash_road: str = "flat"  # or "macro": the block on the road's macro band (8.17 a)
+    # mm: the flash case's lowest wavelength (None: ``cutoff``); 0.003 runs the thesis' four
+    # scales (8.5.3), the hot layer then lying on micro2 (docs/trends.md, "The flash case")
+    flash_cutoff: float | None = None
     # the part of mu the cut cascade does not give (the scales below the cut-off, adhesion),
     # thesis 8.4.3's mu_const = 0.6: it sets the frictional heat, hence the flash temperature
     flash_mu_const: float = 0.6
@@ -57,12 +60,19 @@ class TrendSettings:
 
     def describe(self) -> str:
         """One line: road, cut-off and samples, as every table of the study states them."""
-        flash = (f", flash case on the {self.flash_road} road with mu_const "
+        cut = ("" if self.flash_cutoff in (None, self.cutoff) else
+               f" cut at {self.flash_cutoff:g} mm")
+        flash = (f", flash case{cut} on the {self.flash_road} road with mu_const "
                  f"{self.flash_mu_const:g}" if self.flash else
                  ", no flash case")
         return (f"four-scale road cut at {self.cutoff:g} mm, p = {self.pressure:g} MPa, "
                 f"{self.pressure_samples} + {self.friction_samples} samples per scale{flash}"
                 f"{' (quick)' if self.quick else ''}")
+
+    @property
+    def flash_cut(self) -> float:
+        """The flash case's lowest wavelength, mm."""
+        return self.cutoff if self.flash_cutoff is None else self.flash_cutoff
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -76,10 +86,16 @@ def quick_settings() -> TrendSettings:
                    spread_samples=20, flash_rises=(0.0, 40.0, 160.0), flash_slide=6.0)
 
 
-def _surface(s: TrendSettings, *, height_scale: float = 1.0,
-             polish: float = 0.0, polish_scale: str = "") -> str:
-    lines = ['source = "four_scale"', "edges = [20.0, 3.0, 0.3, 0.04, 0.003]",
-             f"cutoff = {toml_value(s.cutoff)}", f"seed = {s.seed}"]
+#: the four-scale road's band edges (mm) and scale names (driver/surfaces/four_scale.py)
+EDGES = (20.0, 3.0, 0.3, 0.04, 0.003)
+SCALES = ("macro", "meso", "micro1", "micro2")
+
+
+def _surface(s: TrendSettings, *, height_scale: float = 1.0, polish: float = 0.0,
+             polish_scale: str = "", cutoff: float | None = None) -> str:
+    cut = s.cutoff if cutoff is None else cutoff
+    lines = ['source = "four_scale"', f"edges = {toml_value(list(EDGES))}",
+             f"cutoff = {toml_value(cut)}", f"seed = {s.seed}"]
     if height_scale != 1.0:
         lines.append(f"height_scale = {toml_value(height_scale)}")
     if polish > 0.0:
@@ -88,19 +104,25 @@ def _surface(s: TrendSettings, *, height_scale: float = 1.0,
     return "\n".join(lines)
 
 
-def lowest_scale(s: TrendSettings) -> str:
-    """Name of the lowest scale the study's cut-off keeps (the four-scale road's names)."""
-    edges = (20.0, 3.0, 0.3, 0.04, 0.003)
-    names = ("macro", "meso", "micro1", "micro2")
-    kept = [n for n, short in zip(names, edges[1:]) if short >= s.cutoff * (1 - 1e-9)]
+def lowest_scale(s: TrendSettings, cutoff: float | None = None) -> str:
+    """Name of the lowest scale a cut-off keeps (default the study's; the four-scale road's
+    names)."""
+    return SCALES[lowest_band(s.cutoff if cutoff is None else cutoff)]
+
+
+def lowest_band(cutoff: float) -> int:
+    """Index into ``SCALES`` of the lowest scale the cut-off (mm) keeps; its band spans
+    ``EDGES[i]`` to ``max(EDGES[i + 1], cutoff)``."""
+    kept = [i for i, short in enumerate(EDGES[1:]) if short >= cutoff * (1 - 1e-9)]
     if not kept:
-        raise ValueError(f"cutoff {s.cutoff} mm keeps no scale of the four-scale road")
+        raise ValueError(f"cutoff {cutoff} mm keeps no scale of the four-scale road")
     return kept[-1]
 
 
 def _scene(name: str, description: str, s: TrendSettings, surface: str, compounds: list[str],
            velocities: list[float], *, pressure_samples: int | None = None,
-           friction_samples: int | None = None, thermal: str = "") -> str:
+           friction_samples: int | None = None, thermal: str = "",
+           cutoff: float | None = None) -> str:
     physics = "hysteresis = true\nadhesion = false\nthermal = " + ("true" if thermal else "false")
     text = f"""# {description}
 # written by `rubberfriction study trends` ({s.describe()})
@@ -133,6 +155,9 @@ run_timeout = {toml_value(s.run_timeout)}
 penalty_alpha = 10.0
 max_slide_periods = 24
 """
+    if SCALES[lowest_band(s.cutoff if cutoff is None else cutoff)] == "micro2":
+        # the four_scale scene's micro2 mesh: 0.375 um against its sharpest tip's 0.34 um
+        text += "\n[numerics.micro2]\nelements_per_wavelength = 8\n"
     return text + (f"\n[thermal]\n{thermal}\n" if thermal else "")
 
 
@@ -170,7 +195,8 @@ def scene_texts(s: TrendSettings) -> dict[str, str]:
     }
     if s.flash:
         texts["flash"] = _scene("trend_flash", f"{s.flash_compound} with and without flash "
-                                "temperature, hot-layer mode (8.5.3)", s, base,
+                                "temperature, hot-layer mode (8.5.3)", s,
+                                _surface(s, cutoff=s.flash_cut),
                                 [s.flash_compound], list(s.velocities), pressure_samples=1,
-                                friction_samples=1, thermal=_hot_layer(s))
+                                friction_samples=1, thermal=_hot_layer(s), cutoff=s.flash_cut)
     return texts

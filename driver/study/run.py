@@ -21,14 +21,18 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 from mpi4py import MPI
 
 from rubberfriction.driver.multiscale.campaign import run_sample_study, run_scene
 from rubberfriction.driver.multiscale.thermal_loop_scene import run_coupled_scene
 from rubberfriction.driver.scenes import Scene, SceneError, parse_scene
 from rubberfriction.driver.study.cases import (
+    EDGES,
     MATERIALS,
+    SCALES,
     TrendSettings,
+    lowest_band,
     lowest_scale,
     scene_texts,
 )
@@ -153,7 +157,7 @@ def run_trends(settings: TrendSettings, out: str | Path, *, quiet: bool = False,
     t = time.perf_counter()
     ev.sawtooth = sawtooth_value(settings, out / "sawtooth.json")
     times["sawtooth"] = time.perf_counter() - t
-    ev.notes += material_notes(settings)
+    ev.notes += material_notes(settings) + speed_notes(settings)
     return write_table(ev, out, settings, time.perf_counter() - t0, times)
 
 
@@ -193,6 +197,49 @@ def material_notes(settings: TrendSettings) -> list[str]:
                      f"{lo.imag / lo.real:.3f} / {ma.imag / ma.real:.3f}")
     return [f"materials: at omega = {w_low:.3g} / {w_macro:.3g} rad/s (2 pi v over "
             f"{settings.cutoff:g} / 20 mm, v = {v:g} mm/s): " + "; ".join(parts)]
+
+
+#: the study's T0 (20 degC, thesis 6.5.1 and 8.5.3), K
+STUDY_T0 = 293.15
+
+
+def tan_delta_peak(compound: Any, T: float = STUDY_T0) -> tuple[float, float]:
+    """(omega, tan delta) of the loss tangent's maximum at temperature T (K), rad/s, on a grid
+    of 100 points per decade from 1e-6 to 1e14 rad/s (eq. 3.34)."""
+    w = np.logspace(-6.0, 14.0, 2001)
+    E = compound.complex_modulus(w, T)
+    td = E.imag / E.real
+    k = int(np.argmax(td))
+    return float(w[k]), float(td[k])
+
+
+def speed_notes(settings: TrendSettings) -> list[str]:
+    """Evidence for the speed row: where the flash case's lowest scale is excited,
+    omega = 2 pi v / lambda over its band, against the flash compound's loss-tangent peak at T0.
+    Below the peak (the rubbery side) that scale's mu rises with v and falls with temperature,
+    the thesis' trend; above it (the glassy side) both turn round.  A rise of T by 20 K divides
+    the reduced frequency by 1 / a_T (WLF, eq. 3.37)."""
+    if not settings.flash:
+        return []
+    c = load_compound(settings.flash_compound)
+    w_peak, td_peak = tan_delta_peak(c)
+    i = lowest_band(settings.flash_cut)
+    long, short = EDGES[i], max(EDGES[i + 1], settings.flash_cut)
+    parts = []
+    for v in settings.velocities:
+        lo, hi = 2 * math.pi * v / long, 2 * math.pi * v / short
+        side = ("below the peak" if hi < w_peak else "above the peak, glassy side"
+                if lo > w_peak else "across the peak")
+        parts.append(f"{lo:.3g}-{hi:.3g} rad/s at {v:g} mm/s ({side})")
+    shift = (f"; +20 K divides the reduced frequency by {1 / c.wlf.aT(STUDY_T0 + 20.0):.3g}"
+             if c.wlf is not None else "")
+    if settings.flash_mu_const > 0.0:
+        shift += (f"; the macro contact's constant part mu_const = {settings.flash_mu_const:g} "
+                  "does not change with temperature")
+    return [f"speed: {c.name}'s loss tangent at 20 degC peaks at omega = {w_peak:.3g} rad/s "
+            f"(tan d {td_peak:.3f}); the flash case's lowest scale, {SCALES[i]} ({long:g}-"
+            f"{short:g} mm), is excited at {', '.join(parts)}.  Below the peak its mu rises with "
+            f"v and falls with temperature (the thesis' trend), above it both turn round{shift}"]
 
 
 def write_table(ev: Evidence, out: Path, settings: TrendSettings, wall: float,
