@@ -145,14 +145,15 @@ def test_evidence_round_trip(tmp_path):
 
 def test_settings_and_cases():
     full, quick = TrendSettings(), quick_settings()
-    assert lowest_scale(full) == "micro1" and lowest_scale(quick) == "meso"
+    assert lowest_scale(full) == "meso" and lowest_scale(quick) == "meso"
+    assert full.flash_cut == 0.04 and quick.flash_cut == 0.3
     texts = scene_texts(full)
     assert set(texts) == {"materials", "rough", "polished", "spread", "flash"}
     assert 'compounds = ["c1", "c2", "c3", "c4", "c5", "c6"]' in texts["materials"]
     assert "height_scale = 1.25" in texts["rough"]
-    assert 'polish_scales = ["micro1"]' in texts["polished"]
-    assert 'mode = "hot-layer"' in texts["flash"]
-    assert all("cutoff = 0.04" in t for t in texts.values())
+    assert 'polish_scales = ["meso"]' in texts["polished"]
+    assert 'mode = "hot-layer"' in texts["flash"] and "cutoff = 0.04" in texts["flash"]
+    assert all("cutoff = 0.3" in t for c, t in texts.items() if c != "flash")
 
 
 def test_every_case_scene_is_valid(tmp_path):
@@ -161,7 +162,8 @@ def test_every_case_scene_is_valid(tmp_path):
     for settings in (TrendSettings(), quick_settings()):
         for case, text in scene_texts(settings).items():
             scene = parse_scene(text, case, tmp_path)
-            assert scene.n_scales == {"micro1": 3, "meso": 2}[lowest_scale(settings)], case
+            cut = settings.flash_cut if case == "flash" else settings.cutoff
+            assert scene.n_scales == {"micro1": 3, "meso": 2}[lowest_scale(settings, cut)], case
     flash = parse_scene(scene_texts(TrendSettings(flash_mu_const=0.25))["flash"], "f", tmp_path)
     assert flash.thermal.mu_const == 0.25  # the constant part reaches the macro contact
 
@@ -178,9 +180,9 @@ def test_the_flash_case_takes_its_own_cut_off(tmp_path):
     assert "[numerics.micro2]\nelements_per_wavelength = 8" in texts["flash"]
     assert lowest_scale(settings, settings.flash_cut) == "micro2"
     for case in ("materials", "rough", "polished", "spread"):
-        assert "cutoff = 0.04" in texts[case] and "numerics.micro2" not in texts[case], case
+        assert "cutoff = 0.3" in texts[case] and "numerics.micro2" not in texts[case], case
     assert "flash case cut at 0.003 mm" in settings.describe()
-    assert "cut at" not in TrendSettings().describe().split("flash case")[1]
+    assert "cut at" not in quick_settings().describe().split("flash case")[1]
 
 
 def test_speed_evidence_places_the_lowest_scale_against_the_loss_peak():
@@ -204,7 +206,7 @@ def test_speed_evidence_places_the_lowest_scale_against_the_loss_peak():
                                                    rel=0.024)
     # micro1 (0.3-0.04 mm) at 1 m/s: 2 pi 1000 / 0.3 = 2.09e4 to 1.57e5 rad/s around the peak
     assert 2e4 < w < 1.5e5
-    note = speed_notes(TrendSettings())[0]
+    note = speed_notes(TrendSettings())[0]  # the flash case cut at 0.04 mm
     assert note.startswith("speed: m1's loss tangent")
     assert "at 100 mm/s (below the peak)" in note and "at 1000 mm/s (across the peak)" in note
     four = speed_notes(TrendSettings(flash_cutoff=0.003))[0]

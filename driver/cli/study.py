@@ -33,22 +33,23 @@ def register(sub: argparse._SubParsersAction) -> None:
     t = what.add_parser("trends", help="the thesis' trend table reproduced (8 rows)",
                         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     t.add_argument("--quick", action="store_true",
-                   help="two scales (cut at 0.3 mm), 1 + 2 samples, 20 spread samples, three "
+                   help="1 + 2 samples, 20 spread samples, the flash case cut at 0.3 mm with three "
                         "hot-layer temperatures (about 8 minutes on 2 cores, docs/trends.md)")
     t.add_argument("--out", metavar="DIR", default=None,
                    help="output folder (default rf-results/trends or rf-results/trends-quick)")
     t.add_argument("--json", metavar="FILE", help="also write the rows to FILE (JSON)")
     t.add_argument("--cutoff", type=float, metavar="MM",
-                   help="the lowest wavelength kept on the four-scale road (default 0.04 mm, "
-                        "quick 0.3 mm)")
+                   help="the lowest wavelength kept on the four-scale road (default 0.3 mm: "
+                        "macro and meso; docs/trends.md)")
     t.add_argument("--samples", nargs=2, type=int, metavar=("K", "J"),
                    help="pressure and friction samples per scale (default 1 3, quick 1 2)")
     t.add_argument("--flash-road", choices=("flat", "macro"), default=None,
                    help="the flash case's thermal macro block on a flat road (default, cheaper) "
                         "or on the road's macro band as in the thesis (8.17 a)")
     t.add_argument("--flash-cutoff", type=float, metavar="MM",
-                   help="the flash case's lowest wavelength (default: --cutoff); 0.003 runs the "
-                        "thesis' four scales (8.5.3), about 25 minutes on 2 cores")
+                   help="the flash case's lowest wavelength (default 0.04 mm, quick: --cutoff); "
+                        "0.003 runs the thesis' four scales (8.5.3), about 25 minutes on 2 "
+                        "cores")
     t.add_argument("--flash-mu-const", type=float, metavar="MU", default=None,
                    help="the constant part of mu on the flash case's macro contact: the scales "
                         "below the cut-off and adhesion, which set the frictional heat (default "

@@ -468,10 +468,10 @@ def verify(case: str, **parameters: Any) -> dict[str, Any]:
 def study_trends(*, quick: bool = False, output: str | Path | None = None,
                  quiet: bool = False, fresh: bool = False, **settings: Any) -> Any:
     """Run (or resume) the thesis' trend study, as ``rubberfriction study trends`` does
-    (``docs/trends.md``): ``quick`` for its two-scale variant, ``output`` the folder (default
+    (``docs/trends.md``): ``quick`` for its smaller variant, ``output`` the folder (default
     ``rf-results/trends`` or ``rf-results/trends-quick``), ``settings`` any field of
-    ``driver.study.cases.TrendSettings`` (``cutoff=0.04`` mm, ``friction_samples=3``,
-    ``flash=False``, ...).  Returns a ``StudyResult`` (``.rows``: one ``TrendRow`` per trend
+    ``driver.study.cases.TrendSettings`` (``cutoff=0.3`` mm, ``flash_cutoff=0.04`` mm,
+    ``friction_samples=3``, ``flash=False``, ...).  Returns a ``StudyResult`` (``.rows``: one ``TrendRow`` per trend
     with ``.verdict``, ``.comparisons`` (each ``.ratio``, ``.sign``) and ``.why``; ``.files``)
     on rank 0, None elsewhere.  An unknown setting raises an :class:`InputError`.
 
