@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 
 from rubberfriction.driver.study.trends import TrendRow
@@ -39,7 +40,7 @@ def plot_trends(rows: list[TrendRow], path: Path, subtitle: str) -> Path:
     ax.set_xlabel("log10(ratio)  (green: sign as in the thesis, red: opposite, grey: "
                   "information or no value; star: thesis' ratio)", fontsize=8)
     ax.set_title(f"thesis trends: {sum(r.verdict == 'agrees' for r in rows)} of {len(rows)} "
-                 f"agree in sign\n{subtitle}", fontsize=9)
+                 "agree in sign\n" + "\n".join(textwrap.wrap(subtitle, 90)), fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -471,9 +471,9 @@ def study_trends(*, quick: bool = False, output: str | Path | None = None,
     (``docs/trends.md``): ``quick`` for its smaller variant, ``output`` the folder (default
     ``rf-results/trends`` or ``rf-results/trends-quick``), ``settings`` any field of
     ``driver.study.cases.TrendSettings`` (``cutoff=0.3`` mm, ``flash_cutoff=0.04`` mm,
-    ``friction_samples=3``, ``flash=False``, ...).  Returns a ``StudyResult`` (``.rows``: one ``TrendRow`` per trend
-    with ``.verdict``, ``.comparisons`` (each ``.ratio``, ``.sign``) and ``.why``; ``.files``)
-    on rank 0, None elsewhere.  An unknown setting raises an :class:`InputError`.
+    ``friction_samples=3``, ``flash=False``, ...).  Returns a ``StudyResult`` (``.rows``: one
+    ``TrendRow`` per trend with ``.verdict``, ``.comparisons`` (each ``.ratio``, ``.sign``) and
+    ``.why``; ``.files``) on rank 0, None elsewhere.  An unknown setting raises an :class:`InputError`.
 
     Delegates to ``driver.study.run.run_trends``."""
     from rubberfriction.driver.study.cases import TrendSettings, quick_settings
