@@ -473,7 +473,8 @@ def study_trends(*, quick: bool = False, output: str | Path | None = None,
     ``driver.study.cases.TrendSettings`` (``cutoff=0.3`` mm, ``flash_cutoff=0.04`` mm,
     ``friction_samples=3``, ``flash=False``, ...).  Returns a ``StudyResult`` (``.rows``: one
     ``TrendRow`` per trend with ``.verdict``, ``.comparisons`` (each ``.ratio``, ``.sign``) and
-    ``.why``; ``.files``) on rank 0, None elsewhere.  An unknown setting raises an :class:`InputError`.
+    ``.why``; ``.files``) on rank 0, None elsewhere.  An unknown setting raises an
+    :class:`InputError`.
 
     Delegates to ``driver.study.run.run_trends``."""
     from rubberfriction.driver.study.cases import TrendSettings, quick_settings
