@@ -201,7 +201,7 @@ def test_speed_evidence_places_the_lowest_scale_against_the_loss_peak():
         assert E.imag / E.real < td
     base = D.Spectrum(m1.E_inf, m1.prony.moduli(m1.E_inf), m1.prony.tau, m1.wlf)
     low = D.shift_glass_transition(base, -30.0)
-    assert tan_delta_peak(base)[0] == w
+    assert tan_delta_peak(base)[0] == pytest.approx(w, rel=0.024)
     assert tan_delta_peak(low)[0] == pytest.approx(w / D.tg_shift_factor(m1.wlf, -30.0),
                                                    rel=0.024)
     # micro1 (0.3-0.04 mm) at 1 m/s: 2 pi 1000 / 0.3 = 2.09e4 to 1.57e5 rad/s around the peak
