@@ -433,3 +433,22 @@ def test_warm_started_points_give_the_loop_from_rest(case: Case):
                 # the last point's states are not kept: no later cascade starts from them
                 last = w_iv is warm.intervals[-1]
                 assert (stores["warm"].load_state(w_out.key) is None) == last, (w_iv.index, slot)
+
+
+def test_the_window_note_gives_the_contact_temperature_at_its_ends():
+    """The point's note on the contact temperature over its averaging window: eq. 8.1's series
+    interpolated linearly at the window's ends (here T_active = T0 + 20 + 2 s, so +36 K at
+    s = 8 mm and +40 K at 10 mm, 2 K/mm); nothing without a window or a temperature series."""
+    from types import SimpleNamespace
+
+    from rubberfriction.driver.multiscale.thermal_loop import window_temperature_note
+    from rubberfriction.driver.sliding.window import StationaryMean
+
+    s = np.linspace(0.5, 10.0, 20)
+    macro = SimpleNamespace(series={"s": s, "T_active": 293.15 + 20.0 + 2.0 * s})
+    avg = StationaryMean(0.5, 8.0, 10.0, 0.001, 2, True)
+    assert window_temperature_note(macro, avg, 293.15) == (
+        "contact temperature over the window (eq. 8.1): T0 +36 K at s = 8 mm, T0 +40 K at 10 mm "
+        "(+2 K/mm)")
+    assert window_temperature_note(macro, None, 293.15) == ""
+    assert window_temperature_note(SimpleNamespace(series={"s": s}), avg, 293.15) == ""

@@ -241,6 +241,24 @@ def average_note(what: str, avg: StationaryMean | None) -> str:
     return f"{what}: {avg.describe()}" if avg is not None else f"{what}: no series to average"
 
 
+def window_temperature_note(macro: ThermalMacroResult | None, avg: StationaryMean | None,
+                            T0: float) -> str:
+    """The contact temperature (eq. 8.1's mean over the active contact nodes, series
+    ``T_active``) at the start and the end of the averaging window, against T0: the window's mu
+    can pass the stationarity rule while the contact still warms (a flat part of the law, or a
+    law diluted by mu_const), and the note says so.  Empty without a series or a window."""
+    if (macro is None or not macro.series or "T_active" not in macro.series or avg is None
+            or not math.isfinite(avg.lo)):
+        return ""
+    s, T = np.asarray(macro.series["s"], float), np.asarray(macro.series["T_active"], float)
+    ok = np.isfinite(T)
+    if not ok.any():
+        return ""
+    a, b = np.interp([avg.lo, avg.hi], s[ok], T[ok]) - T0
+    return (f"contact temperature over the window (eq. 8.1): T0 {a:+.3g} K at s = {avg.lo:.4g} "
+            f"mm, T0 {b:+.3g} K at {avg.hi:.4g} mm ({(b - a) / (avg.hi - avg.lo):+.2g} K/mm)")
+
+
 def _mu(result: PointResult) -> float:
     return float(result.mu.mean) if result.ok and result.mu is not None else math.nan
 
@@ -498,6 +516,8 @@ def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
         blocks = (len(distances) if not loop.points and loop.auto_dT == 0 else loop.blocks)
         out.average = macro_average(out.macro, contact_steps(out), blocks, loop.tol)
     out.notes.append(average_note("macro mu", out.average))
+    out.notes.append(window_temperature_note(out.macro, out.average, thermal.T0))
+    out.notes = [n for n in out.notes if n]
     out.wall = time.perf_counter() - wall
     return out
 
@@ -706,6 +726,8 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
     else:
         out.average = macro_average(out.macro, out.contact_mu(), hot.blocks, hot.tol)
     out.notes.append(average_note("macro mu", out.average))
+    out.notes.append(window_temperature_note(out.macro, out.average, T0))
+    out.notes = [n for n in out.notes if n]
     out.wall = time.perf_counter() - wall
     return out
 
