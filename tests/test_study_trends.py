@@ -261,3 +261,12 @@ def test_api_refuses_an_unknown_setting():
 
     with pytest.raises(rf.InputError, match="did you mean 'cutoff'"):
         rf.study_trends(cutof=0.04)
+
+
+@pytest.mark.parametrize("key,value", [("cutoff", 0.001), ("flash_cutoff", 5.0)])
+def test_a_cut_off_off_the_road_is_refused_by_name(key, value):
+    import rubberfriction as rf
+
+    with pytest.raises(rf.InputError, match=rf"^{key} = {value} mm: expected a wavelength from "
+                       r"0.003 to 3 mm"):
+        rf.study_trends(**{key: value})

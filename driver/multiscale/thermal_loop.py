@@ -516,8 +516,8 @@ def run_thermal_loop(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
         blocks = (len(distances) if not loop.points and loop.auto_dT == 0 else loop.blocks)
         out.average = macro_average(out.macro, contact_steps(out), blocks, loop.tol)
     out.notes.append(average_note("macro mu", out.average))
-    out.notes.append(window_temperature_note(out.macro, out.average, thermal.T0))
-    out.notes = [n for n in out.notes if n]
+    if note := window_temperature_note(out.macro, out.average, thermal.T0):
+        out.notes.append(note)
     out.wall = time.perf_counter() - wall
     return out
 
@@ -726,8 +726,8 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
     else:
         out.average = macro_average(out.macro, out.contact_mu(), hot.blocks, hot.tol)
     out.notes.append(average_note("macro mu", out.average))
-    out.notes.append(window_temperature_note(out.macro, out.average, T0))
-    out.notes = [n for n in out.notes if n]
+    if note := window_temperature_note(out.macro, out.average, T0):
+        out.notes.append(note)
     out.wall = time.perf_counter() - wall
     return out
 

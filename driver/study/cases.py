@@ -18,7 +18,9 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, replace
 from typing import Any
 
-from rubberfriction.driver.scenes import toml_value
+from rubberfriction.driver.scenes import SceneError, load_scene, toml_value
+from rubberfriction.driver.surfaces.four_scale import FOUR_SCALE_EDGES
+from rubberfriction.driver.surfaces.multiscale import scale_names
 
 #: the material compounds of thesis table 6.1
 MATERIALS = ("c1", "c2", "c3", "c4", "c5", "c6")
@@ -60,6 +62,17 @@ class TrendSettings:
     elements_per_wavelength: int = 6
     run_timeout: float = 600.0  # s per single-scale run
 
+    def __post_init__(self) -> None:
+        """The cut-offs lie on the four-scale road (its finest and coarsest kept edges)."""
+        for name in ("cutoff", "flash_cutoff"):
+            value = getattr(self, name)
+            if value is None and name == "flash_cutoff":
+                continue
+            if not (isinstance(value, (int, float)) and EDGES[-1] <= value <= EDGES[1]):
+                raise SceneError(f"{name} = {value!r} mm: expected a wavelength from "
+                                 f"{EDGES[-1]:g} to {EDGES[1]:g} mm (the four-scale road's "
+                                 "finest edge and the macro scale's short one)")
+
     def describe(self) -> str:
         """One line: road, cut-off and samples, as every table of the study states them."""
         cut = ("" if self.flash_cutoff in (None, self.cutoff) else
@@ -89,9 +102,9 @@ def quick_settings() -> TrendSettings:
                    flash_slide=6.0)
 
 
-#: the four-scale road's band edges (mm) and scale names (driver/surfaces/four_scale.py)
-EDGES = (20.0, 3.0, 0.3, 0.04, 0.003)
-SCALES = ("macro", "meso", "micro1", "micro2")
+#: the four-scale road's band edges (mm) and its scales' names, which a cut-off does not change
+EDGES = FOUR_SCALE_EDGES
+SCALES = tuple(scale_names(len(EDGES) - 1))
 
 
 def _surface(s: TrendSettings, *, height_scale: float = 1.0, polish: float = 0.0,
@@ -159,8 +172,9 @@ penalty_alpha = 10.0
 max_slide_periods = 24
 """
     if SCALES[lowest_band(s.cutoff if cutoff is None else cutoff)] == "micro2":
-        # the four_scale scene's micro2 mesh: 0.375 um against its sharpest tip's 0.34 um
-        text += "\n[numerics.micro2]\nelements_per_wavelength = 8\n"
+        # micro2 kept: the shipped four_scale scene's mesh there (its sharpest tip, docs/scales.md)
+        n = load_scene("four_scale").numerics.for_scale("micro2").elements_per_wavelength
+        text += f"\n[numerics.micro2]\nelements_per_wavelength = {n}\n"
     return text + (f"\n[thermal]\n{thermal}\n" if thermal else "")
 
 
