@@ -8,6 +8,7 @@
     rubberfriction run SCENE --check           # validate and count the runs, compute nothing
     mpirun -n 8 rubberfriction run SCENE       # farm the runs over 8 ranks (same results)
     rubberfriction run SCENE --fields up:meso:0  # + XDMF fields of one run for ParaView
+    rubberfriction run SCENE --mesh-check      # + each scale's sample 0 again on a 2x finer mesh
     rubberfriction samples-study --scale micro2 --n 30 --pressure 3 --velocity 10
 
 A campaign resumes by default: runs already in ``<output>/store`` are reused (``--fresh`` moves
@@ -78,6 +79,14 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "up:micro1:1 (see above)")
     p.add_argument("--fields-every", type=int, default=1, metavar="N",
                    help="with --fields: the fields of every N-th sliding step (default 1)")
+    p.add_argument("--mesh-check", metavar="SELECT", nargs="?", const="",
+                   help="after the campaign, run the selected runs again with contact elements "
+                        "--mesh-factor times shorter and report how much mu moves (default "
+                        "selection: sample 0 of every scale of the friction branch; SELECT as "
+                        "for --fields)")
+    p.add_argument("--mesh-factor", type=int, default=2, metavar="F",
+                   help="with --mesh-check: refinement factor of the contact elements "
+                        "(default 2)")
     p.add_argument("--schema", action="store_true",
                    help="print every scene key with default and meaning")
     p.add_argument("--show", metavar="NAME", nargs="?", const="default",
@@ -136,6 +145,7 @@ def _run(args: argparse.Namespace) -> int:
         if args.out:
             scene = scene.with_output(args.out)
         fields = _field_selection(scene, args)
+        mesh = _mesh_selection(scene, args)
     except SceneError as err:
         return _error(str(err))
     if _rank() == 0:
@@ -161,12 +171,19 @@ def _run(args: argparse.Namespace) -> int:
         return _error(str(err))
     except ImportError as err:
         return _error(str(err))
-    if result is None:  # a worker rank
-        return 0
-    if not args.theory:
+    if result is not None and not args.theory:
         from rubberfriction.driver.multiscale.report import write_report
 
         write_report(result, quiet=args.quiet, theory=False)
+    if mesh is not None:  # every rank: the refined runs are farmed like the campaign's
+        from rubberfriction.driver.multiscale.mesh_check import run_mesh_check
+
+        try:
+            run_mesh_check(scene, result, mesh, factor=args.mesh_factor, quiet=args.quiet)
+        except SceneError as err:
+            return _error(str(err))
+    if result is None:  # a worker rank
+        return 0
     if fields:
         from rubberfriction.driver.multiscale.fields import write_fields
 
@@ -196,6 +213,18 @@ def _field_selection(scene: Scene, args: argparse.Namespace) -> list:
     from rubberfriction.driver.multiscale.fields import parse_selection
 
     return parse_selection(args.fields, scene)
+
+
+def _mesh_selection(scene: Scene, args: argparse.Namespace) -> list | None:
+    """The parsed ``--mesh-check`` selection (None without it); a SceneError naming the
+    option."""
+    if args.mesh_check is None:
+        return None
+    if args.mesh_factor < 2:
+        raise SceneError(f"--mesh-factor {args.mesh_factor}: expected a whole number >= 2")
+    from rubberfriction.driver.multiscale.mesh_check import mesh_selection
+
+    return mesh_selection(args.mesh_check, scene)
 
 
 def failed_line(failed: list, total: int) -> str:

@@ -140,6 +140,12 @@ def timeout_note(n_timed_out: int) -> str:
             "of the scene")
 
 
+#: the summary's mesh line until ``run --mesh-check`` replaces it with its figures
+#: (driver.multiscale.mesh_check)
+MESH_NOT_CHECKED = ("  mesh: not checked (rubberfriction run SCENE --mesh-check runs sample 0 of "
+                    "each scale's friction runs again with contact elements 2x shorter)")
+
+
 def summary_text(result: Any) -> str:
     sc = result.scene
     lines = [f"scene {sc.name!r} ({sc.variant}) from {sc.source}: {len(result.points)} point(s), "
@@ -196,6 +202,8 @@ def summary_text(result: Any) -> str:
     resolution = resolution_line(result.points)
     if resolution:
         lines.append(resolution)
+    if sc.variant == "rough":
+        lines.append(MESH_NOT_CHECKED)
     used = attempts_used(result.points)
     if used.get("closed form"):
         lines.append(f"  model only what a run requires: {used['closed form']} frictionless "
