@@ -55,6 +55,7 @@ def energy_balance_line(points: Sequence[PointResult]) -> str:
                  "+7.9 % balances at -1.0 % with contact elements half as long, and its mu_force "
                  "moves by 24 %), the window is not a periodic steady state, or stabilised "
                  "sub-steps carry energy")
+    text += "; a balanced run need not be mesh-converged (run --mesh-check; docs/scales.md)"
     return text
 
 
