@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import csv
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -123,6 +124,8 @@ def test_mesh_lines_count_the_runs_beyond_the_tolerance():
     assert _row(0.17, factor=2).fine_error == pytest.approx(0.17)
     assert _row(0.3, factor=4).fine_error == pytest.approx(0.1)
     assert mesh_lines([]) == ["  mesh: no run checked (none selected, or none succeeded)"]
+    closed = replace(_row(0.0, "micro"), attempt="closed form", attempt_fine="closed form")
+    assert "closed form (driver.sliding.shortcut): no mesh" in mesh_lines([closed])[1]
 
 
 def test_with_mesh_lines_replaces_the_block_or_appends_it():

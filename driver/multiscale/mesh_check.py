@@ -209,6 +209,10 @@ def mesh_lines(rows: Sequence[MeshRow]) -> list[str]:
             lines.append(f"    {branch:<4} {scale:<8} {len(rs)} run(s), every refined run failed "
                          f"({rs[0].reason_fine or rs[0].status_fine})")
             continue
+        if all(r.attempt == r.attempt_fine == "closed form" for r in rs):
+            lines.append(f"    {branch:<4} {scale:<8} {len(rs)} run(s) of the closed form "
+                         "(driver.sliding.shortcut): no mesh to converge")
+            continue
         worst = max(good, key=lambda r: abs(r.change))
         mean = sum(r.change for r in good) / len(good)
         off = sum(not r.converged for r in good)
