@@ -64,7 +64,8 @@ def point_rows(scene: Scene, max_slope: float, fe: dict[float, Any] | None) -> l
 
 
 def plot(rows: list[dict], path: Path) -> Path:
-    """mu(v) per max_slope: FE with error bars, Persson line and isotropic dashed / dotted."""
+    """mu(v) per max_slope: FE with error bars, Persson isotropic (x, dashed) and line (+,
+    dotted)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -79,13 +80,14 @@ def plot(rows: list[dict], path: Path) -> Path:
         if any(math.isfinite(x) for x in fe):
             err = [r["mu_fe_ci95"] if math.isfinite(r["mu_fe_ci95"]) else 0.0 for r in rs]
             ax.errorbar(v, fe, yerr=err, fmt="o-", color=f"C{k}", capsize=3, label=f"FE, {lab}")
-        ax.plot(v, [r["mu_persson-2d"] for r in rs], "--", color=f"C{k}",
-                label=f"Persson 2D, {lab}")
-        ax.plot(v, [r["mu_persson-1d"] for r in rs], ":", color=f"C{k}")
+        ax.plot(v, [r["mu_persson-2d"] for r in rs], "x--", color=f"C{k}",
+                label=f"Persson 2D, {lab}")  # markers: one velocity is a point, not a line
+        ax.plot(v, [r["mu_persson-1d"] for r in rs], "+:", color=f"C{k}")
     ax.set_xscale("log")
     ax.set_xlabel("sliding velocity v (mm/s)")
     ax.set_ylabel("coefficient of friction mu (hysteresis)")
-    ax.set_title("cut-off sensitivity (dotted: Persson line roughness)", fontsize=9)
+    ax.set_title("cut-off sensitivity (x dashed: Persson 2D; + dotted: Persson line roughness)",
+                 fontsize=9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()
