@@ -27,6 +27,8 @@ import pytest
 
 from tiny_scenes import two_sines
 
+import rubberfriction as rf
+
 from rubberfriction.driver.cli.main import main
 from rubberfriction.driver.multiscale.mesh_check import (
     MESH_TOL,
@@ -102,6 +104,13 @@ def test_run_mesh_check_refines_the_stored_inputs_and_reports_the_change(tmp_pat
     with open(out / "mesh_check.csv") as f:
         again = {r["scale_name"]: r for r in csv.DictReader(f)}
     assert again["macro"]["mu_fine"] == macro["mu_fine"]
+
+    # the Python API is the same check: the same rows, from the store
+    scene = rf.load_scene(str(scene_file))
+    rows_api = rf.mesh_check(scene, rf.run(scene, quiet=True), quiet=True)
+    by_scale = {r["scale_name"]: r for r in rows_api}
+    assert by_scale["macro"]["mu_fine"] == pytest.approx(float(macro["mu_fine"]), rel=1e-5)
+    assert by_scale["macro"]["converged"] == 1 and by_scale["micro"]["converged"] == 0
 
 
 def test_campaign_without_the_check_says_so(tmp_path: Path):

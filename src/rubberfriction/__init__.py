@@ -28,6 +28,7 @@ __all__ = [
     "load_compound",
     "load_profile",
     "load_scene",
+    "mesh_check",
     "modify_scene",
     "psd",
     "run",

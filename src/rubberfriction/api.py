@@ -152,6 +152,28 @@ def run(scene: Scene, *, output: str | Path | None = None, quiet: bool = False,
                      report=report)
 
 
+def mesh_check(scene: Scene, result: CampaignResult | None, *, select: str | None = None,
+               factor: int = 2, quiet: bool = False) -> list[dict[str, Any]] | None:
+    """How far a finished campaign is from mesh convergence, as ``rubberfriction run SCENE
+    --mesh-check [SELECT] --mesh-factor F``: the selected runs (default: sample 0 of every
+    scale's friction runs; ``select`` in ``--fields``' grammar) run again with contact elements
+    ``factor`` times shorter and the stored inputs, kept in the campaign's store;
+    ``mesh_check.csv`` / ``.png`` and the summary's ``mesh:`` block written.  Returns one dict
+    per checked run (``mu``, ``mu_fine``, ``change`` = mu_fine / mu - 1, ``converged``, ...).
+    ``result``: what :func:`run` returned for ``scene``; under ``mpirun`` every rank calls
+    this (with None on the ranks where :func:`run` returned None) and only rank 0 gets rows.
+
+    Delegates to ``driver.multiscale.mesh_check.run_mesh_check``."""
+    _mpi()
+    from rubberfriction.driver.multiscale.mesh_check import mesh_selection, run_mesh_check
+
+    if factor < 2:
+        raise InputError(f"mesh_check(factor={factor}): expected a whole number >= 2")
+    rows = run_mesh_check(scene, result, mesh_selection(select, scene), factor=factor,
+                          quiet=quiet)
+    return None if rows is None else [r.as_dict() for r in rows]
+
+
 # --------------------------------------------------------------------------------- results
 
 
