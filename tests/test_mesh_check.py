@@ -154,5 +154,7 @@ def test_mesh_selection_default_grammar_and_refusals(tmp_path: Path):
     assert (item.branch, item.scale, item.sample) == ("down", "macro", None)
     with pytest.raises(SceneError, match="--mesh-check 'up:nano:0': no scale 'nano'"):
         mesh_selection("up:nano:0", scene)
+    with pytest.raises(SceneError, match=r"mesh factor 1 \(--mesh-factor"):
+        mesh_selection("", scene, 1)
     scene_file = _scene_file(tmp_path)
     assert main(["run", str(scene_file), "--mesh-check", "--mesh-factor", "1"]) == 2

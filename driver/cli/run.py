@@ -220,11 +220,9 @@ def _mesh_selection(scene: Scene, args: argparse.Namespace) -> list | None:
     option."""
     if args.mesh_check is None:
         return None
-    if args.mesh_factor < 2:
-        raise SceneError(f"--mesh-factor {args.mesh_factor}: expected a whole number >= 2")
     from rubberfriction.driver.multiscale.mesh_check import mesh_selection
 
-    return mesh_selection(args.mesh_check, scene)
+    return mesh_selection(args.mesh_check, scene, args.mesh_factor)
 
 
 def failed_line(failed: list, total: int) -> str:

@@ -103,6 +103,37 @@ def field_folder(output: Path, point_id: str, label: dict[str, Any]) -> Path:
                                       f"{label.get('scale_name')}_s{label.get('sample')}")
 
 
+def selected_runs(result: Any, items: list[FieldItem]) -> list[tuple[str, dict, Any]]:
+    """(point id, label, outcome) of every run of a finished campaign that ``items`` select,
+    once per point, branch, scale and sample, in campaign order (``--fields``,
+    ``--mesh-check``)."""
+    out, seen = [], set()
+    for r in result.points:
+        for _stage, runs in r.runs.items():
+            for task, outcome in runs:
+                label = dict(task.label)
+                ident = (r.point.id, label.get("branch"), label.get("scale_name"),
+                         label.get("sample"))
+                if ident in seen or not any(it.matches(label) for it in items):
+                    continue
+                seen.add(ident)
+                out.append((r.point.id, label, outcome))
+    return out
+
+
+def compound_files(scene: Scene) -> dict[str, str]:
+    """The scene's compound files by compound name (what a stored run's rebuild loads)."""
+    from rubberfriction.forms.material_files import load_compound
+
+    files = {}
+    for path in scene.conditions.compound_paths:
+        try:
+            files[load_compound(path).name] = path
+        except ValueError:
+            continue
+    return files
+
+
 @dataclass
 class FieldRun:
     """One selected run: its folder, label, store key and the rerun (None if not stored)."""
@@ -121,52 +152,36 @@ def write_fields(result: Any, items: list[FieldItem], every: int = 1,
     ``progress``.  Serial: call on rank 0 only."""
     from rubberfriction.driver.multiscale.rerun import rerun_stored
     from rubberfriction.driver.sliding.outputs import FieldWriter
-    from rubberfriction.forms.material_files import load_compound
 
     if every < 1:
         raise SceneError(f"--fields-every {every}: expected a whole number >= 1")
-    scene, store = result.scene, result.store
-    files = {}
-    for path in scene.conditions.compound_paths:  # the scene's compound files by their name
-        try:
-            files[load_compound(path).name] = path
-        except ValueError:
-            continue
+    store = result.store
+    files = compound_files(result.scene)
     done: list[FieldRun] = []
-    seen: set[Path] = set()
-    for r in result.points:
-        for _stage, runs in r.runs.items():
-            for task, outcome in runs:
-                label = dict(task.label)
-                if not any(it.matches(label) for it in items):
-                    continue
-                folder = field_folder(result.output, r.point.id, label)
-                if folder in seen:
-                    continue
-                seen.add(folder)
-                run = FieldRun(folder, label, outcome.key)
-                done.append(run)
-                if not outcome.key or not store.has(outcome.key):
-                    if progress:
-                        progress(f"fields: {folder.name}: no stored run file, skipped")
-                    continue
-                if progress:
-                    progress(f"fields: {folder.name}: rerunning {outcome.key[:12]} ...")
-                try:
-                    run.rerun = rerun_stored(store, outcome.key,
-                                             [FieldWriter(folder, every=every)],
-                                             compound_files=files, fe=True)
-                except ValueError as err:  # inputs a run file cannot rebuild (a mu(p, v) law)
-                    if progress:
-                        progress(f"fields: {folder.name}: not rerun: {err}")
-                    continue
-                if progress:
-                    res, old = run.rerun.result, run.rerun.stored.values.get("mu_force")
-                    fe = (": the stored run is the closed form, the fields are the FE run's"
-                          if run.rerun.fe_instead_of_closed_form else "")
-                    progress(f"fields: {folder} ({res.status}, mu_force {res.mu_force:.6g}, "
-                             f"stored {old if old is None else format(old, '.6g')}, "
-                             f"{run.rerun.wall_time:.1f} s{fe})")
+    for point_id, label, outcome in selected_runs(result, items):
+        folder = field_folder(result.output, point_id, label)
+        run = FieldRun(folder, label, outcome.key)
+        done.append(run)
+        if not outcome.key or not store.has(outcome.key):
+            if progress:
+                progress(f"fields: {folder.name}: no stored run file, skipped")
+            continue
+        if progress:
+            progress(f"fields: {folder.name}: rerunning {outcome.key[:12]} ...")
+        try:
+            run.rerun = rerun_stored(store, outcome.key, [FieldWriter(folder, every=every)],
+                                     compound_files=files, fe=True)
+        except ValueError as err:  # inputs a run file cannot rebuild (a mu(p, v) law)
+            if progress:
+                progress(f"fields: {folder.name}: not rerun: {err}")
+            continue
+        if progress:
+            res, old = run.rerun.result, run.rerun.stored.values.get("mu_force")
+            fe = (": the stored run is the closed form, the fields are the FE run's"
+                  if run.rerun.fe_instead_of_closed_form else "")
+            progress(f"fields: {folder} ({res.status}, mu_force {res.mu_force:.6g}, "
+                     f"stored {old if old is None else format(old, '.6g')}, "
+                     f"{run.rerun.wall_time:.1f} s{fe})")
     if progress and not done:
         progress("fields: no run of the campaign matches the selection")
     return done

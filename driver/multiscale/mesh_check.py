@@ -34,10 +34,16 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Sequence
 
-from rubberfriction.driver.multiscale.fields import FieldItem, parse_selection
+from rubberfriction.driver.multiscale.fields import (
+    FieldItem,
+    compound_files,
+    parse_selection,
+    selected_runs,
+)
 from rubberfriction.driver.scenes import Scene, SceneError
 
-__all__ = ["MESH_TOL", "DEFAULT_SELECTION", "MeshRow", "mesh_selection", "mesh_tasks",
+__all__ = ["MESH_TOL", "DEFAULT_SELECTION", "MeshRow", "check_factor", "mesh_selection",
+           "mesh_tasks",
            "mesh_rows", "mesh_lines", "with_mesh_lines", "run_mesh_check", "write_mesh_check",
            "plot_mesh_check"]
 
@@ -98,9 +104,18 @@ class MeshRow:
         return d
 
 
-def mesh_selection(text: str | None, scene: Scene) -> list[FieldItem]:
+def check_factor(factor: int) -> None:
+    """A SceneError unless the refinement factor is a whole number >= 2."""
+    if not isinstance(factor, int) or factor < 2:
+        raise SceneError(f"mesh factor {factor!r} (--mesh-factor, rf.mesh_check(factor=...)): "
+                         "expected a whole number >= 2")
+
+
+def mesh_selection(text: str | None, scene: Scene, factor: int = 2) -> list[FieldItem]:
     """The runs ``--mesh-check [SELECT]`` chooses: :data:`DEFAULT_SELECTION` without a value,
-    else ``--fields``' grammar; a SceneError for scenes without a rough-surface cascade."""
+    else ``--fields``' grammar; a SceneError for scenes without a rough-surface cascade or a
+    factor below 2 (:func:`check_factor`)."""
+    check_factor(factor)
     if scene.variant != "rough" or scene.physics.thermal or scene.adhesion_fit is not None:
         raise SceneError("--mesh-check: for rough-surface cascades (not thermal, separated or "
                          "adhesion-fit scenes); rerun single runs with rubberfriction rerun "
@@ -108,25 +123,6 @@ def mesh_selection(text: str | None, scene: Scene) -> list[FieldItem]:
     if text is None or text == "":
         return list(DEFAULT_SELECTION)
     return parse_selection(text, scene, option="--mesh-check")
-
-
-def _selected(result: Any, items: Sequence[FieldItem]) -> list[tuple[str, dict, Any]]:
-    """(point id, label, outcome) of every selected run that succeeded (a failed run has no mu
-    to compare), once each, in campaign order."""
-    out, seen = [], set()
-    for r in result.points:
-        for _stage, runs in r.runs.items():
-            for task, outcome in runs:
-                label = dict(task.label)
-                if not any(it.matches(label) for it in items) or not outcome.ok:
-                    continue
-                ident = (r.point.id, label.get("branch"), label.get("scale_name"),
-                         label.get("sample"))
-                if ident in seen or not outcome.key:
-                    continue
-                seen.add(ident)
-                out.append((r.point.id, label, outcome))
-    return out
 
 
 def mesh_tasks(result: Any, items: Sequence[FieldItem], factor: int = 2,
@@ -137,18 +133,13 @@ def mesh_tasks(result: Any, items: Sequence[FieldItem], factor: int = 2,
     from rubberfriction.driver.runtime.farm import Task
     from rubberfriction.driver.runtime.store import run_key
     from rubberfriction.driver.sliding.spec import default_h_contact, refined
-    from rubberfriction.forms.material_files import load_compound
 
-    if factor < 2:
-        raise SceneError(f"--mesh-factor {factor}: expected a whole number >= 2")
-    files = {}
-    for path in result.scene.conditions.compound_paths:
-        try:
-            files[load_compound(path).name] = path
-        except ValueError:
-            continue
+    check_factor(factor)
+    files = compound_files(result.scene)
     tasks = []
-    for point_id, label, outcome in _selected(result, items):
+    for point_id, label, outcome in selected_runs(result, items):
+        if not outcome.ok or not outcome.key:  # a failed run has no mu to compare
+            continue
         try:
             spec = load_stored(result.store, outcome.key, compound_files=files).spec
         except ValueError as err:
@@ -169,6 +160,7 @@ def mesh_rows(tasks: Sequence[Any], outcomes: Sequence[Any], coarse: dict[str, A
     """One row per refined task and its outcome, beside the coarse outcome of its label's
     ``coarse_key`` (``coarse``: key -> Outcome of the campaign)."""
     from rubberfriction.driver.multiscale.report.tables import energy_balance
+    from rubberfriction.driver.multiscale.statistics import first_line
 
     rows = []
     for task, fine in zip(tasks, outcomes):
@@ -181,7 +173,7 @@ def mesh_rows(tasks: Sequence[Any], outcomes: Sequence[Any], coarse: dict[str, A
             factor=int(lab["mesh_factor"]), h_contact=float(lab["h_contact"]),
             key=c.key, key_fine=fine.key, attempt=c.attempt, attempt_fine=fine.attempt,
             status_fine=fine.status,
-            reason_fine=(fine.reason or "").splitlines()[0] if fine.reason else "",
+            reason_fine=first_line(fine.reason) if fine.reason else "",
             mu=c.value("mu_force"), mu_fine=fine.value("mu_force") if ok else math.nan,
             contact=c.value("contact_fraction"),
             contact_fine=fine.value("contact_fraction") if ok else math.nan,

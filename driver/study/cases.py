@@ -171,7 +171,7 @@ run_timeout = {toml_value(s.run_timeout)}
 penalty_alpha = 10.0
 max_slide_periods = 24
 """
-    if SCALES[lowest_band(s.cutoff if cutoff is None else cutoff)] == "micro2":
+    if lowest_scale(s, cutoff) == "micro2":
         # micro2 kept: the shipped four_scale scene's mesh there (its sharpest tip, docs/scales.md)
         n = load_scene("four_scale").numerics.for_scale("micro2").elements_per_wavelength
         text += f"\n[numerics.micro2]\nelements_per_wavelength = {n}\n"

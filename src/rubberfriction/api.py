@@ -167,9 +167,7 @@ def mesh_check(scene: Scene, result: CampaignResult | None, *, select: str | Non
     _mpi()
     from rubberfriction.driver.multiscale.mesh_check import mesh_selection, run_mesh_check
 
-    if factor < 2:
-        raise InputError(f"mesh_check(factor={factor}): expected a whole number >= 2")
-    rows = run_mesh_check(scene, result, mesh_selection(select, scene), factor=factor,
+    rows = run_mesh_check(scene, result, mesh_selection(select, scene, factor), factor=factor,
                           quiet=quiet)
     return None if rows is None else [r.as_dict() for r in rows]
 
