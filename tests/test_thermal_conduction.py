@@ -29,7 +29,8 @@ def _assert_checks(result: dict) -> None:
 
 def test_flash_flux_into_a_resting_block():
     """kappa = 1, h_c = 0, uniform q = 1 mW/mm^2 for 1 s: block surface T0 + 2 q sqrt(t/(pi k rho
-    c)) within 1 % at t = 1/4, 1/2, 1 s (measured 0.45 %: implicit Euler, first order in dt); the
+    c)) within 1 % at t = 1/4, 1/2, 1 s (measured 0.68 %: implicit Euler, first order in dt; the vertex quadrature's
+    share 0.2 %); the
     road stays at T0 (1e-9 K)."""
     res = heat_cases.flash_flux()
     _assert_checks(res)
@@ -77,6 +78,29 @@ def test_heat_bookkeeping_and_kappa_split(kappa):
         if h_c == 0.0:
             assert abs(eb - kappa * W) <= 1e-6 * W
             assert abs(er - (1.0 - kappa) * W) <= 1e-6 * W
+
+
+@pytest.mark.parametrize("lumped", [True, False])
+def test_a_point_heat_input_keeps_its_neighbours_at_or_above_T0(lumped):
+    """Discrete maximum principle: heat entering at one interface node of a resting block and
+    road (h_c 1.6, kappa 0.8, the thesis' 8.5.3 values) must leave every node at T >= T0.  With
+    the lumped capacity it holds at any step (min T - T0 >= -1e-9 K after steps of 1e-5 s, far
+    below h^2 / (6 alpha) = 1.3e-4 s of the 0.01 mm first layer); the consistent capacity cools
+    the node's neighbours below T0 there (the undershoot the flash case's block corner showed,
+    docs/trends.md), which is why the lumped one is the default."""
+    geo = HeatGeometry(block_length=2.0, block_height=1.0, road_depth=1.0, road_ahead=0.0,
+                       road_behind=0.0, h_x=0.25, first_layer=0.01)
+    heat = TwoBodyHeat(geo, RUBBER, ROAD, T0=300.0, kappa=0.8, h_c=1.6, lumped=lumped)
+    power = np.zeros(len(heat.interface.x))
+    power[len(power) // 2] = 400.0  # mW/mm: the flash case's corner node at 1 m/s
+    for _ in range(5):
+        heat.step(1e-5, power, True)
+    under = float(heat.T.x.array.min()) - 300.0
+    assert float(heat.T.x.array.max()) > 300.1
+    if lumped:
+        assert under >= -1e-9
+    else:
+        assert under < -0.01
 
 
 def test_moving_band_source_against_jaeger():

@@ -51,10 +51,8 @@ def energy_balance_line(points: Sequence[PointResult]) -> str:
         for k, (n_off, n, mean, big) in scales.items())
     if off:
         text += ("; those runs are not energy-consistent: the contact is under-resolved (its "
-                 "forces do other work on the rubber than F_x ds: a default-road macro run at "
-                 "+7.9 % balances at -1.0 % with contact elements half as long, and its mu_force "
-                 "moves by 24 %), the window is not a periodic steady state, or stabilised "
-                 "sub-steps carry energy")
+                 "forces do other work on the rubber than F_x ds; docs/notes-energy.md), the "
+                 "window is not a periodic steady state, or stabilised sub-steps carry energy")
     text += "; a balanced run need not be mesh-converged (run --mesh-check; docs/scales.md)"
     return text
 
