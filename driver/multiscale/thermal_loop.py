@@ -649,6 +649,10 @@ class HotLayerResult:
 #: (:func:`run_hot_layer`): each adds one cascade at twice the largest rise
 MAX_LAW_EXTENSIONS = 2
 
+#: the largest bound, relative to the point's mu, on what the contact nodes hotter than the
+#: extended law can change (:func:`law_tail_bound`); beyond it the point is refused
+LAW_TAIL_TOL = 0.01
+
 
 def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
                   hot: HotLayerSettings, cascade: CascadeRunner, *, wall_limit: float = 0.0,
@@ -687,13 +691,14 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
         out.notes.append(f"{int((~good).sum())} hot-layer cascades failed; the law interpolates "
                          "over them")
     _hot_layer_macro(out, spec, rubber, thermal, wall_limit)
+    beyond = ""  # the refusal, unless the nodes beyond the extended law are shown not to matter
     while True:
         T_seen = out.macro.stats.get("T_contact_max", math.nan)
         if not law_exceeded(out.T_law_max, T_seen):
             break
         added = out.temperatures[len(hot.rises):] - T0
         if added.size >= MAX_LAW_EXTENSIONS:
-            out.error = law_refusal(T_seen, out.T_law_max, T0, added)
+            beyond = law_refusal(T_seen, out.T_law_max, T0, added)
             break
         T_S = T0 + 2.0 * (out.temperatures[-1] - T0)
         r = cascade.many([hot_layer_partitions(T_S, T0, hot)])[0]
@@ -715,8 +720,6 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
         _hot_layer_macro(out, spec, rubber, thermal, wall_limit)
         out.notes.append(f"the hot-layer law was extended to T0 {T_S - T0:+.3g} K: the contact "
                          f"had reached T0 {T_seen - T0:+.3g} K")
-    if out.error:
-        out.notes.append(out.error)
     if hot.rough:
         out.average = macro_average(out.macro, None, hot.blocks, hot.tol)
         m0 = hot.mu_const + float(out.mu_lower[0])
@@ -725,6 +728,10 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
         out.notes.append(average_note("isothermal macro mu", out.iso_average))
     else:
         out.average = macro_average(out.macro, out.contact_mu(), hot.blocks, hot.tol)
+    if beyond and not out.error:
+        out.error = law_tail_verdict(out, beyond)
+    if out.error:
+        out.notes.append(out.error)
     out.notes.append(average_note("macro mu", out.average))
     if note := window_temperature_note(out.macro, out.average, T0):
         out.notes.append(note)
@@ -750,6 +757,59 @@ def _hot_layer_macro(out: HotLayerResult, spec: SlidingSpec, rubber: Thermal,
     out.T_law_max = float(T.max())
     out.macro = run_thermal_macro(dataclasses.replace(spec, friction=out.law), rubber, thermal,
                                   wall_limit=wall_limit)
+
+
+def load_share_above(macro: ThermalMacroResult | None, T_top: float, lo: float,
+                     hi: float) -> float:
+    """The mean over the macro steps with lo <= s <= hi of the share of the contact's normal load
+    on slave nodes hotter than ``T_top`` (``contact_loads``); nan without them."""
+    if macro is None or not macro.contact_loads or not macro.series:
+        return math.nan
+    s = np.asarray(macro.series["s"], float)
+    T, load = macro.contact_loads["T"], macro.contact_loads["load"]
+    rows = (s >= lo - 1e-12) & (s <= hi + 1e-12)
+    total = load[rows].sum(axis=1)
+    rows = np.flatnonzero(rows)[total > 0.0]
+    if rows.size == 0:
+        return math.nan
+    hot = np.where(T[rows] > T_top, load[rows], 0.0).sum(axis=1)
+    return float(np.mean(hot / load[rows].sum(axis=1)))
+
+
+def law_tail_bound(share: float, mu_lower: np.ndarray) -> float:
+    """How far the contact nodes beyond the law can move mu (absolute): there the macro run holds
+    the law's top value mu_const + m_top, while the true value lies between mu_const and it
+    when the lower scales' mu falls with T_S at the top of the grid and stays >= 0 (hysteresis):
+    |d mu| <= share m_top, with ``share`` the normal load's share on those nodes.  On the rough
+    road that bounds F_x / F_z; on the flat road the macro contact's friction, hence its heat.
+    inf when the law rises at its top (no bound)."""
+    m = np.asarray(mu_lower, float)
+    m = m[np.isfinite(m)]
+    if m.size < 2 or m[-1] > m[-2] or not math.isfinite(share):
+        return math.inf
+    return share * max(float(m[-1]), 0.0)
+
+
+def law_tail_verdict(out: HotLayerResult, refusal: str) -> str:
+    """After the last extension: '' (accepted, with a note) when the nodes beyond the law carry
+    too little load to move the point's mu by more than LAW_TAIL_TOL (:func:`law_tail_bound`),
+    else ``refusal`` with that bound."""
+    avg = out.average
+    mu = _mean(avg)
+    share = (load_share_above(out.macro, out.T_law_max, avg.lo, avg.hi)
+             if avg is not None and math.isfinite(avg.lo) else math.nan)
+    bound = law_tail_bound(share, out.mu_lower)
+    T0 = out.temperatures[0]
+    what = (f"{100 * share:.3g} % of the normal load over the averaging window lay on contact "
+            f"nodes hotter than the law's T0 {out.T_law_max - T0:+.3g} K, where the macro run "
+            f"held its top value") if math.isfinite(share) else "no contact-load history"
+    if math.isfinite(mu) and mu > 0.0 and bound <= LAW_TAIL_TOL * mu:
+        out.notes.append(f"{what}: the true mu there lies between mu_const and it, so those nodes "
+                         f"move mu by at most {bound:.3g} ({100 * bound / mu:.2g} %, accepted "
+                         f"within {100 * LAW_TAIL_TOL:g} %)")
+        return ""
+    return (f"{refusal}; {what}, a bound of {bound:.3g} on mu, above "
+            f"{100 * LAW_TAIL_TOL:g} % of it")
 
 
 def law_exceeded(T_top: float, T_seen: float) -> bool:

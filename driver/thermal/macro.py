@@ -133,6 +133,10 @@ class ThermalMacroResult:
     # rows = series rows
     surface_history: dict[str, np.ndarray] = field(default_factory=dict)
     probe_dofs: list[int] = field(default_factory=list)  # heat dofs of settings.probes
+    # the friction law's view of the contact per step (rows = series rows): T (steps, n_slave)
+    # the slave nodes' temperature, K; load (steps, n_slave) their normal force, N/mm (0 where
+    # not in contact); for the share of the load beyond a law's temperature range
+    contact_loads: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def ok(self) -> bool:
@@ -205,6 +209,7 @@ class ThermalCoupler:
         self.rows: list[tuple] = []
         # per step: block and road surface T
         self.surface_rows: list[tuple[np.ndarray, np.ndarray]] = []
+        self.load_rows: list[tuple[np.ndarray, np.ndarray]] = []  # (slave T, slave load) per step
         self.energy = self.dissipation = 0.0
         self.cpu_heat = 0.0
         self.max_rescale = 0.0  # largest |scale - 1| of the nodal power (0 without cut-backs)
@@ -281,6 +286,7 @@ class ThermalCoupler:
         eb, er = self.heat.heat_content()
         mu = -st["Fx"] / st["Fz"] if st["Fz"] else float("nan")
         self.surface_rows.append((Tb, Tr))
+        self.load_rows.append((slave_T, p))
         self.rows.append((t, float(run.spec.velocity) * (t - run.t_start), mu, T_contact,
                           float(Tb.mean()), float(Tb.max()), float(Tr[self.behind]), eb, er,
                           self.energy, self.dissipation, self.road_sink, T_active,
@@ -387,6 +393,9 @@ def run_thermal_macro(spec: SlidingSpec, rubber: Thermal, settings: MacroSetting
     arr = np.array(coupler.rows, float).reshape(-1, len(cols))
     out.series = {c: arr[:, i] for i, c in enumerate(cols)}
     out.profiles = getattr(coupler, "_last", {})
+    if coupler.load_rows:
+        out.contact_loads = {"T": np.array([r[0] for r in coupler.load_rows]),
+                             "load": np.array([r[1] for r in coupler.load_rows])}
     if coupler.surface_rows:
         xr, _ = coupler.heat.road_surface()
         out.surface_history = {"x_block": coupler.heat.interface.x + coupler.x0,
