@@ -110,6 +110,8 @@ def load_compound(name_or_path: str | Path, _seen: tuple[Path, ...] = ()) -> Com
     * inline: ``gamma = [...]``, ``tau = [...]`` (tau in s at the WLF reference temperature);
     * by reference: ``same_as = "tread_default"`` uses that compound's gamma and tau (gamma is
       dimensionless, so E0 = E_inf / gamma_inf follows from this compound's own E_inf);
+      ``tau_factor = f`` multiplies every tau_k by f (the spectrum moved along the frequency
+      axis by -log10 f decades at the reference temperature);
     * from a DMA master curve: ``fit_from = "my_dma.csv"`` (relative to the TOML file) with fit
       options ``n_terms``, ``columns`` (three column names or indices: frequency, E', E''),
       ``freq_unit`` ("Hz" or "rad/s"), ``T`` (temperature of the master curve, in the file's
@@ -174,8 +176,8 @@ def _sibling(path: Path, ref: Any) -> str | Path:
     return candidate if "/" not in ref and candidate.is_file() else ref
 
 
-PRONY_KEYS = {"gamma", "tau", "same_as", "fit_from", "n_terms", "columns", "freq_unit", "T",
-              "E_inf", "note", "generator"}
+PRONY_KEYS = {"gamma", "tau", "same_as", "tau_factor", "fit_from", "n_terms", "columns",
+              "freq_unit", "T", "E_inf", "note", "generator"}
 
 
 def _load_prony(path: Path, table: Any, T_unit: str, hyper: MooneyRivlin, wlf: WLF | None,
@@ -191,12 +193,16 @@ def _load_prony(path: Path, table: Any, T_unit: str, hyper: MooneyRivlin, wlf: W
         V.table(f"{path} [prony]", t, {"gamma", "tau", "note", "generator"}, {"gamma", "tau"})
         return PronySeries(t["gamma"], t["tau"]), ""
     if "same_as" in t:
-        V.table(f"{path} [prony]", t, {"same_as", "note"})
+        V.table(f"{path} [prony]", t, {"same_as", "tau_factor", "note"})
         ref = load_compound(_sibling(path, t["same_as"]), seen)
         if ref.prony is None:
             raise ValueError(f"{path} [prony].same_as = {t['same_as']!r}: that compound has no "
                              "Prony series")
-        return ref.prony, f" [Prony series: same gamma_k, tau_k as {ref.name}]"
+        if "tau_factor" not in t:
+            return ref.prony, f" [Prony series: same gamma_k, tau_k as {ref.name}]"
+        factor = V.positive(f"{path} [prony].tau_factor", t["tau_factor"], "-")
+        return (ref.prony.shifted(factor),
+                f" [Prony series: gamma_k of {ref.name}, its tau_k x {factor:.6g}]")
     return _fit_prony_from_file(path, t, T_unit, hyper, wlf)
 
 

@@ -4,7 +4,8 @@ The macro run's friction law is a spline through the grid's mu(T_S) (``fit_mu_pv
 hold mu(T_top) beyond the grid: no physics.  So the law is never used there: when the macro
 contact's hottest node got hotter than the highest tabulated T_S, ``run_hot_layer`` adds a
 cascade at twice the largest rise and redoes the macro run with the extended law, at most
-``MAX_LAW_EXTENSIONS`` times; a run still beyond it refuses the point with a one-line reason.
+``MAX_LAW_EXTENSIONS`` times; a run still beyond it refuses the point with a one-line reason,
+unless the load on the nodes beyond bounds their effect on mu within ``LAW_TAIL_TOL``.
 Nothing here runs FE: the cascades and the macro run are stand-ins with known temperatures.
 """
 
@@ -52,18 +53,28 @@ class Cascade:
         return out
 
 
-def _run(monkeypatch: pytest.MonkeyPatch, seen: list[float], fail: tuple[float, ...] = ()):
+def _run(monkeypatch: pytest.MonkeyPatch, seen: list[float], fail: tuple[float, ...] = (),
+         hot_share: float | None = None):
     """run_hot_layer with a macro stand-in whose k-th run's hottest contact node is seen[k]
-    (the last value repeats); returns the result, the laws the macro runs got and the cascade."""
+    (the last value repeats); returns the result, the laws the macro runs got and the cascade.
+    The stand-in slides 10 mm in 100 steps with the contact at T0 + 10 K; with ``hot_share``
+    it also records its contact loads: that share of the load on one node at seen[k], the rest
+    on nine nodes at T0 + 10 K."""
     laws: list = []
 
     def macro(spec, rubber, thermal, wall_limit=0.0):
         laws.append(spec.friction)
         T = seen[min(len(laws), len(seen)) - 1]
-        s = np.array([T - 1.0])
-        return SimpleNamespace(ok=True, series={"T_contact": s, "T_active": s,
-                                                "s": np.array([1.0])},
-                               stats={"T_contact_max": T})
+        s = np.linspace(0.1, 10.0, 100)
+        Tc = np.full(s.size, T0 + 10.0)
+        out = SimpleNamespace(ok=True, series={"T_contact": Tc, "T_active": Tc, "s": s},
+                              stats={"T_contact_max": T})
+        if hot_share is not None:
+            nodes_T = np.r_[T, np.full(9, T0 + 10.0)]
+            load = np.r_[hot_share, np.full(9, (1.0 - hot_share) / 9.0)]
+            out.contact_loads = {"T": np.tile(nodes_T, (s.size, 1)),
+                                 "load": np.tile(load, (s.size, 1))}
+        return out
 
     monkeypatch.setattr(TL, "run_thermal_macro", macro)
     cascade = Cascade(fail)
@@ -110,9 +121,43 @@ def test_a_contact_beyond_the_extended_law_refuses_the_point(monkeypatch: pytest
     assert res.T_law_max == T0 + 80.0
     assert res.error == ("refused: the contact reached T0 +500 K, above the hot-layer law's "
                          "highest surface temperature T0 +80 K after 2 extensions (T0 +40, +80 "
-                         "K); add higher [thermal].hot_layer_rises values")
+                         "K); add higher [thermal].hot_layer_rises values; no contact-load "
+                         "history, a bound of inf on mu, above 1 % of it")
     assert "\n" not in res.error and res.error in res.notes
     assert not res.ok and np.isnan(res.mu) and np.isnan(res.mu_end)
+
+
+def test_a_hot_node_with_little_load_is_bounded_and_accepted(monkeypatch: pytest.MonkeyPatch):
+    """The hottest node (T0 + 500 K, beyond the extended law's T0 + 80 K) carries 2 % of the
+    load.  There the macro run held mu_const + 0.25 (the law's top), the true value lies
+    between mu_const and that (the law falls at its top, hysteresis >= 0): the point's mu
+    (0.6 + 0.38 at T0 + 10 K) moves by at most 0.02 x 0.25 = 0.005, 0.51 % < 1 %: accepted,
+    and the note states the share and the bound."""
+    res, laws, _ = _run(monkeypatch, [T0 + 500.0], hot_share=0.02)
+    assert len(laws) == 3 and not res.error and res.ok
+    assert res.mu == pytest.approx(0.98, rel=1e-12)
+    note = next(n for n in res.notes if "of the normal load" in n)
+    assert note.startswith("2 % of the normal load over the averaging window lay on contact "
+                           "nodes hotter than the law's T0 +80 K")
+    assert "at most 0.005 (0.51 %, accepted within 1 %)" in note
+
+
+def test_a_hot_node_with_much_load_refuses_the_point(monkeypatch: pytest.MonkeyPatch):
+    """The same with 10 % of the load on the hot node: bound 0.025, 2.5 % of mu > 1 %."""
+    res, _, _ = _run(monkeypatch, [T0 + 500.0], hot_share=0.1)
+    assert res.error.startswith("refused: the contact reached T0 +500 K")
+    assert res.error.endswith("10 % of the normal load over the averaging window lay on contact "
+                              "nodes hotter than the law's T0 +80 K, where the macro run held "
+                              "its top value, a bound of 0.025 on mu, above 1 % of it")
+    assert not res.ok and np.isnan(res.mu)
+
+
+def test_the_tail_bound_needs_a_law_falling_at_its_top() -> None:
+    """|d mu| <= share x m_top only when the lower scales' mu falls between its two hottest
+    grid points; a law rising there gives no bound (inf), nor does an unknown share."""
+    assert TL.law_tail_bound(0.04, np.array([0.5, 0.3, 0.2])) == pytest.approx(0.008)
+    assert TL.law_tail_bound(0.04, np.array([0.5, 0.2, 0.3])) == float("inf")
+    assert TL.law_tail_bound(float("nan"), np.array([0.5, 0.3])) == float("inf")
 
 
 def test_a_failed_extension_refuses_the_point(monkeypatch: pytest.MonkeyPatch):

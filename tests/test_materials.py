@@ -362,13 +362,14 @@ def test_all_files_load_and_match_tables() -> None:
         assert mr.mu == pytest.approx(2 * (C10 + C01), rel=1e-14)
         assert mr.K == pytest.approx(2 / D1, rel=1e-14)
         assert c.prony is not None
-        if name not in DERIVED:  # c1..c6: derived spectra, pinned in test_derived_compounds.py
+        if name not in DERIVED | PLACED:  # c1..c6: test_derived_compounds.py
             assert c.prony == load_compound("tread_default").prony
-        else:
+        else:  # m1, m2: test_tau_factor_moves_the_referenced_spectrum
             assert c.prony != load_compound("tread_default").prony
 
 
 DERIVED = {"c1", "c2", "c3", "c4", "c5", "c6"}
+PLACED = {"m1", "m2"}  # tread_default's spectrum moved along the frequency axis (tau_factor)
 
 
 def test_thermal_and_wlf_tables() -> None:
@@ -492,6 +493,27 @@ def test_file_errors_misc(tmp_path: Path) -> None:
     _write(tmp_path, "q", _head("q") + UNITS.format(T="K") + HYPER + ref.format("p"))
     with pytest.raises(ValueError, match="circular"):
         load_compound(tmp_path / "p.toml")
+
+
+def test_tau_factor_moves_the_referenced_spectrum(tmp_path: Path) -> None:
+    """``same_as`` with ``tau_factor = f``: the referenced gamma_k and f tau_k, so E*(omega) is
+    the reference's at omega f (exact, 1e-12); m1 is tread_default's spectrum with its loss peak
+    moved from 5.75e4 to 2.95e6 rad/s (tau_factor = a_T(T_ref + 30 K), 1e-9), m2 is m1's."""
+    ref = load_compound("tread_default").prony
+    text = '[prony]\nsame_as = "tread_default"\ntau_factor = 0.01\n'
+    c = load_compound(_write(tmp_path, "f", _head() + UNITS.format(T="degC") + HYPER + text))
+    np.testing.assert_array_equal(c.prony.gamma, ref.gamma)
+    np.testing.assert_allclose(c.prony.tau, 0.01 * ref.tau, rtol=1e-12)
+    w, E_inf = np.logspace(0, 8, 9), 2.0
+    np.testing.assert_allclose(c.prony.complex_modulus(w, E_inf),
+                               ref.complex_modulus(0.01 * w, E_inf), rtol=1e-12)
+    m1, base = load_compound("m1"), load_compound("tread_default")
+    np.testing.assert_allclose(m1.prony.tau, base.prony.tau * base.wlf.aT(base.wlf.T_ref + 30.0),
+                               rtol=1e-9)
+    np.testing.assert_array_equal(load_compound("m2").prony.tau, m1.prony.tau)
+    bad = '[prony]\nsame_as = "tread_default"\ntau_factor = -1.0\n'
+    with pytest.raises(ValueError, match="tau_factor"):
+        load_compound(_write(tmp_path, "g", _head() + UNITS.format(T="degC") + HYPER + bad))
 
 
 def _write_dma(path: Path, w: np.ndarray, E: np.ndarray, unit: str = "rad/s") -> None:

@@ -146,13 +146,14 @@ def test_evidence_round_trip(tmp_path):
 def test_settings_and_cases():
     full, quick = TrendSettings(), quick_settings()
     assert lowest_scale(full) == "meso" and lowest_scale(quick) == "meso"
-    assert full.flash_cut == 0.04 and quick.flash_cut == 0.3
+    assert full.flash_cut == 0.003 and quick.flash_cut == 0.3
+    assert full.flash_slide == 25.0  # thesis 8.5.1's sliding interval
     texts = scene_texts(full)
     assert set(texts) == {"materials", "rough", "polished", "spread", "flash"}
     assert 'compounds = ["c1", "c2", "c3", "c4", "c5", "c6"]' in texts["materials"]
     assert "height_scale = 1.25" in texts["rough"]
     assert 'polish_scales = ["meso"]' in texts["polished"]
-    assert 'mode = "hot-layer"' in texts["flash"] and "cutoff = 0.04" in texts["flash"]
+    assert 'mode = "hot-layer"' in texts["flash"] and "cutoff = 0.003" in texts["flash"]
     assert all("cutoff = 0.3" in t for c, t in texts.items() if c != "flash")
 
 
@@ -163,7 +164,8 @@ def test_every_case_scene_is_valid(tmp_path):
         for case, text in scene_texts(settings).items():
             scene = parse_scene(text, case, tmp_path)
             cut = settings.flash_cut if case == "flash" else settings.cutoff
-            assert scene.n_scales == {"micro1": 3, "meso": 2}[lowest_scale(settings, cut)], case
+            assert scene.n_scales == {"micro2": 4, "micro1": 3,
+                                      "meso": 2}[lowest_scale(settings, cut)], case
     flash = parse_scene(scene_texts(TrendSettings(flash_mu_const=0.25))["flash"], "f", tmp_path)
     assert flash.thermal.mu_const == 0.25  # the constant part reaches the macro contact
 
@@ -204,13 +206,15 @@ def test_speed_evidence_places_the_lowest_scale_against_the_loss_peak():
     assert tan_delta_peak(base)[0] == pytest.approx(w, rel=0.024)
     assert tan_delta_peak(low)[0] == pytest.approx(w / D.tg_shift_factor(m1.wlf, -30.0),
                                                    rel=0.024)
-    # micro1 (0.3-0.04 mm) at 1 m/s: 2 pi 1000 / 0.3 = 2.09e4 to 1.57e5 rad/s around the peak
-    assert 2e4 < w < 1.5e5
-    note = speed_notes(TrendSettings())[0]  # the flash case cut at 0.04 mm
+    # m1 is placed (its tau_factor) with micro2 (0.04-0.003 mm) below the peak at 1 m/s:
+    # 2 pi 1000 / 0.003 = 2.09e6 rad/s < 2.95e6
+    assert 2.09e6 < w < 3.0e6
+    note = speed_notes(TrendSettings())[0]  # the flash case cut at 0.003 mm
     assert note.startswith("speed: m1's loss tangent")
-    assert "at 100 mm/s (below the peak)" in note and "at 1000 mm/s (across the peak)" in note
-    four = speed_notes(TrendSettings(flash_cutoff=0.003))[0]
-    assert "micro2 (0.04-0.003 mm)" in four and "(above the peak, glassy side)" in four
+    assert "micro2 (0.04-0.003 mm)" in note
+    assert "at 100 mm/s (below the peak)" in note and "at 1000 mm/s (below the peak)" in note
+    glassy = speed_notes(TrendSettings(flash_compound="tread_default"))[0]  # m1 before 0.26.0
+    assert "at 1000 mm/s (above the peak, glassy side)" in glassy
     assert "mu_const = 0.6" in note
     assert speed_notes(TrendSettings(flash=False)) == []
 

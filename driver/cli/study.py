@@ -47,9 +47,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="the flash case's thermal macro block on a flat road (default, cheaper) "
                         "or on the road's macro band as in the thesis (8.17 a)")
     t.add_argument("--flash-cutoff", type=float, metavar="MM",
-                   help="the flash case's lowest wavelength (default 0.04 mm, quick: --cutoff); "
-                        "0.003 runs the thesis' four scales (8.5.3), about 25 minutes on 2 "
-                        "cores")
+                   help="the flash case's lowest wavelength (default 0.003 mm: the thesis' "
+                        "four scales (8.5.3), about 25 minutes on 2 cores; quick: --cutoff)")
     t.add_argument("--flash-mu-const", type=float, metavar="MU", default=None,
                    help="the constant part of mu on the flash case's macro contact: the scales "
                         "below the cut-off and adhesion, which set the frictional heat (default "

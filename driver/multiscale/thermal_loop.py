@@ -763,10 +763,11 @@ def load_share_above(macro: ThermalMacroResult | None, T_top: float, lo: float,
                      hi: float) -> float:
     """The mean over the macro steps with lo <= s <= hi of the share of the contact's normal load
     on slave nodes hotter than ``T_top`` (``contact_loads``); nan without them."""
-    if macro is None or not macro.contact_loads or not macro.series:
+    loads = getattr(macro, "contact_loads", None)
+    if macro is None or not loads or not macro.series:
         return math.nan
     s = np.asarray(macro.series["s"], float)
-    T, load = macro.contact_loads["T"], macro.contact_loads["load"]
+    T, load = np.asarray(loads["T"], float), np.asarray(loads["load"], float)
     rows = (s >= lo - 1e-12) & (s <= hi + 1e-12)
     total = load[rows].sum(axis=1)
     rows = np.flatnonzero(rows)[total > 0.0]
