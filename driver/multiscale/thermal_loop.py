@@ -667,8 +667,11 @@ def run_hot_layer(spec: SlidingSpec, rubber: Thermal, thermal: MacroSettings,
     mu(T_top) there, which is no physics): when the hottest contact node of the macro run
     (stats ``T_contact_max``) exceeds T_top, the grid gains a cascade at twice the largest rise
     and the macro run is redone with the extended law, at most ``MAX_LAW_EXTENSIONS`` times
-    (noted); a run still beyond it, or an extension whose cascade failed, refuses the point
-    (``error``, status failed, :func:`law_refusal`).
+    (noted).  A run still beyond it is accepted only when the normal load on the nodes beyond
+    bounds their effect on the point's mu within ``LAW_TAIL_TOL`` (:func:`law_tail_verdict`;
+    the flash case's block corner, a few per cent of the load at the leading edge); otherwise,
+    or when an extension's cascade failed, the point is refused (``error``, status failed,
+    :func:`law_refusal`).
 
     No warm starts here: no physical path joins the grid's steady states, and slid on from the
     T0 cascade's states the default road's micro runs at 1 m/s went astray (docs/performance.md;

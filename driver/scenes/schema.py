@@ -359,8 +359,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "hot_layer_rises": Key("floats", [0.0, 5.0, 10.0, 20.0, 40.0, 80.0],
                                "hot-layer mode (thesis 8.5.3): surface temperatures T_S - T0 in "
                                "K of the precomputed lower scales (increasing, from 0); a "
-                               "hotter macro contact adds twice the largest, at most twice, "
-                               "then the point is refused",
+                               "hotter macro contact adds twice the largest, at most twice; "
+                               "contact nodes still hotter are accepted only while the normal "
+                               "load they carry bounds their effect on mu within 1 % (noted), "
+                               "else the point is refused",
                                minimum=0.0),
         "hot_layer": Key("float", 0.005, "hot-layer mode: thickness of the layer at T_S, mm "
                                          "(thesis: 5 um)", above=0.0),
