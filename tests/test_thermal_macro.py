@@ -75,6 +75,18 @@ def test_heat_input_is_the_contact_dissipation_and_is_stored(fast):
     np.testing.assert_allclose(stored, s["friction_energy"][early], rtol=1e-5)
 
 
+def test_contact_loads_carry_the_block_and_the_law_sees_their_temperatures(fast):
+    """The per-step contact record behind the hot-layer law's tail rule: one row per series row;
+    the loads of the slave nodes in contact add up to the applied normal load p l = 1.2 N/mm
+    (equilibrium, 1e-4 relative every step after the first; measured 4e-5, nodal pressure times
+    weight against the mortar's integrated force); the hottest recorded node is the run's
+    ``T_contact_max``."""
+    T, load = fast.contact_loads["T"], fast.contact_loads["load"]
+    assert T.shape == load.shape and T.shape[0] == len(fast.series["s"])
+    np.testing.assert_allclose(load[1:].sum(axis=1), 0.3 * 4.0, rtol=1e-4)
+    assert np.max(np.where(load > 0.0, T, -np.inf)) == fast.stats["T_contact_max"]
+
+
 def test_staggered_scheme_converges_with_the_sliding_step(fast):
     """Halving the sliding step (0.125 -> 0.0625 mm) changes the final contact temperature rise by
     < 1 % and mu by < 0.2 %: the one-step lag of the coupling is small at the default step."""
