@@ -54,19 +54,19 @@ class Cascade:
 
 
 def _run(monkeypatch: pytest.MonkeyPatch, seen: list[float], fail: tuple[float, ...] = (),
-         hot_share: float | None = None):
+         hot_share: float | None = None, mean_rise: float = 10.0):
     """run_hot_layer with a macro stand-in whose k-th run's hottest contact node is seen[k]
     (the last value repeats); returns the result, the laws the macro runs got and the cascade.
-    The stand-in slides 10 mm in 100 steps with the contact at T0 + 10 K; with ``hot_share``
-    it also records its contact loads: that share of the load on one node at seen[k], the rest
-    on nine nodes at T0 + 10 K."""
+    The stand-in slides 10 mm in 100 steps with the contact at T0 + ``mean_rise``; with
+    ``hot_share`` it also records its contact loads: that share of the load on one node at
+    seen[k], the rest on nine nodes at T0 + 10 K."""
     laws: list = []
 
     def macro(spec, rubber, thermal, wall_limit=0.0):
         laws.append(spec.friction)
         T = seen[min(len(laws), len(seen)) - 1]
         s = np.linspace(0.1, 10.0, 100)
-        Tc = np.full(s.size, T0 + 10.0)
+        Tc = np.full(s.size, T0 + mean_rise)
         out = SimpleNamespace(ok=True, series={"T_contact": Tc, "T_active": Tc, "s": s},
                               stats={"T_contact_max": T})
         if hot_share is not None:
@@ -150,6 +150,16 @@ def test_a_hot_node_with_much_load_refuses_the_point(monkeypatch: pytest.MonkeyP
                               "nodes hotter than the law's T0 +80 K, where the macro run held "
                               "its top value, a bound of 0.025 on mu, above 1 % of it")
     assert not res.ok and np.isnan(res.mu)
+
+
+def test_a_mean_contact_beyond_the_law_refuses_the_point(monkeypatch: pytest.MonkeyPatch):
+    """On the flat road the point's mu is the law at eq. 8.1's mean contact temperature: when
+    that mean itself lies beyond the extended law (here T0 + 90 K > T0 + 80 K), no load share
+    can save the point."""
+    res, _, _ = _run(monkeypatch, [T0 + 500.0], hot_share=0.001, mean_rise=90.0)
+    assert res.error.endswith("the point's own contact temperature (eq. 8.1) reached T0 +90 K "
+                              "in the averaging window")
+    assert not res.ok
 
 
 def test_the_tail_bound_needs_a_law_falling_at_its_top() -> None:

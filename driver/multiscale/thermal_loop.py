@@ -804,6 +804,12 @@ def law_tail_verdict(out: HotLayerResult, refusal: str) -> str:
              if avg is not None and math.isfinite(avg.lo) else math.nan)
     bound = law_tail_bound(share, out.mu_lower)
     T0 = out.temperatures[0]
+    if not out.settings.rough and avg is not None and math.isfinite(avg.lo):
+        s, T = out.macro.series["s"], out.macro.series["T_active"]
+        window = (s >= avg.lo - 1e-12) & (s <= avg.hi + 1e-12)
+        if window.any() and np.nanmax(T[window]) > out.T_law_max:
+            return (f"{refusal}; the point's own contact temperature (eq. 8.1) reached T0 "
+                    f"{np.nanmax(T[window]) - T0:+.3g} K in the averaging window")
     what = (f"{100 * share:.3g} % of the normal load over the averaging window lay on contact "
             f"nodes hotter than the law's T0 {out.T_law_max - T0:+.3g} K, where the macro run "
             f"held its top value") if math.isfinite(share) else "no contact-load history"
