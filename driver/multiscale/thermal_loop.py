@@ -769,15 +769,20 @@ def load_share_above(macro: ThermalMacroResult | None, T_top: float, lo: float,
     loads = getattr(macro, "contact_loads", None)
     if macro is None or not loads or not macro.series:
         return math.nan
-    s = np.asarray(macro.series["s"], float)
-    T, load = np.asarray(loads["T"], float), np.asarray(loads["load"], float)
-    rows = (s >= lo - 1e-12) & (s <= hi + 1e-12)
-    total = load[rows].sum(axis=1)
-    rows = np.flatnonzero(rows)[total > 0.0]
-    if rows.size == 0:
+    rows = _window_rows(macro.series["s"], lo, hi)
+    T, load = np.asarray(loads["T"], float)[rows], np.asarray(loads["load"], float)[rows]
+    total = load.sum(axis=1)
+    carried = total > 0.0
+    if not carried.any():
         return math.nan
-    hot = np.where(T[rows] > T_top, load[rows], 0.0).sum(axis=1)
-    return float(np.mean(hot / load[rows].sum(axis=1)))
+    hot = np.where(T > T_top, load, 0.0).sum(axis=1)
+    return float(np.mean(hot[carried] / total[carried]))
+
+
+def _window_rows(s: Any, lo: float, hi: float) -> np.ndarray:
+    """The macro series rows with lo <= s <= hi (the averaging window's steps)."""
+    s = np.asarray(s, float)
+    return (s >= lo - 1e-12) & (s <= hi + 1e-12)
 
 
 def law_tail_bound(share: float, mu_lower: np.ndarray) -> float:
@@ -805,11 +810,11 @@ def law_tail_verdict(out: HotLayerResult, refusal: str) -> str:
     bound = law_tail_bound(share, out.mu_lower)
     T0 = out.temperatures[0]
     if not out.settings.rough and avg is not None and math.isfinite(avg.lo):
-        s, T = out.macro.series["s"], out.macro.series["T_active"]
-        window = (s >= avg.lo - 1e-12) & (s <= avg.hi + 1e-12)
-        if window.any() and np.nanmax(T[window]) > out.T_law_max:
+        T = np.asarray(out.macro.series.get("T_active", []), float)
+        T = T[_window_rows(out.macro.series["s"], avg.lo, avg.hi)] if T.size else T
+        if T.size and np.nanmax(T) > out.T_law_max:
             return (f"{refusal}; the point's own contact temperature (eq. 8.1) reached T0 "
-                    f"{np.nanmax(T[window]) - T0:+.3g} K in the averaging window")
+                    f"{np.nanmax(T) - T0:+.3g} K in the averaging window")
     what = (f"{100 * share:.3g} % of the normal load over the averaging window lay on contact "
             f"nodes hotter than the law's T0 {out.T_law_max - T0:+.3g} K, where the macro run "
             f"held its top value") if math.isfinite(share) else "no contact-load history"

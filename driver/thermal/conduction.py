@@ -144,8 +144,8 @@ class TwoBodyHeat:
         self._dt = fem.Constant(self.mesh, 1.0)
         T, s = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
         # the block lumped, a moving road (convection, SUPG) with consistent forms
-        ncell = self.mesh.topology.index_map(2).size_local
-        tags = dolfinx.mesh.meshtags(self.mesh, 2, np.arange(ncell, dtype=np.int32),
+        tags = dolfinx.mesh.meshtags(self.mesh, 2,
+                                     np.arange(len(self._is_block_cell), dtype=np.int32),
                                      np.where(self._is_block_cell, 1, 2).astype(np.int32))
         dx = ufl.Measure("dx", domain=self.mesh, subdomain_data=tags)
 
