@@ -109,11 +109,14 @@ class StepControl:
         run, m = self.run, self.run.model
         sp, spec = m.sp, run.spec
         cutbacks, t_cur = 0, t
-        h = min(dt, self.h_next) if adaptive else dt
+        # h_goal: the sub-step length the control asks for; h: that length clipped to what is
+        # left of the step.  Only h_goal is carried on (doubling a sub-step near a step's end
+        # would otherwise be lost to the clip, and a run stay at half steps after one cut-back)
+        h_goal = min(dt, self.h_next) if adaptive else dt
         while t_cur < t + dt - 1e-12 * dt:
             if time.perf_counter() > run._deadline:
                 raise WallLimit(t_cur)
-            h = min(h, t + dt - t_cur)
+            h = min(h_goal, t + dt - t_cur)
             x_saved = sp.w.x.array.copy()
             apply_load(t_cur + h)
             sp.prepare_step(h)
@@ -154,21 +157,21 @@ class StepControl:
                 t_cur += h
                 self.easy = self.easy + 1 if res.iterations <= EASY_ITERATIONS else 0
                 if self.easy >= EASY_STREAK:
-                    h, self.easy = min(dt, 2.0 * h), 0
+                    h_goal, self.easy = min(dt, 2.0 * h_goal), 0
                 if adaptive:
-                    self.h_next = h
+                    self.h_next = h_goal
                 continue
             sp.w.x.array[:] = x_saved
             self.easy = 0
             cutbacks += 1
             self.cutbacks += 1
-            h *= 0.5
-            if h < floor:
+            h_goal = 0.5 * h
+            if h_goal < floor:
                 if adaptive:
                     self.h_next = dt
                 return False, reason, cutbacks
             if adaptive:
-                self.h_next = h
+                self.h_next = h_goal
         return True, "", cutbacks
 
     # --- stabilisation ---------------------------------------------------------------------------
