@@ -7,8 +7,9 @@ See docs/performance.md.
 FOLDER is a campaign's output folder, KEY a run key prefix (samples.csv, column key); FIELD=VALUE
 overrides scalar fields of the run's SlidingSpec (as ``rerun --set``).  Prints the run's mu, the
 number of Newton solves (converged and failed, i.e. cut back), the histogram of iterations per
-converged solve, the line-search backtracks, the reasons of failed solves and a few residual
-histories (each normalised by its first residual).
+converged solve, the line-search backtracks, the reasons of failed solves, the Newton solves per
+sliding step (sub-steps and guard re-solves: 1 where every step is solved whole) and a few
+residual histories (each normalised by its first residual).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ import numpy as np
 from rubberfriction.driver.fe import newton
 from rubberfriction.driver.multiscale.specs import find_key, stored_spec
 from rubberfriction.driver.runtime.store import Store
+from rubberfriction.driver.sliding import steps
 from rubberfriction.driver.sliding.run import run_sliding
 
 
@@ -47,6 +49,17 @@ def main(argv: list[str]) -> int:
         return res
 
     newton.NewtonSolver.solve = logged
+    per_step = []  # Newton solves per sliding step
+    step_solve = steps.StepControl.solve
+
+    def counted(self, *args, **kwargs):
+        before = len(log)
+        out = step_solve(self, *args, **kwargs)
+        if kwargs.get("adaptive"):
+            per_step.append(len(log) - before)
+        return out
+
+    steps.StepControl.solve = counted
     t0 = time.perf_counter()
     res = run_sliding(spec)
     wall = time.perf_counter() - t0
@@ -64,6 +77,7 @@ def main(argv: list[str]) -> int:
     print("Newton starts used (else the last state):", starts)
     print("iterations per converged solve:", sorted(collections.Counter(its.tolist()).items()))
     print("failed solves:", collections.Counter(e[4][:24] for e in bad).most_common(4))
+    print("Newton solves per sliding step:", sorted(collections.Counter(per_step).items()))
     for e in ok[len(ok) // 2: len(ok) // 2 + 6]:
         r = np.array(e[2])
         print(f"  {e[1]:2d} iterations:", " ".join(f"{x:.1e}" for x in r / max(r[0], 1e-300)))
