@@ -128,14 +128,16 @@ def test_the_period_start_is_the_periodic_solution():
 def test_the_guard_keeps_the_extrapolated_start_on_the_branch_of_the_other_starts():
     """Where the discrete equilibrium is not unique a start can choose the branch.  On the
     frictionless three-wave cell (``test_shortcut.spec``, 0.05 MPa, 100 mm/s, partial contact,
-    24 contact elements, two periods) the last state and the translation give window mu 0.0224;
-    the unguarded extrapolated start ends on another path, 0.0243 (+8 %), and, when the
-    stabilised sub-steps also started from it, in a second equilibrium where the rubber's face
-    travels with the road and pushes the block forwards (mu -0.72; a frictionless viscoelastic
-    cell sliding steadily dissipates, mu > 0), so the stabilisation ladder never offers it.
-    Guarded as shipped (an extrapolated start that needs more than EXTRAPOLATION_GUARD Newton
-    iterations is solved again from the others) the run stays on the path of the other starts:
-    mu_force equal to 1e-6, and the guard did reject starts."""
+    24 contact elements, two periods) the last state and the translation give window mu 0.0224.
+    Up to 0.26.0 the unguarded extrapolated start ended on another path there, 0.0243 (+8 %),
+    with the run stuck at half-steps after a cut-back (the step control's clip, fixed in
+    0.27.0); with whole steps it stays within 1 % (0.0226).  When the stabilised sub-steps also
+    started from it, it found a second equilibrium where the rubber's face travels with the road
+    and pushes the block forwards (mu -0.72; a frictionless viscoelastic cell sliding steadily
+    dissipates, mu > 0), so the stabilisation ladder never offers it.  Guarded as shipped (an
+    extrapolated start that needs more than EXTRAPOLATION_GUARD Newton iterations is solved again
+    from the others) the run stays on the path of the other starts: mu_force equal to 1e-6, and
+    the guard did reject starts."""
     from test_shortcut import spec as three_waves
 
     from rubberfriction.driver.sliding.run import SlidingRun
@@ -148,7 +150,8 @@ def test_the_guard_keeps_the_extrapolated_start_on_the_branch_of_the_other_start
                                           SlidingRun.EXTRAPOLATION_GUARD)})
     assert res["plain"].mu_force > 0.02
     assert res["unguarded"].mu_force > 0.0  # not the travelling face (the ladder's start)
-    assert abs(res["unguarded"].mu_force / res["plain"].mu_force - 1.0) > 0.05  # another path
+    # its own path, if a close one (0.8 % in 0.27.0): the guard is what keeps the others' path
+    assert abs(res["unguarded"].mu_force / res["plain"].mu_force - 1.0) > 1e-3
     assert res["shipped"].mu_force == pytest.approx(res["plain"].mu_force, rel=1e-6)
     assert res["shipped"].stats["extrapolation_rejected"] > 0
 
