@@ -191,10 +191,11 @@ def test_extrapolated_creep_reaches_the_steady_state_the_window_rule_misses():
     the cell slid at half steps after a cut-back, the step control's clip, and 30 periods
     sufficed).  With the extrapolation the run lands within 3 % of it (0.27.0: +0.9 %, the run
     without it +2.7 %), and closer than the window rule alone, which can stop on a plateau of
-    the creep (measured: 18 % above it, docs/performance.md).  With a factorisation at every Newton iteration, as measured there:
-    after its ninth period this coarse cell's path forks on any perturbation of the linear
-    solves (MUMPS, or the reused factorisations, each take another path that does not settle
-    within 40 periods; docs/performance.md, "Why 1e-10"), so the reference is the LU path."""
+    the creep (measured: 18 % above it, docs/performance.md).  With a factorisation at every
+    Newton iteration, as measured there: after its ninth period this coarse cell's path forks on
+    any perturbation of the linear solves (MUMPS, or the reused factorisations, each take another
+    path that does not settle within 40 periods; docs/performance.md, "Why 1e-10"), so the
+    reference is the LU path."""
     from rubberfriction.driver.bench.periods import compare, micro2_spec
 
     rows = compare(micro2_spec(7.21, 100.0, coarsen=2.0), reference_periods=40,
