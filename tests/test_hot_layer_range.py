@@ -68,7 +68,7 @@ def _run(monkeypatch: pytest.MonkeyPatch, seen: list[float], fail: tuple[float, 
         s = np.linspace(0.1, 10.0, 100)
         Tc = np.full(s.size, T0 + mean_rise)
         out = SimpleNamespace(ok=True, series={"T_contact": Tc, "T_active": Tc, "s": s},
-                              stats={"T_contact_max": T})
+                              stats={"T_contact_max": T}, contact_loads={})  # as the real one
         if hot_share is not None:
             nodes_T = np.r_[T, np.full(9, T0 + 10.0)]
             load = np.r_[hot_share, np.full(9, (1.0 - hot_share) / 9.0)]

@@ -766,10 +766,10 @@ def load_share_above(macro: ThermalMacroResult | None, T_top: float, lo: float,
                      hi: float) -> float:
     """The mean over the macro steps with lo <= s <= hi of the share of the contact's normal load
     on slave nodes hotter than ``T_top`` (``contact_loads``); nan without them."""
-    loads = getattr(macro, "contact_loads", None)
-    if macro is None or not loads or not macro.series:
+    if macro is None or not macro.contact_loads or not macro.series:
         return math.nan
     rows = _window_rows(macro.series["s"], lo, hi)
+    loads = macro.contact_loads
     T, load = np.asarray(loads["T"], float)[rows], np.asarray(loads["load"], float)[rows]
     total = load.sum(axis=1)
     carried = total > 0.0
@@ -805,11 +805,11 @@ def law_tail_verdict(out: HotLayerResult, refusal: str) -> str:
     else ``refusal`` with that bound."""
     avg = out.average
     mu = _mean(avg)
-    share = (load_share_above(out.macro, out.T_law_max, avg.lo, avg.hi)
-             if avg is not None and math.isfinite(avg.lo) else math.nan)
+    window = avg is not None and math.isfinite(avg.lo)
+    share = load_share_above(out.macro, out.T_law_max, avg.lo, avg.hi) if window else math.nan
     bound = law_tail_bound(share, out.mu_lower)
     T0 = out.temperatures[0]
-    if not out.settings.rough and avg is not None and math.isfinite(avg.lo):
+    if window and not out.settings.rough:
         T = np.asarray(out.macro.series.get("T_active", []), float)
         T = T[_window_rows(out.macro.series["s"], avg.lo, avg.hi)] if T.size else T
         if T.size and np.nanmax(T) > out.T_law_max:
