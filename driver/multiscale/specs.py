@@ -23,6 +23,7 @@ from rubberfriction.driver.surfaces.profile import UNIFORM_RTOL
 from rubberfriction.driver.surfaces.samples import refine_periodic
 from rubberfriction.forms.material_files import load_compound
 from rubberfriction.meshes.block import polyline_element_size
+from rubberfriction.meshes.common import contact_divisions
 
 
 #: the master keeps a subset of a sample's points only where its polyline stays within this
@@ -162,6 +163,9 @@ class SpecBuilder:
                                          base.elements_per_wavelength))
         if lam_band is not None:
             hc = min(hc, lam_band / num.elements_per_wavelength)
+        # the mesh's column width: a whole number of columns per period, so that the step is
+        # a whole fraction of a column (the "column" Newton start, driver.sliding.steps)
+        hc = period / contact_divisions(period, None, hc) if period > 0 else hc
         return dataclasses.replace(base, h_contact=hc, step_length=num.step_per_element * hc,
                                    slide_distance=slide * period)
 

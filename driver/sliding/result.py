@@ -91,6 +91,7 @@ def assemble(run: Any, rows: list, distance: float, status: str, reason: str,
                  "predictor_used": steps.predictor_used,
                  "extrapolation_used": steps.extrapolation_used,
                  "period_used": steps.period_used,
+                 "column_used": steps.column_used,
                  # extrapolated starts the guard rejected (solved again from the others)
                  "extrapolation_rejected": steps.guard_rejections,
                  "extrapolation_unseen": steps.extrapolation_unseen,

@@ -118,6 +118,7 @@ class SlidingRun:
     predictor_used = _of_steps("predictor_used")
     extrapolation_used = _of_steps("extrapolation_used")
     period_used = _of_steps("period_used")
+    column_used = _of_steps("column_used")
     guard_rejections = _of_steps("guard_rejections")
     stabilised_steps = _of_steps("stabilised_steps")
     min_det_F = _of_steps("min_det_F")
@@ -289,7 +290,11 @@ class SlidingRun:
         if s.period > 0 and hasattr(m.contact, "slave") and hasattr(m.contact, "offset"):
             self.intrusion = 0.0  # a periodic cell on the rigid road: measured (-1: not)
         F_target = s.pressure * m.L
-        step_len = sliding_step(s, m.L, (s.step_length or 0.5 * m.hc) * step_factor)
+        # a periodic cell's default step is half its mesh's column (L / ceil(L / h_contact)),
+        # so that two steps move the road by one column (the "column" Newton start)
+        shift = steps.column_shift(m.sp, m.L) if s.period > 0 else None
+        column = shift.h if shift is not None else m.hc
+        step_len = sliding_step(s, m.L, (s.step_length or 0.5 * column) * step_factor)
         t_p = s.compression_time or m.L / (2.0 * np.pi * s.velocity)
         distance = s.slide_distance or 3.0 * (s.period if s.period > 0 else m.L)
         warm = self._warm_state()
@@ -302,6 +307,7 @@ class SlidingRun:
             if failed is not None:
                 return failed
             offset0 = 0.0
+        self.steps.column_shift = shift
         return self._slide(t, offset0, step_len, distance, warm is not None)
 
     def _begin_attempt(self) -> SlidingSpec:
@@ -326,6 +332,7 @@ class SlidingRun:
         keep = m.fext.copy()
         predict = (steps.translation_predictor(m.sp, m.L, m.H, s.velocity)
                    if s.period > 0 else None)
+        control.past = []
         self.t_start, self.slide_distance, self.dt_slide, self.n_slide_steps = (
             t_s, distance, dt_slide, nsteps)
         self._notify("on_start")
