@@ -28,12 +28,14 @@
 5. Newton start (``--part start``): the first sample of every scale of the default road (macro
    0.3, meso 1, micro1 2 MPa and micro2 at ``--pressure``, ``--velocity``, ``--slide-fraction``
    of a period) with the sliding sub-steps started from the best of the last state, the
-   translation of the deformation with the surface and the extrapolated last increment:
-   unguarded, guarded (``--guards``, as shipped ``SlidingRun.EXTRAPOLATION_GUARD``: a start
-   that needs more Newton iterations is solved again from the others), the shipped guard with
-   every start's residual compared (``unseen_after = 0``, the rule until 0.13.0) and without the
-   extrapolation, side by side and repeated (A B C A B C): Newton iterations, wall time,
-   mu_force, how often each start won and was rejected, and the ratios to the run without it.
+   translation of the deformation with the surface (or, on whole columns, the column start,
+   ``driver.sliding.steps.ColumnShift``) and the extrapolated last increment: unguarded,
+   guarded (``--guards``, as shipped ``SlidingRun.EXTRAPOLATION_GUARD``: a start that needs more
+   Newton iterations is solved again from the others), the shipped guard with every start's
+   residual compared (``unseen_after = 0``, the rule until 0.13.0), as shipped without the
+   column start, and without the extrapolation, side by side and repeated (A B C A B C): Newton
+   iterations, wall time, mu_force, how often each start won and was rejected, and the ratios
+   to the run without it (and shipped against no column).
 6. Branches (``--part branches``): the three-wave cell of ``tests/test_shortcut.py`` at 18
    (p, v, amplitude) frictionless and with mu 0.5, two periods, from the last state and the
    translation, with the guarded extrapolation (as shipped) and unguarded: mu_force, its
@@ -315,6 +317,9 @@ def start_candidates(pressure: float, velocity: float, slide_fraction: float,
     variants = {"unguarded": (both, 0, 0),
                 **{f"guard {g}": (both, g, SlidingRun.UNSEEN_AFTER) for g in guards},
                 f"guard {shipped}, compared": (both, shipped, 0),
+                # as shipped without the column start (0.28.0): what it saves
+                "no column": (tuple(c for c in both if c != "column"), shipped,
+                              SlidingRun.UNSEEN_AFTER),
                 "no extrapolation": (plain, 0, 0)}
     rows = []
     for k, (name, p) in enumerate(START_SCALES.items()):
@@ -339,11 +344,13 @@ def start_candidates(pressure: float, velocity: float, slide_fraction: float,
                        "steps": int(st.get("steps", 0)), "mu_force": r.mu_force,
                        "translation": int(st.get("predictor_used", 0)),
                        "extrapolation": int(st.get("extrapolation_used", 0)),
+                       "column": int(st.get("column_used", 0)),
                        "rejected": run.guard_rejections}
                 rows.append(row)
                 print(f"  {label:16s} #{rep}: {r.status}, {row['newton_iterations']} Newton "
                       f"iterations, starts: translation {row['translation']}, extrapolation "
-                      f"{row['extrapolation']} ({row['rejected']} redone); wall {wall:.1f} s, "
+                      f"{row['extrapolation']} ({row['rejected']} redone), column "
+                      f"{row['column']}; wall {wall:.1f} s, "
                       f"mu_force {r.mu_force:.6g}",
                       flush=True)
         mine = [r for r in rows if r["scale"] == name]
@@ -359,6 +366,13 @@ def start_candidates(pressure: float, velocity: float, slide_fraction: float,
                       for a, b in zip(new, old))
             print(f"  {name}: no extrapolation / {v}: Newton iterations x{its:.2f}, "
                   f"wall x{wall:.2f}; relative mu_force difference {dmu:.2e}", flush=True)
+        a = [r for r in mine if r["variant"] == "no column"]
+        b = [r for r in mine if r["variant"] == f"guard {shipped}"]
+        if a and b:
+            print(f"  {name}: no column / shipped: wall "
+                  f"x{sum(r['wall_s'] for r in a) / sum(r['wall_s'] for r in b):.3f}, Newton "
+                  f"iterations {sum(r['newton_iterations'] for r in a)} / "
+                  f"{sum(r['newton_iterations'] for r in b)}", flush=True)
         a = [r for r in mine if r["variant"] == f"guard {shipped}, compared"]
         b = [r for r in mine if r["variant"] == f"guard {shipped}"]
         if a and b:
