@@ -380,13 +380,15 @@ class ColumnShift:
     with :func:`column_shift`."""
 
     def __init__(self, h: float, node_dofs: np.ndarray, node_next: np.ndarray,
-                 cell_dofs: np.ndarray | None, cell_next: np.ndarray | None):
+                 cell_dofs: np.ndarray | None, cell_next: np.ndarray | None, n: int = 0):
         self.h = h  # column width (mm)
+        self.n = n  # columns per period (0: not known)
         self.node_dofs, self.node_next = node_dofs, node_next  # (n, 2) dofs; node one column on
         self.cell_dofs, self.cell_next = cell_dofs, cell_next  # pressure dof per cell, or None
         self._maps: dict[int, tuple[np.ndarray, np.ndarray | None]] = {}
 
-    def __call__(self, x: np.ndarray, k: int) -> np.ndarray:
+    def maps(self, k: int) -> tuple[np.ndarray, np.ndarray | None]:
+        """(node, cell) each node (cell) takes its values from in a move by k columns."""
         if k not in self._maps:
             nodes = np.arange(self.node_next.size)
             cells = None if self.cell_next is None else np.arange(self.cell_next.size)
@@ -394,7 +396,19 @@ class ColumnShift:
                 nodes = self.node_next[nodes]
                 cells = None if cells is None else self.cell_next[cells]
             self._maps[k] = (nodes, cells)
-        nodes, cells = self._maps[k]
+        return self._maps[k]
+
+    def full_permutation(self, k: int, n_full: int) -> np.ndarray:
+        """perm with (S_k x)[f] = x[perm[f]] over all n_full dofs (others: themselves)."""
+        nodes, cells = self.maps(k)
+        perm = np.arange(n_full)
+        perm[self.node_dofs] = self.node_dofs[nodes]
+        if cells is not None:
+            perm[self.cell_dofs] = self.cell_dofs[cells]
+        return perm
+
+    def __call__(self, x: np.ndarray, k: int) -> np.ndarray:
+        nodes, cells = self.maps(k)
         out = x.copy()
         out[self.node_dofs] = x[self.node_dofs[nodes]]
         if cells is not None:
@@ -438,7 +452,7 @@ def column_shift(sp, L: float) -> ColumnShift | None:
         cell_next = next_of(sp.cell_centroids())
         if cell_next is None:
             return None
-    return ColumnShift(h, node_dofs, node_next, cell_dofs, cell_next)
+    return ColumnShift(h, node_dofs, node_next, cell_dofs, cell_next, n)
 
 
 def translation_predictor(sp, L: float, H: float, velocity: float):
