@@ -366,21 +366,21 @@ def start_candidates(pressure: float, velocity: float, slide_fraction: float,
                       for a, b in zip(new, old))
             print(f"  {name}: no extrapolation / {v}: Newton iterations x{its:.2f}, "
                   f"wall x{wall:.2f}; relative mu_force difference {dmu:.2e}", flush=True)
-        a = [r for r in mine if r["variant"] == "no column"]
-        b = [r for r in mine if r["variant"] == f"guard {shipped}"]
-        if a and b:
-            print(f"  {name}: no column / shipped: wall "
-                  f"x{sum(r['wall_s'] for r in a) / sum(r['wall_s'] for r in b):.3f}, Newton "
-                  f"iterations {sum(r['newton_iterations'] for r in a)} / "
-                  f"{sum(r['newton_iterations'] for r in b)}", flush=True)
-        a = [r for r in mine if r["variant"] == f"guard {shipped}, compared"]
-        b = [r for r in mine if r["variant"] == f"guard {shipped}"]
-        if a and b:
-            print(f"  {name}: compared / shipped (unseen after {SlidingRun.UNSEEN_AFTER}): wall "
-                  f"x{sum(r['wall_s'] for r in a) / sum(r['wall_s'] for r in b):.3f}, Newton "
-                  f"iterations {sum(r['newton_iterations'] for r in a)} / "
-                  f"{sum(r['newton_iterations'] for r in b)}", flush=True)
+        for variant, label in (("no column", "no column"),
+                               (f"guard {shipped}, compared",
+                                f"compared (unseen after {SlidingRun.UNSEEN_AFTER})")):
+            _against_shipped(name, label, [r for r in mine if r["variant"] == variant],
+                             [r for r in mine if r["variant"] == f"guard {shipped}"])
     return rows
+
+
+def _against_shipped(scale: str, label: str, a: list[dict], shipped: list[dict]) -> None:
+    """Print the wall ratio and Newton iterations of variant rows ``a`` against the shipped."""
+    if a and shipped:
+        print(f"  {scale}: {label} / shipped: wall "
+              f"x{sum(r['wall_s'] for r in a) / sum(r['wall_s'] for r in shipped):.3f}, Newton "
+              f"iterations {sum(r['newton_iterations'] for r in a)} / "
+              f"{sum(r['newton_iterations'] for r in shipped)}", flush=True)
 
 
 #: (label, stats key) of the CPU split of one attempt; the rest is cpu_attempt minus their sum

@@ -332,7 +332,7 @@ class SlidingRun:
         keep = m.fext.copy()
         predict = (steps.translation_predictor(m.sp, m.L, m.H, s.velocity)
                    if s.period > 0 else None)
-        control.past = []
+        control.past.clear()
         self.t_start, self.slide_distance, self.dt_slide, self.n_slide_steps = (
             t_s, distance, dt_slide, nsteps)
         self._notify("on_start")

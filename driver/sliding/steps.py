@@ -14,6 +14,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+from collections import deque
 from typing import Any
 
 import numpy as np
@@ -82,7 +83,7 @@ class StepControl:
         # sliding: the "column" start's shifter (None: not a structured periodic block) and the
         # last converged sub-steps as (road offset, state)
         self.column_shift: ColumnShift | None = None
-        self.past: list[tuple[float, np.ndarray]] = []
+        self.past: deque[tuple[float, np.ndarray]] = deque(maxlen=COLUMN_PAST)
         self.guard_rejections = 0  # extrapolated starts the guard rejected
         self.extrapolation_unseen = 0  # of extrapolation_used: taken without comparing residuals
         self.stabilised_steps = 0
@@ -160,8 +161,7 @@ class StepControl:
                 if "extrapolation" in self.start_candidates:  # only then is it read
                     self.last_increment = (sp.w.x.array - x_saved, h)
                 if self.column_shift is not None and adaptive:
-                    self.past = self.past[1 - COLUMN_PAST:] + [(m.contact.offset[0],
-                                                                sp.w.x.array.copy())]
+                    self.past.append((m.contact.offset[0], sp.w.x.array.copy()))
                 self.min_det_F = min(self.min_det_F, m.iterate_det_F)
                 self.step_energy += sp.commit_step()
                 m.contact.commit()
@@ -380,9 +380,8 @@ class ColumnShift:
     with :func:`column_shift`."""
 
     def __init__(self, h: float, node_dofs: np.ndarray, node_next: np.ndarray,
-                 cell_dofs: np.ndarray | None, cell_next: np.ndarray | None, n: int = 0):
+                 cell_dofs: np.ndarray | None, cell_next: np.ndarray | None):
         self.h = h  # column width (mm)
-        self.n = n  # columns per period (0: not known)
         self.node_dofs, self.node_next = node_dofs, node_next  # (n, 2) dofs; node one column on
         self.cell_dofs, self.cell_next = cell_dofs, cell_next  # pressure dof per cell, or None
         self._maps: dict[int, tuple[np.ndarray, np.ndarray | None]] = {}
@@ -397,15 +396,6 @@ class ColumnShift:
                 cells = None if cells is None else self.cell_next[cells]
             self._maps[k] = (nodes, cells)
         return self._maps[k]
-
-    def full_permutation(self, k: int, n_full: int) -> np.ndarray:
-        """perm with (S_k x)[f] = x[perm[f]] over all n_full dofs (others: themselves)."""
-        nodes, cells = self.maps(k)
-        perm = np.arange(n_full)
-        perm[self.node_dofs] = self.node_dofs[nodes]
-        if cells is not None:
-            perm[self.cell_dofs] = self.cell_dofs[cells]
-        return perm
 
     def __call__(self, x: np.ndarray, k: int) -> np.ndarray:
         nodes, cells = self.maps(k)
@@ -452,7 +442,7 @@ def column_shift(sp, L: float) -> ColumnShift | None:
         cell_next = next_of(sp.cell_centroids())
         if cell_next is None:
             return None
-    return ColumnShift(h, node_dofs, node_next, cell_dofs, cell_next, n)
+    return ColumnShift(h, node_dofs, node_next, cell_dofs, cell_next)
 
 
 def translation_predictor(sp, L: float, H: float, velocity: float):
