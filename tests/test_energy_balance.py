@@ -25,3 +25,60 @@ def test_steep_sinusoid_in_partial_contact_balances_its_friction_work():
     assert res.status == "ok", res.reason
     assert res.contact_fraction < 0.8 and res.stabilisation_share == 0.0
     assert abs(res.mu_energy / res.mu_force - 1.0) < 0.02, (res.mu_force, res.mu_energy)
+
+
+def _frictional_sinusoid(step_fraction: float, friction: float | None):
+    """The steep sinusoid above with Coulomb friction mu = ``friction`` at the contact (the
+    upper scales' friction runs), 16 elements per wavelength, 6 periods with the jump."""
+    import numpy as np
+
+    from rubberfriction.driver.sliding.run import run_sliding
+    from rubberfriction.driver.sliding.spec import SlidingSpec
+
+    x = np.linspace(0.0, 1.0, 129)[:-1]
+    hc = 1.0 / 16
+    spec = SlidingSpec(surface_x=x, surface_h=0.05 * np.cos(2.0 * np.pi * x), period=1.0,
+                       pressure=0.5, velocity=10.0, compound=load_compound("tread_default"),
+                       h_contact=hc, slide_distance=6.0, step_length=step_fraction * hc,
+                       steady_state=True, friction=friction)
+    res = run_sliding(spec)
+    assert res.status == "ok", res.reason
+    assert res.stabilisation_share == 0.0
+    return res
+
+
+def test_the_balance_splits_into_contact_and_rubber():
+    """Where the friction work goes besides the dissipation (docs/notes-energy.md): the road's
+    work = viscous + frictional dissipation + what the contact takes up (``mu_interface``,
+    booked per sub-step by ``StepControl._book_contact_work``) + what the rubber stores over
+    the window.  In a periodic steady state the rubber stores nothing, so
+    mu_force - mu_energy - mu_interface is within 0.5 % of mu_force with friction (0.5) and
+    within 0.1 % without; the contact's share is first order in the step (halving the step
+    halves it: ratio 0.35-0.65), while mu_force moves by less than 0.3 %."""
+    coarse, fine = (_frictional_sinusoid(f, 0.5) for f in (0.5, 0.25))
+    for res in (coarse, fine):
+        rubber = (res.mu_force - res.mu_energy - res.mu_interface) / res.mu_force
+        assert abs(rubber) < 0.005, (res.mu_force, res.mu_energy, res.mu_interface)
+    ratio = fine.mu_interface / coarse.mu_interface
+    assert 0.35 < ratio < 0.65, (coarse.mu_interface, fine.mu_interface)
+    assert abs(fine.mu_force / coarse.mu_force - 1.0) < 0.003, (coarse.mu_force, fine.mu_force)
+    plain = _frictional_sinusoid(0.5, None)
+    rubber = (plain.mu_force - plain.mu_energy - plain.mu_interface) / plain.mu_force
+    assert abs(rubber) < 0.001, (plain.mu_force, plain.mu_energy, plain.mu_interface)
+
+
+def test_the_report_splits_a_stored_balance():
+    """``report.balance_parts`` reads the stored scalars: contact = mu_interface / mu_force,
+    rubber = -(balance + contact), so that the two add up to minus the balance; a run stored
+    before 0.29.0 (no mu_interface) has no split (NaN), not a wrong one."""
+    import math
+
+    from rubberfriction.driver.multiscale.report import balance_parts, energy_balance
+    from rubberfriction.driver.runtime.store import Outcome
+
+    o = Outcome("k", "ok", values={"mu_force": 0.8, "mu_energy": 0.76, "mu_interface": 0.024})
+    contact, rubber = balance_parts(o)
+    assert math.isclose(contact, 0.03) and math.isclose(rubber, 0.02)
+    assert math.isclose(contact + rubber, -energy_balance(o))
+    old = Outcome("k", "ok", values={"mu_force": 0.8, "mu_energy": 0.76})
+    assert all(math.isnan(x) for x in balance_parts(old))

@@ -152,6 +152,12 @@ def _rerun(args: argparse.Namespace) -> int:
           f"{st.get('cutbacks', 0):.0f} cut-backs, {st.get('stabilised_steps', 0):.0f} stabilised "
           f"(share {result.stabilisation_share:.3g}), {wall:.1f} s"
           + (f" ({result.reason.splitlines()[0]})" if result.reason else ""))
+    if result.ok and result.mu_force > 0 and math.isfinite(result.mu_interface):
+        contact = result.mu_interface / result.mu_force
+        rubber = 1.0 - result.mu_energy / result.mu_force - contact
+        print(f"  energy balance {result.mu_energy / result.mu_force - 1:+.3%}: the contact takes "
+              f"up {contact:+.3%} of the friction work (its implicit step and resolution), the "
+              f"rubber stores {rubber:+.3%} over the window (docs/notes-energy.md)")
     if st.get("attempts"):
         print(f"  failed attempts: {st['attempts']}")
     if math.isfinite(result.road_intrusion):
@@ -177,7 +183,8 @@ def _rerun(args: argparse.Namespace) -> int:
         doc = {"key": key, "label": lab, "stored": {"status": stored.status, **stored.values},
                "rerun": {"status": result.status, "reason": result.reason,
                          "mu_force": result.mu_force,
-                         "mu_energy": result.mu_energy, "window_drift": result.window_drift,
+                         "mu_energy": result.mu_energy, "mu_interface": result.mu_interface,
+                         "window_drift": result.window_drift,
                          "contact_fraction": result.contact_fraction,
                          "contact_drift": result.contact_drift,
                          "converged": result.converged,

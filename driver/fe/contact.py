@@ -319,6 +319,15 @@ class Contact:
         return self._c.local_system(np.ascontiguousarray(u, dtype=float),
                                     **self._kw(offset, dt, temperature))
 
+    def slave_forces(self, u: np.ndarray) -> np.ndarray:
+        """The force the master exerts on each slave node at u, (n_slave, 2) [N/mm]: minus the
+        contact residual at the slave's (u_x, u_z) dofs, with the offset, time step and history
+        set now (the mortar distribution D_AB P_A of the nodal tractions, not a lumped one)."""
+        rows, vals = self.local_system(u)[:2]
+        r = np.zeros(np.asarray(u).size)
+        np.add.at(r, np.asarray(rows, dtype=np.int64), np.asarray(vals, dtype=float))
+        return -r[np.asarray(self.slave.dofs, dtype=np.int64)]
+
     def commit(self, u: np.ndarray | None = None) -> None:
         """Accept the step: re-evaluate at u if given, then store the history (elastic tangential
         gaps, positions, master offset)."""

@@ -91,7 +91,8 @@ STORE_SCHEMA = 2
 #: Scalar results every run file carries (NaN when the run failed).
 RESULT_SCALARS = ("mu_force", "mu_energy", "mean_pressure", "contact_fraction", "t_reached",
                   "window_drift", "mu_error", "converged", "stabilisation_share", "min_det_F",
-                  "road_intrusion", "contact_drift", "contact_error", "contact_elements")
+                  "road_intrusion", "contact_drift", "contact_error", "contact_elements",
+                  "mu_interface")
 
 
 class StoreError(RuntimeError):

@@ -49,6 +49,7 @@ SERIES_UNITS: dict[str, str] = {
     "mean_pressure": "MPa",
     "stabilisation_energy": "mJ/mm",
     "stabilisation_impulse": "N s/mm",
+    "interface_energy": "mJ/mm",
     "mu_force": "1",
 }
 

@@ -25,7 +25,7 @@ from rubberfriction.driver.sliding.window import (
 
 #: columns of a sliding step's row, the series of the result
 COLUMNS = ("t", "s", "Fx", "Fz", "contact_length", "viscous_energy", "friction_energy",
-           "mean_pressure", "stabilisation_energy", "stabilisation_impulse")
+           "mean_pressure", "stabilisation_energy", "stabilisation_impulse", "interface_energy")
 
 
 def solvers(model: Any) -> list:
@@ -119,7 +119,10 @@ def assemble(run: Any, rows: list, distance: float, status: str, reason: str,
         ds = step_lengths(series["s"])[win]
         res.mu_force = float(np.sum(series["mu_force"][win] * ds) / ds.sum())
         energy = (series["viscous_energy"] + series["friction_energy"])[win].sum()
-        res.mu_energy = float(energy / (np.mean(Fz[win]) * ds.sum()))
+        work_scale = np.mean(Fz[win]) * ds.sum()
+        res.mu_energy = float(energy / work_scale)
+        # what the contact takes up, in the same measure (docs/notes-energy.md)
+        res.mu_interface = float(series["interface_energy"][win].sum() / work_scale)
         res.mean_pressure = pooled_contact_pressure(series["mean_pressure"][win],
                                                     series["contact_length"][win])
         res.contact_fraction = float(np.mean(series["contact_length"][win]) / L)

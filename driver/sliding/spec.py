@@ -156,6 +156,10 @@ class SlidingResult:
     series: dict[str, np.ndarray] = field(default_factory=dict)
     mu_force: float = float("nan")
     mu_energy: float = float("nan")
+    # what the contact interface takes up itself over the window (road's work minus frictional
+    # dissipation minus the trapezoidal work on the rubber), in the measure of mu (energy over
+    # F_z times the window's length; docs/notes-energy.md)
+    mu_interface: float = float("nan")
     mean_pressure: float = float("nan")  # eq. (6.11), pooled over the window (run.py)
     contact_fraction: float = float("nan")  # time-averaged contact length / block length (7.4)
     # (2nd half - 1st half) / mean of the window's mu (one period: against the period before)

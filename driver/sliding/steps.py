@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
+from rubberfriction.driver.fe.contact import RigidMaster
 from rubberfriction.driver.sliding.spec import (
     STABILISATION_LADDER,
     STABILISE_AFTER,
@@ -92,6 +93,11 @@ class StepControl:
         # energies of the step being solved (reset by begin_step)
         self.step_energy = self.step_friction_energy = 0.0
         self.step_stabilisation_energy = self.step_stabilisation_impulse = 0.0
+        # what the contact takes up in the step (:meth:`_book_contact_work`), and the force on
+        # the slave nodes and the road's offset at the last converged sub-step
+        self.step_interface_energy = 0.0
+        self._slave_force: np.ndarray | None = None
+        self._road_offset: tuple[float, float] | None = None
         self.easy = 0  # easy sub-steps in a row
         self.h_next = math.inf  # sliding: the sub-step length carried to the next step
         # sub-steps without the extrapolation after rejections, and the unseen-start counters
@@ -102,6 +108,7 @@ class StepControl:
         """A new load step: its energies start from zero."""
         self.step_energy = self.step_friction_energy = 0.0
         self.step_stabilisation_energy = self.step_stabilisation_impulse = 0.0
+        self.step_interface_energy = 0.0
 
     # --- one step with cut-backs ---------------------------------------------------------------
     def solve(self, t: float, dt: float, apply_load, predict=None, adaptive: bool = False,
@@ -164,6 +171,7 @@ class StepControl:
                     self.past.append((m.contact.offset[0], sp.w.x.array.copy()))
                 self.min_det_F = min(self.min_det_F, m.iterate_det_F)
                 self.step_energy += sp.commit_step()
+                self._book_contact_work(x_saved)
                 m.contact.commit()
                 self.step_friction_energy += float(m.contact.state().get("dissipation", 0.0))
                 t_cur += h
@@ -185,6 +193,34 @@ class StepControl:
             if adaptive:
                 self.h_next = h_goal
         return True, "", cutbacks
+
+    def _book_contact_work(self, x_saved: np.ndarray) -> None:
+        """What the contact takes up itself over a converged sub-step from x_saved to the state
+        now, on a rigid road (docs/notes-energy.md, "Where the balance goes"): the road's work
+        F_total . d(offset) minus the frictional dissipation and minus the work on the rubber
+        (F_n + F_n+1) . du / 2 (F the road's force on the slave nodes), booked with the
+        trapezoidal rule like the rubber's dissipation (``forms.viscoelastic``).  Over a period
+        of a steady state it is 0 for a conservative contact up to O(dt^2); here it holds the
+        implicit step's booking at end-of-step forces (first order in the step: nodes entering
+        and leaving contact within a step) and the mortar contact's non-conservation (its normal
+        is the slave's, not the road's; it shrinks with the contact elements).  The first
+        converged sub-step of an attempt only records its forces."""
+        c = self.run.model.contact
+        if not (hasattr(c, "slave_forces") and isinstance(getattr(c, "master", None), RigidMaster)):
+            return
+        x = self.run.model.sp.w.x.array
+        force = c.slave_forces(x)
+        offset = (float(c.offset[0]), float(c.offset[1]))
+        if self._slave_force is not None and self._road_offset is not None:
+            dofs = np.asarray(c.slave.dofs, dtype=np.int64)
+            du = x[dofs] - x_saved[dofs]
+            total = force.sum(axis=0)
+            road = (total[0] * (offset[0] - self._road_offset[0])
+                    + total[1] * (offset[1] - self._road_offset[1]))
+            rubber = 0.5 * float(np.sum((force + self._slave_force) * du))
+            friction = float(c.state().get("dissipation", 0.0))
+            self.step_interface_energy += road - friction - rubber
+        self._slave_force, self._road_offset = force, offset
 
     # --- stabilisation ---------------------------------------------------------------------------
     def _stabilised(self, h: float, x_saved: np.ndarray, predict,

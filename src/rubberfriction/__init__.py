@@ -10,7 +10,7 @@ installed (``scripts/setup.sh`` makes an editable install of the checkout), neve
 
 from __future__ import annotations
 
-__version__ = "0.28.0"
+__version__ = "0.29.0"
 
 #: The Python API (``docs/api.md``): ``import rubberfriction as rf; rf.load_scene("two_sine")``.
 #: The names live in :mod:`rubberfriction.api` and are imported on first use (PEP 562), so that

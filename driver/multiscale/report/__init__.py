@@ -75,6 +75,7 @@ from rubberfriction.driver.multiscale.report.tables import (
     _slug,
     area_spread,
     attempts_used,
+    balance_parts,
     campaign_json,
     depth_edges,
     dissipation_rows,
@@ -93,6 +94,7 @@ from rubberfriction.driver.multiscale.report.tables import (
 
 __all__ = [
     "DRIFT_OF", "ENERGY_BALANCE_TOL", "INTRUSION_TOL", "area_spread", "attempts_used",
+    "balance_parts",
     "campaign_json", "depth_edges", "dissipation_rows", "draw_theory", "energy_balance",
     "energy_balance_by_scale", "energy_balance_line", "handed_on", "plot_area", "plot_curves",
     "plot_dissipation", "plot_sample_study", "plot_scales", "plot_separated",

@@ -8,11 +8,14 @@ from __future__ import annotations
 import math
 from typing import Any, Sequence
 
+import numpy as np
+
 from rubberfriction.driver.multiscale.report.tables import (
     DRIFT_OF,
     ENERGY_BALANCE_TOL,
     INTRUSION_TOL,
     attempts_used,
+    balance_parts,
     energy_balance,
     energy_balance_by_scale,
     handed_on,
@@ -49,10 +52,21 @@ def energy_balance_line(points: Sequence[PointResult]) -> str:
     text += "; by scale: " + ", ".join(
         f"{k} {n_off} of {n} (mean {100 * mean:+.2g} %, largest {100 * big:.3g} %)"
         for k, (n_off, n, mean, big) in scales.items())
-    if off:
-        text += ("; those runs are not energy-consistent: the contact is under-resolved (its "
-                 "forces do other work on the rubber than F_x ds; docs/notes-energy.md), the "
-                 "window is not a periodic steady state, or stabilised sub-steps carry energy")
+    parts = [balance_parts(o) for r in points for rs in r.runs.values() for _, o in rs if o.ok]
+    parts = [p for p in parts if all(math.isfinite(x) for x in p)]
+    if parts:
+        contact, rubber = (np.array([p[i] for p in parts]) for i in range(2))
+        text += (f"; where it goes (samples.csv balance_contact / balance_rubber, mean): the "
+                 f"contact {100 * contact.mean():+.2g} % (its implicit step, first order in the "
+                 f"step, and its resolution), the rubber {100 * rubber.mean():+.2g} %; "
+                 f"{int(np.sum(np.abs(rubber) > ENERGY_BALANCE_TOL))} of {len(parts)} runs "
+                 f"beyond {100 * ENERGY_BALANCE_TOL:.0f} % in the rubber (stored energy that "
+                 f"changes over the window: not a periodic steady state; stabilised sub-steps; "
+                 f"docs/notes-energy.md)")
+    elif off:
+        text += ("; those runs are not energy-consistent: the time step, the contact's "
+                 "resolution, a window that is not a periodic steady state or stabilised "
+                 "sub-steps (docs/notes-energy.md)")
     text += "; a balanced run need not be mesh-converged (run --mesh-check; docs/scales.md)"
     return text
 

@@ -140,6 +140,8 @@ def sample_rows(points: Sequence[PointResult]) -> list[dict[str, Any]]:
                              "mu_force": o.value("mu_force"),
                              "mu_energy": o.value("mu_energy"),
                              "energy_balance": energy_balance(o),
+                             **dict(zip(("balance_contact", "balance_rubber"),
+                                        balance_parts(o))),
                              "contact_fraction": o.value("contact_fraction"),
                              "window_drift": o.value("window_drift"),
                              "mu_error": o.value("mu_error"),
@@ -167,16 +169,34 @@ def energy_balance(o: Outcome) -> float:
     2.8), so 0 up to the O(dt^2) of the time integration.  The viscous dissipation is the exact
     one of the finite-strain model (``forms.viscoelastic``: branch stress work minus the change
     of the branches' stored energy; the small-strain density |H|^2 / (2 G tau) it replaced
-    overestimated on steep contact, docs/notes-energy.md).  What is left is mostly the contact:
-    the dissipation equals the work the contact forces do on the rubber, but that exceeds F_x ds,
-    the mortar contact being non-conservative at its resolution (finer contact elements close
-    most of the gap; docs/notes-energy.md).  Besides: stored energy that changes over
-    the window (not a periodic steady state), the normal load's work while the block creeps,
-    stabilised sub-steps (``stabilisation_share``), the time integration of both sides."""
+    overestimated on steep contact, docs/notes-energy.md).  Where the rest goes,
+    :func:`balance_parts`: the contact (its implicit step, first order in the step, and its
+    resolution) and the rubber (stored energy that changes over the window, stabilised
+    sub-steps)."""
     mf, me = o.value("mu_force"), o.value("mu_energy")
     if not (math.isfinite(mf) and math.isfinite(me) and mf > 0.0):
         return math.nan
     return me / mf - 1.0
+
+
+def balance_parts(o: Outcome) -> tuple[float, float]:
+    """The energy balance of one run split by where the friction work goes besides the
+    dissipation, each over mu_force (NaN where the run has no split; docs/notes-energy.md):
+
+    - contact: what the contact interface takes up itself (``mu_interface``: the road's work
+      minus the frictional dissipation minus the trapezoidal work on the rubber): the implicit
+      step's booking of the contact forces (first order in the step) and the mortar contact's
+      non-conservation (it shrinks with the contact elements);
+    - rubber: the rest, work on the rubber that is not dissipated in the window: stored energy
+      that changes over it (not a periodic steady state; the period-end history jump),
+      stabilised sub-steps, the trapezoidal rule's error.
+
+    balance = -(contact + rubber)."""
+    mf, b = o.value("mu_force"), energy_balance(o)
+    contact = o.value("mu_interface") / mf
+    if not (math.isfinite(b) and math.isfinite(contact)):
+        return math.nan, math.nan
+    return contact, -(b + contact)
 
 
 def energy_balance_by_scale(points: Sequence[PointResult]
