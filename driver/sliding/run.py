@@ -399,7 +399,7 @@ class SlidingRun:
         """The sliding step's row of the series (result.COLUMNS)."""
         st, c = self.model.contact.state(), self.steps
         return (t, slid, st["Fx"], st["Fz"], st["contact_length"], c.step_energy,
-                c.step_friction_energy, st["mean_pressure"], c.step_stabilisation_energy,
+                c.step_friction_dissipation, st["mean_pressure"], c.step_stabilisation_energy,
                 c.step_stabilisation_impulse, c.step_interface_energy)
 
     @property
