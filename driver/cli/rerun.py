@@ -156,7 +156,7 @@ def _rerun(args: argparse.Namespace) -> int:
         contact = result.mu_interface / result.mu_force
         rubber = 1.0 - result.mu_energy / result.mu_force - contact
         print(f"  energy balance {result.mu_energy / result.mu_force - 1:+.3%}: the contact takes "
-              f"up {contact:+.3%} of the friction work (its implicit step and resolution), the "
+              f"up {contact:+.3%} of the friction work (its resolution and step), the "
               f"rubber stores {rubber:+.3%} over the window (docs/notes-energy.md)")
     if st.get("attempts"):
         print(f"  failed attempts: {st['attempts']}")

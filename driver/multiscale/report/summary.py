@@ -57,8 +57,8 @@ def energy_balance_line(points: Sequence[PointResult]) -> str:
     if parts:
         contact, rubber = (np.array([p[i] for p in parts]) for i in range(2))
         text += (f"; where it goes (samples.csv balance_contact / balance_rubber, mean): the "
-                 f"contact {100 * contact.mean():+.2g} % (its implicit step, first order in the "
-                 f"step, and its resolution), the rubber {100 * rubber.mean():+.2g} %; "
+                 f"contact {100 * contact.mean():+.2g} % (its resolution), the rubber "
+                 f"{100 * rubber.mean():+.2g} %; "
                  f"{int(np.sum(np.abs(rubber) > ENERGY_BALANCE_TOL))} of {len(parts)} runs "
                  f"beyond {100 * ENERGY_BALANCE_TOL:.0f} % in the rubber (stored energy that "
                  f"changes over the window: not a periodic steady state; stabilised sub-steps; "

@@ -170,9 +170,8 @@ def energy_balance(o: Outcome) -> float:
     one of the finite-strain model (``forms.viscoelastic``: branch stress work minus the change
     of the branches' stored energy; the small-strain density |H|^2 / (2 G tau) it replaced
     overestimated on steep contact, docs/notes-energy.md).  Where the rest goes,
-    :func:`balance_parts`: the contact (its implicit step, first order in the step, and its
-    resolution) and the rubber (stored energy that changes over the window, stabilised
-    sub-steps)."""
+    :func:`balance_parts`: the contact (its resolution, and its implicit step at coarse steps)
+    and the rubber (stored energy that changes over the window, stabilised sub-steps)."""
     mf, me = o.value("mu_force"), o.value("mu_energy")
     if not (math.isfinite(mf) and math.isfinite(me) and mf > 0.0):
         return math.nan
@@ -184,9 +183,9 @@ def balance_parts(o: Outcome) -> tuple[float, float]:
     dissipation, each over mu_force (NaN where the run has no split; docs/notes-energy.md):
 
     - contact: what the contact interface takes up itself (``mu_interface``: the road's work
-      minus the frictional dissipation minus the trapezoidal work on the rubber): the implicit
-      step's booking of the contact forces (first order in the step) and the mortar contact's
-      non-conservation (it shrinks with the contact elements);
+      minus the frictional dissipation minus the trapezoidal work on the rubber): the mortar
+      contact's non-conservation (it shrinks with the contact elements) and, at steps of an
+      element and more, the implicit step's booking of the contact forces;
     - rubber: the rest, work on the rubber that is not dissipated in the window: stored energy
       that changes over it (not a periodic steady state; the period-end history jump),
       stabilised sub-steps, the trapezoidal rule's error.
