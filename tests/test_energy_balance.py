@@ -11,6 +11,14 @@ amplitude (partial contact, 23 % of the face).
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
+from rubberfriction.driver.multiscale.report import balance_parts, energy_balance
+from rubberfriction.driver.runtime.store import Outcome
+from rubberfriction.driver.sliding.run import run_sliding
+from rubberfriction.driver.sliding.spec import SlidingSpec
 from rubberfriction.driver.verification.viscoelastic_sinusoid import simulate
 from rubberfriction.forms.material_files import load_compound
 
@@ -30,11 +38,6 @@ def test_steep_sinusoid_in_partial_contact_balances_its_friction_work():
 def _frictional_sinusoid(step_fraction: float, friction: float | None, elements: int = 16):
     """The steep sinusoid above with Coulomb friction mu = ``friction`` at the contact (the
     upper scales' friction runs), ``elements`` per wavelength, 6 periods with the jump."""
-    import numpy as np
-
-    from rubberfriction.driver.sliding.run import run_sliding
-    from rubberfriction.driver.sliding.spec import SlidingSpec
-
     x = np.linspace(0.0, 1.0, 129)[:-1]
     hc = 1.0 / elements
     spec = SlidingSpec(surface_x=x, surface_h=0.05 * np.cos(2.0 * np.pi * x), period=1.0,
@@ -76,11 +79,6 @@ def test_the_report_splits_a_stored_balance():
     """``report.balance_parts`` reads the stored scalars: contact = mu_interface / mu_force,
     rubber = -(balance + contact), so that the two add up to minus the balance; a run stored
     before 0.29.0 (no mu_interface) has no split (NaN), not a wrong one."""
-    import math
-
-    from rubberfriction.driver.multiscale.report import balance_parts, energy_balance
-    from rubberfriction.driver.runtime.store import Outcome
-
     o = Outcome("k", "ok", values={"mu_force": 0.8, "mu_energy": 0.76, "mu_interface": 0.024})
     contact, rubber = balance_parts(o)
     assert math.isclose(contact, 0.03) and math.isclose(rubber, 0.02)

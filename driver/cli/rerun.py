@@ -79,7 +79,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 def _rerun(args: argparse.Namespace) -> int:
     from rubberfriction.driver.multiscale.rerun import (load_stored, rerun_spec,
                                                         shortcut_admits, store_root)
-    from rubberfriction.driver.runtime.store import Store
+    from rubberfriction.driver.multiscale.report import balance_parts, energy_balance
+    from rubberfriction.driver.runtime.store import Outcome, Store, result_values
     from rubberfriction.driver.sliding.outputs import (DissipationByDepth, FieldWriter,
                                                        write_run_outputs)
     from rubberfriction.driver.sliding.progress import StepReporter
@@ -152,12 +153,12 @@ def _rerun(args: argparse.Namespace) -> int:
           f"{st.get('cutbacks', 0):.0f} cut-backs, {st.get('stabilised_steps', 0):.0f} stabilised "
           f"(share {result.stabilisation_share:.3g}), {wall:.1f} s"
           + (f" ({result.reason.splitlines()[0]})" if result.reason else ""))
-    if result.ok and result.mu_force > 0 and math.isfinite(result.mu_interface):
-        contact = result.mu_interface / result.mu_force
-        rubber = 1.0 - result.mu_energy / result.mu_force - contact
-        print(f"  energy balance {result.mu_energy / result.mu_force - 1:+.3%}: the contact takes "
-              f"up {contact:+.3%} of the friction work (its resolution and step), the "
-              f"rubber stores {rubber:+.3%} over the window (docs/notes-energy.md)")
+    done = Outcome(key, result.status, values=result_values(result))
+    contact, rubber = balance_parts(done)
+    if result.ok and math.isfinite(contact):
+        print(f"  energy balance {energy_balance(done):+.3%}: the contact takes up "
+              f"{contact:+.3%} of the friction work (its resolution and step), the rubber "
+              f"stores {rubber:+.3%} over the window (docs/notes-energy.md)")
     if st.get("attempts"):
         print(f"  failed attempts: {st['attempts']}")
     if math.isfinite(result.road_intrusion):

@@ -176,8 +176,7 @@ class StepControl:
                     self.past.append((m.contact.offset[0], sp.w.x.array.copy()))
                 self.min_det_F = min(self.min_det_F, m.iterate_det_F)
                 self.step_energy += sp.commit_step()
-                self.step_friction_energy += float(m.contact.state().get("dissipation", 0.0))
-                self.step_friction_dissipation += self._book_contact_work(x_saved)
+                self._book_contact_work(x_saved)
                 m.contact.commit()
                 t_cur += h
                 self.easy = self.easy + 1 if res.iterations <= EASY_ITERATIONS else 0
@@ -199,11 +198,13 @@ class StepControl:
                 self.h_next = h_goal
         return True, "", cutbacks
 
-    def _book_contact_work(self, x_saved: np.ndarray) -> float:
-        """The frictional dissipation of a converged sub-step from x_saved to the state now, and
-        what the contact takes up itself over it (``step_interface_energy``); both booked with
-        the trapezoidal rule, like the rubber's dissipation (``forms.viscoelastic``;
-        docs/notes-energy.md, "Where the balance goes").
+    def _book_contact_work(self, x_saved: np.ndarray) -> None:
+        """The contact's energies of a converged sub-step from x_saved to the state now, added to
+        the step's: the frictional dissipation as the contact law books it
+        (``step_friction_energy``) and by the trapezoidal rule (``step_friction_dissipation``),
+        and what the contact takes up itself (``step_interface_energy``), the last two booked
+        like the rubber's dissipation (``forms.viscoelastic``; docs/notes-energy.md, "Where the
+        balance goes").
 
         Friction: sum_A w_A (|t_A,n+1| + sign(t_A,n+1) t_A,n) / 2 dgamma_A over the slipping
         nodes (w_A the mortar weight, t_A the tangential traction, dgamma_A the slip of the
@@ -228,8 +229,10 @@ class StepControl:
         c = self.run.model.contact
         st = c.state()
         friction = float(st.get("dissipation", 0.0))
+        self.step_friction_energy += friction
         if "tangential_traction" not in st:
-            return friction
+            self.step_friction_dissipation += friction
+            return
         active = st["status"] > 0
         traction = np.where(active, st["tangential_traction"], 0.0)
         rigid = hasattr(c, "slave_forces") and isinstance(getattr(c, "master", None), RigidMaster)
@@ -250,8 +253,9 @@ class StepControl:
                 friction += float(np.sum((0.5 * self._weight * np.abs(self._traction) * g)[left]))
         self._traction = traction
         self._frame, self._weight = np.asarray(st["normal"]).copy(), np.asarray(st["weight"]).copy()
+        self.step_friction_dissipation += friction
         if not rigid:
-            return friction
+            return
         force = c.slave_forces(x)
         if self._slave_force is not None and self._road_offset is not None:
             total = force.sum(axis=0)
@@ -260,7 +264,6 @@ class StepControl:
             rubber = 0.5 * float(np.sum((force + self._slave_force) * du))
             self.step_interface_energy += road - friction - rubber
         self._slave_force, self._road_offset = force, offset
-        return friction
 
     # --- stabilisation ---------------------------------------------------------------------------
     def _stabilised(self, h: float, x_saved: np.ndarray, predict,
